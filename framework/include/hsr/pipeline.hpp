@@ -1,0 +1,55 @@
+// One frame: visibility by a hidden-surface plugin, then shading of every visible pixel, exactly
+// once, in batches by a lighting plugin. Plugins meet only here, through the C ABI.
+#pragma once
+
+#include "hsr/abi.h"
+#include "hsr/plugin_registry.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hsr {
+
+// Largest image the host allocates: each side at most this many pixels.
+constexpr uint32_t max_image_side = 16384;
+// Throws hsr::Error for a zero or absurd size, before anything is allocated.
+void check_image_size(uint32_t width, uint32_t height);
+
+struct FrameSettings {
+    glm::vec3 background{1.0f, 1.0f, 1.0f};
+    unsigned threads = 0;  // shading threads; 0 = one per core
+};
+
+struct Frame {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<float> depth;   // visibility buffer, as the plugin left it
+    std::vector<uint32_t> face;
+    std::vector<float> bary;
+    std::vector<uint8_t> rgb;   // 3 * width * height, rows top to bottom
+    std::vector<std::pair<std::string, uint64_t>> counters;  // the plugins' and the host's, in order
+    double visibility_ms = 0;   // time inside the hidden-surface plugin
+    double shading_ms = 0;      // fragment assembly + lighting plugin
+
+    uint64_t counter(const std::string& name) const;  // 0 when absent
+};
+
+// Clears and fills a visibility buffer of camera.width x camera.height with the remover.
+void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                        Frame& frame);
+
+// Shades every covered pixel of frame's visibility buffer; uncovered pixels get the background.
+void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,
+                 const FrameSettings& settings, Frame& frame);
+
+Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                   LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings);
+
+// The shading context for a camera: where the viewer is, and the lights (already in world space).
+hsr_shading_context make_shading_context(const hsr_camera& camera, const std::vector<hsr_light>& lights);
+
+}  // namespace hsr

@@ -1,0 +1,105 @@
+// Finding, loading and instantiating plugins through the C ABI (Boost.DLL underneath). The host and
+// the tests use this; plugins never do.
+#pragma once
+
+#include "hsr/abi.h"
+#include "hsr/params.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace boost::dll {
+class shared_library;
+}
+
+namespace hsr {
+
+// Semantic check of a descriptor against this host's ABI version. Returns an empty string when the
+// plugin is acceptable, else the reason it is refused. host_major/minor are parameters so that the
+// policy itself can be tested.
+std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major = HSR_ABI_MAJOR,
+                             uint32_t host_minor = HSR_ABI_MINOR);
+
+const char* kind_name(hsr_plugin_kind kind);  // "hidden-surface" / "lighting"
+
+// One plugin found in a library. Keeps the library loaded for as long as it (or any instance made
+// from it) lives.
+struct Plugin {
+    std::shared_ptr<boost::dll::shared_library> library;
+    std::filesystem::path path;
+    hsr_plugin_descriptor descriptor{};  // copy, zero-filled beyond the plugin's struct_size
+};
+
+struct RejectedLibrary {
+    std::filesystem::path path;
+    std::string reason;
+};
+
+// Loads one library and returns its plugins; throws hsr::Error with the reason when the file is not
+// a loadable hsr plugin library (no entry symbol, wrong ABI, ...).
+std::vector<Plugin> load_plugin_library(const std::filesystem::path& path);
+
+class PluginRegistry {
+public:
+    // Scans each directory (non-recursively) for shared libraries; a directory that does not exist
+    // is remembered as searched. Libraries that are not acceptable plugins are recorded as rejected.
+    void scan_directory(const std::filesystem::path& dir);
+    void add_library(const std::filesystem::path& file);
+
+    // The plugin of that kind and name; throws hsr::Error listing where it looked and what it found.
+    const Plugin& find(hsr_plugin_kind kind, const std::string& name) const;
+
+    const std::vector<Plugin>& plugins() const { return plugins_; }
+    const std::vector<RejectedLibrary>& rejected() const { return rejected_; }
+    const std::vector<std::filesystem::path>& searched() const { return searched_; }
+
+private:
+    std::vector<Plugin> plugins_;
+    std::vector<RejectedLibrary> rejected_;
+    std::vector<std::filesystem::path> searched_;
+};
+
+// The directories the host searches, in order: the build's (or install's) plugin folder next to the
+// executable, then each entry of $HSR_PLUGIN_PATH (':'-separated), then the extra ones given.
+std::vector<std::filesystem::path> default_plugin_dirs(const std::filesystem::path& executable_dir,
+                                                       const std::vector<std::string>& extra);
+
+// Instances: RAII over the C create/destroy pair. Every call turns a non-OK status into hsr::Error
+// carrying the plugin's message. Each holds the plugin (and so its library) alive.
+class HiddenSurfaceRemover {
+public:
+    HiddenSurfaceRemover(const Plugin& plugin, const std::vector<Setting>& settings);
+    ~HiddenSurfaceRemover();
+    HiddenSurfaceRemover(const HiddenSurfaceRemover&) = delete;
+    HiddenSurfaceRemover& operator=(const HiddenSurfaceRemover&) = delete;
+
+    void render(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
+                const hsr_counter_sink* counters);
+    const Plugin& plugin() const { return plugin_; }
+
+private:
+    Plugin plugin_;
+    IHiddenSurfaceRemover table_{};  // zero-filled beyond the plugin's struct_size
+    void* instance_ = nullptr;
+};
+
+class LightingModel {
+public:
+    LightingModel(const Plugin& plugin, const std::vector<Setting>& settings);
+    ~LightingModel();
+    LightingModel(const LightingModel&) = delete;
+    LightingModel& operator=(const LightingModel&) = delete;
+
+    void prepare(const hsr_scene& scene, const hsr_shading_context& context);
+    void shade(hsr_fragment_batch& batch) const;
+    const Plugin& plugin() const { return plugin_; }
+
+private:
+    Plugin plugin_;
+    ILightingModel table_{};
+    void* instance_ = nullptr;
+};
+
+}  // namespace hsr

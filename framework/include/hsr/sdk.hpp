@@ -1,0 +1,354 @@
+// hsr C++ SDK: write a plugin as one C++ class plus one export line; this header builds the C tables
+// of abi.h around it and keeps C++ (exceptions included) on the plugin's side of the boundary.
+//
+//   class MyRemover final : public hsr::sdk::HiddenSurfaceRemover {
+//   public:
+//       static constexpr hsr::sdk::PluginInfo info{"my-remover", "1.0.0", "What it does, one line"};
+//       static inline const hsr::sdk::ParamSpec params[] = {
+//           hsr::sdk::ParamSpec::boolean("cull-backfaces", false, "skip triangles facing away"),
+//       };
+//       explicit MyRemover(const hsr::sdk::Params& p) : cull_(p.boolean("cull-backfaces")) {}
+//       void render(const hsr::sdk::Scene&, const hsr_camera&, hsr::sdk::VisibilityBuffer&,
+//                   hsr::sdk::Counters&) override;
+//   };
+//   HSR_EXPORT_PLUGIN(MyRemover)
+//
+// docs/writing-a-plugin.md walks through a complete example.
+#pragma once
+
+#include "hsr/abi.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace hsr::sdk {
+
+// Thrown by a plugin for a user-facing problem (bad scene for this algorithm, say); becomes
+// HSR_ERROR_INVALID_ARGUMENT with the message. Any other exception becomes HSR_ERROR_INTERNAL.
+struct InvalidArgument : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+struct Unsupported : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct PluginInfo {
+    const char* name;
+    const char* version;
+    const char* description;
+};
+
+// One parameter of a plugin's schema. Construct with the named factories.
+struct ParamSpec {
+    hsr_param_desc desc;
+
+    static constexpr ParamSpec boolean(const char* name, bool default_value, const char* help) {
+        return {{sizeof(hsr_param_desc), name, HSR_PARAM_BOOL, default_value ? "true" : "false", 0, 1,
+                 nullptr, help}};
+    }
+    static constexpr ParamSpec integer(const char* name, const char* default_value, double min,
+                                       double max, const char* help) {
+        return {{sizeof(hsr_param_desc), name, HSR_PARAM_INT, default_value, min, max, nullptr, help}};
+    }
+    static constexpr ParamSpec real(const char* name, const char* default_value, double min,
+                                    double max, const char* help) {
+        return {{sizeof(hsr_param_desc), name, HSR_PARAM_FLOAT, default_value, min, max, nullptr,
+                 help}};
+    }
+    // choices: "a|b|c"; default_value must be one of them.
+    static constexpr ParamSpec choice(const char* name, const char* default_value, const char* choices,
+                                      const char* help) {
+        return {{sizeof(hsr_param_desc), name, HSR_PARAM_ENUM, default_value, 0, 0, choices, help}};
+    }
+    // default_value: "r/g/b" with channels in [0, 1], or "#rrggbb".
+    static constexpr ParamSpec color(const char* name, const char* default_value, const char* help) {
+        return {{sizeof(hsr_param_desc), name, HSR_PARAM_COLOR, default_value, 0, 1, nullptr, help}};
+    }
+};
+
+// The validated values the host passed to create(), looked up by name. Asking for a name that is not
+// in the schema, or with the wrong type, throws (a plugin bug, reported as an internal error).
+class Params {
+public:
+    Params(const hsr_param_value* values, uint32_t count) : values_(values, count) {}
+
+    bool boolean(std::string_view name) const { return find(name, HSR_PARAM_BOOL).number != 0.0; }
+    int64_t integer(std::string_view name) const {
+        return static_cast<int64_t>(find(name, HSR_PARAM_INT).number);
+    }
+    double real(std::string_view name) const { return find(name, HSR_PARAM_FLOAT).number; }
+    // Index of the chosen name within the choices string.
+    int choice(std::string_view name) const {
+        return static_cast<int>(find(name, HSR_PARAM_ENUM).number);
+    }
+    glm::vec3 color(std::string_view name) const {
+        const hsr_param_value& v = find(name, HSR_PARAM_COLOR);
+        return {v.color[0], v.color[1], v.color[2]};
+    }
+
+private:
+    const hsr_param_value& find(std::string_view name, hsr_param_type type) const {
+        for (const hsr_param_value& v : values_) {
+            if (v.name != nullptr && name == v.name) {
+                if (v.type != type) throw std::logic_error("parameter '" + std::string(name) + "' read with the wrong type");
+                return v;
+            }
+        }
+        throw std::logic_error("parameter '" + std::string(name) + "' is not in the values the host passed");
+    }
+    std::span<const hsr_param_value> values_;
+};
+
+// Read-only view of hsr_scene with typed accessors. Cheap to copy.
+class Scene {
+public:
+    explicit Scene(const hsr_scene& s) : s_(&s) {}
+
+    const hsr_scene& raw() const { return *s_; }
+    uint32_t vertex_count() const { return s_->vertex_count; }
+    uint32_t triangle_count() const { return s_->triangle_count; }
+    uint32_t object_count() const { return s_->object_count; }
+
+    glm::vec3 position(uint32_t vertex) const { return load3(s_->positions, vertex); }
+    uint32_t index(uint32_t triangle, int corner) const { return s_->indices[3 * triangle + corner]; }
+    glm::vec3 corner_position(uint32_t triangle, int corner) const {
+        return position(index(triangle, corner));
+    }
+    glm::vec3 face_normal(uint32_t triangle) const { return load3(s_->face_normals, triangle); }
+    glm::vec3 corner_normal(uint32_t triangle, int corner) const {
+        return load3(s_->corner_normals, 3 * triangle + corner);
+    }
+    glm::vec3 face_color(uint32_t triangle) const { return load3(s_->face_colors, triangle); }
+    int32_t edge_neighbor(uint32_t triangle, int edge) const {
+        return s_->edge_neighbors[3 * triangle + edge];
+    }
+    uint32_t face_object(uint32_t triangle) const { return s_->face_object[triangle]; }
+    glm::vec3 bounds_min() const { return {s_->bounds_min[0], s_->bounds_min[1], s_->bounds_min[2]}; }
+    glm::vec3 bounds_max() const { return {s_->bounds_max[0], s_->bounds_max[1], s_->bounds_max[2]}; }
+
+private:
+    static glm::vec3 load3(const float* a, uint32_t i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
+    const hsr_scene* s_;
+};
+
+inline glm::mat4 load_matrix(const float (&m)[16]) {
+    glm::mat4 r;
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row) r[c][row] = m[4 * c + row];
+    return r;
+}
+
+// Mutable view of the visibility buffer.
+class VisibilityBuffer {
+public:
+    explicit VisibilityBuffer(hsr_visibility_buffer& b) : b_(&b) {}
+    uint32_t width() const { return b_->width; }
+    uint32_t height() const { return b_->height; }
+    float* depth() { return b_->depth; }
+    uint32_t* face() { return b_->face; }
+    float* bary() { return b_->bary; }
+    hsr_visibility_buffer& raw() { return *b_; }
+
+private:
+    hsr_visibility_buffer* b_;
+};
+
+// Collects counters during a call and reports them to the host's sink at the end. Plugins keep hot
+// counts in local integers and add them here once per triangle, tile or call, not per pixel.
+class Counters {
+public:
+    void add(const char* name, uint64_t value) {
+        for (auto& entry : entries_) {
+            if (std::strcmp(entry.first, name) == 0) {
+                entry.second += value;
+                return;
+            }
+        }
+        entries_.emplace_back(name, value);
+    }
+    void set(const char* name, uint64_t value) {
+        for (auto& entry : entries_) {
+            if (std::strcmp(entry.first, name) == 0) {
+                entry.second = value;
+                return;
+            }
+        }
+        entries_.emplace_back(name, value);
+    }
+    const std::vector<std::pair<const char*, uint64_t>>& entries() const { return entries_; }
+    void flush(const hsr_counter_sink* sink) const {
+        if (sink == nullptr || sink->report == nullptr) return;
+        for (const auto& [name, value] : entries_) sink->report(sink->context, name, value);
+    }
+
+private:
+    std::vector<std::pair<const char*, uint64_t>> entries_;  // names are string literals
+};
+
+class HiddenSurfaceRemover {
+public:
+    virtual ~HiddenSurfaceRemover() = default;
+    virtual void render(const Scene& scene, const hsr_camera& camera, VisibilityBuffer& target,
+                        Counters& counters) = 0;
+};
+
+class LightingModel {
+public:
+    virtual ~LightingModel() = default;
+    virtual void prepare(const Scene& scene, const hsr_shading_context& context) = 0;
+    // Must be thread-safe: it only reads what prepare() built.
+    virtual void shade(hsr_fragment_batch& batch) const = 0;
+};
+
+namespace detail {
+
+inline void write_error(hsr_error* error, const char* message) {
+    if (error == nullptr) return;
+    std::snprintf(error->message, sizeof error->message, "%s", message);
+}
+
+// Runs f, turning every exception into a status code and a message.
+template <class F>
+hsr_status guarded(hsr_error* error, F&& f) noexcept {
+    try {
+        f();
+        return HSR_OK;
+    } catch (const InvalidArgument& e) {
+        write_error(error, e.what());
+        return HSR_ERROR_INVALID_ARGUMENT;
+    } catch (const Unsupported& e) {
+        write_error(error, e.what());
+        return HSR_ERROR_UNSUPPORTED;
+    } catch (const std::bad_alloc&) {
+        write_error(error, "out of memory");
+        return HSR_ERROR_OUT_OF_MEMORY;
+    } catch (const std::exception& e) {
+        write_error(error, e.what());
+        return HSR_ERROR_INTERNAL;
+    } catch (...) {
+        write_error(error, "unknown exception inside the plugin");
+        return HSR_ERROR_INTERNAL;
+    }
+}
+
+template <class T>
+hsr_status create(const hsr_param_value* params, uint32_t count, void** instance, hsr_error* error) {
+    return guarded(error, [&] {
+        if (instance == nullptr) throw InvalidArgument("create: instance pointer is NULL");
+        *instance = new T(Params(params, count));
+    });
+}
+
+template <class T>
+void destroy(void* instance) {
+    delete static_cast<T*>(instance);
+}
+
+template <class T>
+hsr_status render(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                  hsr_visibility_buffer* target, const hsr_counter_sink* sink, hsr_error* error) {
+    return guarded(error, [&] {
+        if (instance == nullptr || scene == nullptr || camera == nullptr || target == nullptr)
+            throw InvalidArgument("render: NULL argument");
+        Scene scene_view(*scene);
+        VisibilityBuffer buffer(*target);
+        Counters counters;
+        static_cast<T*>(instance)->render(scene_view, *camera, buffer, counters);
+        counters.flush(sink);
+    });
+}
+
+template <class T>
+hsr_status prepare(void* instance, const hsr_scene* scene, const hsr_shading_context* context,
+                   hsr_error* error) {
+    return guarded(error, [&] {
+        if (instance == nullptr || scene == nullptr || context == nullptr)
+            throw InvalidArgument("prepare: NULL argument");
+        static_cast<T*>(instance)->prepare(Scene(*scene), *context);
+    });
+}
+
+template <class T>
+hsr_status shade(const void* instance, hsr_fragment_batch* batch, hsr_error* error) {
+    return guarded(error, [&] {
+        if (instance == nullptr || batch == nullptr) throw InvalidArgument("shade: NULL argument");
+        static_cast<const T*>(instance)->shade(*batch);
+    });
+}
+
+inline const void* no_extension(const char*) { return nullptr; }
+
+template <class T>
+constexpr hsr_plugin_kind kind_of() {
+    if constexpr (std::is_base_of_v<HiddenSurfaceRemover, T>)
+        return HSR_KIND_HIDDEN_SURFACE_REMOVER;
+    else {
+        static_assert(std::is_base_of_v<LightingModel, T>,
+                      "a plugin class derives from hsr::sdk::HiddenSurfaceRemover or LightingModel");
+        return HSR_KIND_LIGHTING_MODEL;
+    }
+}
+
+template <class T>
+const void* interface_table() {
+    if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_SURFACE_REMOVER) {
+        static const IHiddenSurfaceRemover table{sizeof(IHiddenSurfaceRemover), &create<T>,
+                                                 &destroy<T>, &render<T>, &no_extension};
+        return &table;
+    } else {
+        static const ILightingModel table{sizeof(ILightingModel), &create<T>, &destroy<T>,
+                                          &prepare<T>, &shade<T>, &no_extension};
+        return &table;
+    }
+}
+
+template <class T>
+const hsr_param_desc* param_table(uint32_t& count) {
+    static const std::vector<hsr_param_desc> table = [] {
+        std::vector<hsr_param_desc> descs;
+        for (const ParamSpec& spec : T::params) descs.push_back(spec.desc);
+        return descs;
+    }();
+    count = static_cast<uint32_t>(table.size());
+    return table.empty() ? nullptr : table.data();
+}
+
+template <class T>
+const hsr_plugin_descriptor* descriptor() {
+    static const hsr_plugin_descriptor d = [] {
+        hsr_plugin_descriptor out{};
+        out.struct_size = sizeof(hsr_plugin_descriptor);
+        out.api = HSR_API_NAME;
+        out.abi_major = HSR_ABI_MAJOR;
+        out.abi_minor = HSR_ABI_MINOR;
+        out.kind = kind_of<T>();
+        out.name = T::info.name;
+        out.version = T::info.version;
+        out.description = T::info.description;
+        out.params = param_table<T>(out.param_count);
+        out.interface_table = interface_table<T>();
+        return out;
+    }();
+    return &d;
+}
+
+}  // namespace detail
+}  // namespace hsr::sdk
+
+// A plugin class with no parameters declares: static inline const std::array<hsr::sdk::ParamSpec, 0> params{};
+#define HSR_EXPORT_PLUGIN(PluginClass)                                                              \
+    extern "C" HSR_EXPORT const hsr_plugin_descriptor* hsr_plugin_entry(uint32_t index) {           \
+        return index == 0 ? ::hsr::sdk::detail::descriptor<PluginClass>() : nullptr;               \
+    }

@@ -1,0 +1,54 @@
+#include "hsr/image.hpp"
+
+#include "hsr/error.hpp"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace hsr {
+
+void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
+               std::span<const uint8_t> pixels) {
+    if (pixels.size() != size_t(width) * height * channels)
+        throw Error("write_png: {} bytes for a {}x{}x{} image", pixels.size(), width, height, channels);
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = width;
+    image.height = height;
+    switch (channels) {
+    case 1: image.format = PNG_FORMAT_GRAY; break;
+    case 3: image.format = PNG_FORMAT_RGB; break;
+    case 4: image.format = PNG_FORMAT_RGBA; break;
+    default: throw Error("write_png: {} channels are not supported", channels);
+    }
+    if (!png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr)) {
+        std::string why = image.message;
+        png_image_free(&image);
+        throw Error("cannot write {}: {}", path.string(), why);
+    }
+}
+
+void write_depth_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
+                     std::span<const float> depth) {
+    float nearest = std::numeric_limits<float>::infinity();
+    float farthest = -std::numeric_limits<float>::infinity();
+    for (float d : depth) {
+        if (!std::isfinite(d)) continue;
+        nearest = std::min(nearest, d);
+        farthest = std::max(farthest, d);
+    }
+    const float range = farthest > nearest ? farthest - nearest : 1.0f;
+    std::vector<uint8_t> grey(depth.size(), 0);
+    for (size_t i = 0; i < depth.size(); ++i) {
+        if (!std::isfinite(depth[i])) continue;
+        const float t = (depth[i] - nearest) / range;  // 0 nearest .. 1 farthest
+        grey[i] = static_cast<uint8_t>(std::lround(255.0f - t * (255.0f - 64.0f)));
+    }
+    write_png(path, width, height, 1, grey);
+}
+
+}  // namespace hsr

@@ -1,0 +1,224 @@
+#include "hsr/pipeline.hpp"
+
+#include "hsr/error.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+namespace hsr {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void collect_counter(void* context, const char* name, uint64_t value) {
+    auto* counters = static_cast<std::vector<std::pair<std::string, uint64_t>>*>(context);
+    if (name == nullptr) return;
+    for (auto& [n, v] : *counters) {
+        if (n == name) {
+            v += value;
+            return;
+        }
+    }
+    counters->emplace_back(name, value);
+}
+
+uint8_t to_byte(float v) {
+    if (!(v > 0.0f)) return 0;  // also NaN
+    if (v >= 1.0f) return 255;
+    return static_cast<uint8_t>(v * 255.0f + 0.5f);
+}
+
+// Fragment arrays for one batch (a band of rows), reused across the band's rows.
+struct FragmentArrays {
+    std::vector<uint32_t> face, pixel;
+    std::vector<float> bary, position, normal, color;
+
+    void reserve(size_t n) {
+        face.resize(n);
+        pixel.resize(n);
+        bary.resize(2 * n);
+        position.resize(3 * n);
+        normal.resize(3 * n);
+        color.resize(3 * n);
+    }
+};
+
+// Gathers the covered pixels of rows [row_begin, row_end) into fragments: world position and
+// interpolated shading normal from the barycentrics. Returns the fragment count.
+uint32_t assemble_fragments(const hsr_scene& scene, const Frame& frame, uint32_t row_begin, uint32_t row_end,
+                            FragmentArrays& out) {
+    uint32_t n = 0;
+    const uint32_t w = frame.width;
+    for (uint32_t y = row_begin; y < row_end; ++y) {
+        for (uint32_t x = 0; x < w; ++x) {
+            const uint32_t pixel = y * w + x;
+            const uint32_t t = frame.face[pixel];
+            if (t == HSR_NO_FACE || t >= scene.triangle_count) continue;
+            const float b1 = frame.bary[2 * pixel], b2 = frame.bary[2 * pixel + 1];
+            const float b0 = 1.0f - b1 - b2;
+            const uint32_t* tri = scene.indices + 3 * t;
+            const float* p0 = scene.positions + 3 * tri[0];
+            const float* p1 = scene.positions + 3 * tri[1];
+            const float* p2 = scene.positions + 3 * tri[2];
+            const float* n0 = scene.corner_normals + 9 * t;
+            float nx = b0 * n0[0] + b1 * n0[3] + b2 * n0[6];
+            float ny = b0 * n0[1] + b1 * n0[4] + b2 * n0[7];
+            float nz = b0 * n0[2] + b1 * n0[5] + b2 * n0[8];
+            const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
+            if (len > 0.0f) {
+                nx /= len, ny /= len, nz /= len;
+            } else {
+                const float* fn = scene.face_normals + 3 * t;
+                nx = fn[0], ny = fn[1], nz = fn[2];
+            }
+            out.face[n] = t;
+            out.pixel[n] = pixel;
+            out.bary[2 * n] = b1;
+            out.bary[2 * n + 1] = b2;
+            for (int k = 0; k < 3; ++k) out.position[3 * n + k] = b0 * p0[k] + b1 * p1[k] + b2 * p2[k];
+            out.normal[3 * n] = nx;
+            out.normal[3 * n + 1] = ny;
+            out.normal[3 * n + 2] = nz;
+            ++n;
+        }
+    }
+    return n;
+}
+
+}  // namespace
+
+void check_image_size(uint32_t width, uint32_t height) {
+    if (width == 0 || height == 0) throw Error("image size {}x{}: width and height must be at least 1", width, height);
+    if (width > max_image_side || height > max_image_side)
+        throw Error("image size {}x{} is too large (at most {} pixels a side)", width, height, max_image_side);
+}
+
+uint64_t Frame::counter(const std::string& name) const {
+    for (const auto& [n, v] : counters)
+        if (n == name) return v;
+    return 0;
+}
+
+void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                        Frame& frame) {
+    check_image_size(camera.width, camera.height);
+    const size_t pixels = size_t(camera.width) * camera.height;
+    frame.width = camera.width;
+    frame.height = camera.height;
+    frame.depth.assign(pixels, std::numeric_limits<float>::infinity());
+    frame.face.assign(pixels, HSR_NO_FACE);
+    frame.bary.assign(2 * pixels, 0.0f);
+
+    hsr_visibility_buffer target{};
+    target.struct_size = sizeof target;
+    target.width = frame.width;
+    target.height = frame.height;
+    target.depth = frame.depth.data();
+    target.face = frame.face.data();
+    target.bary = frame.bary.data();
+    hsr_counter_sink sink{&frame.counters, &collect_counter};
+
+    const auto start = Clock::now();
+    remover.render(scene, camera, target, &sink);
+    frame.visibility_ms = ms_since(start);
+}
+
+void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,
+                 const FrameSettings& settings, Frame& frame) {
+    const auto start = Clock::now();
+    lighting.prepare(scene, context);
+    const size_t pixels = size_t(frame.width) * frame.height;
+    frame.rgb.resize(3 * pixels);
+    const uint8_t bg[3] = {to_byte(settings.background.r), to_byte(settings.background.g),
+                           to_byte(settings.background.b)};
+
+    // Bands of rows, one batch each; threads take bands in turn. Each thread owns its arrays and
+    // writes only its bands' pixels, so nothing is shared but the counters below.
+    constexpr uint32_t rows_per_band = 8;
+    const uint32_t bands = (frame.height + rows_per_band - 1) / rows_per_band;
+    unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
+    threads = std::min<unsigned>(threads, std::max<uint32_t>(bands, 1));
+
+    std::atomic<uint32_t> next_band{0};
+    std::atomic<uint64_t> fragments{0}, batches{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    auto worker = [&] {
+        FragmentArrays arrays;
+        arrays.reserve(size_t(rows_per_band) * frame.width);
+        uint64_t my_fragments = 0, my_batches = 0;
+        try {
+            for (uint32_t band; (band = next_band.fetch_add(1)) < bands;) {
+                const uint32_t row_begin = band * rows_per_band;
+                const uint32_t row_end = std::min(frame.height, row_begin + rows_per_band);
+                for (size_t p = size_t(row_begin) * frame.width; p < size_t(row_end) * frame.width; ++p) {
+                    frame.rgb[3 * p] = bg[0], frame.rgb[3 * p + 1] = bg[1], frame.rgb[3 * p + 2] = bg[2];
+                }
+                const uint32_t n = assemble_fragments(scene, frame, row_begin, row_end, arrays);
+                if (n == 0) continue;
+                hsr_fragment_batch batch{};
+                batch.struct_size = sizeof batch;
+                batch.count = n;
+                batch.face = arrays.face.data();
+                batch.bary = arrays.bary.data();
+                batch.position = arrays.position.data();
+                batch.normal = arrays.normal.data();
+                batch.pixel = arrays.pixel.data();
+                batch.color = arrays.color.data();
+                lighting.shade(batch);
+                for (uint32_t i = 0; i < n; ++i) {
+                    uint8_t* out = &frame.rgb[3 * size_t(arrays.pixel[i])];
+                    for (int k = 0; k < 3; ++k) out[k] = to_byte(arrays.color[3 * i + k]);
+                }
+                my_fragments += n;
+                ++my_batches;
+            }
+        } catch (...) {
+            std::lock_guard lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
+            next_band = bands;  // stop the others early
+        }
+        fragments += my_fragments;
+        batches += my_batches;
+    };
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+
+    frame.counters.emplace_back("fragments-shaded", fragments.load());
+    frame.counters.emplace_back("shading-batches", batches.load());
+    frame.shading_ms = ms_since(start);
+}
+
+Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                   LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings) {
+    Frame frame;
+    resolve_visibility(scene, camera, remover, frame);
+    shade_frame(scene, lighting, context, settings, frame);
+    return frame;
+}
+
+hsr_shading_context make_shading_context(const hsr_camera& camera, const std::vector<hsr_light>& lights) {
+    hsr_shading_context context{};
+    context.struct_size = sizeof context;
+    context.lights = lights.data();
+    context.light_count = static_cast<uint32_t>(lights.size());
+    context.projection_type = camera.projection_type;
+    std::copy(std::begin(camera.eye), std::end(camera.eye), context.eye);
+    std::copy(std::begin(camera.view_direction), std::end(camera.view_direction), context.view_direction);
+    return context;
+}
+
+}  // namespace hsr

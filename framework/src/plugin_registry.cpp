@@ -1,0 +1,277 @@
+#include "hsr/plugin_registry.hpp"
+
+#include "hsr/error.hpp"
+
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/dll/shared_library.hpp>
+
+#ifndef _WIN32
+#include <dlfcn.h>
+#endif
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdlib>
+#include <cstring>
+#include <system_error>
+
+namespace hsr {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The part of the descriptor every ABI version shares, and the part 1.0 requires.
+constexpr size_t frozen_descriptor_size = offsetof(hsr_plugin_descriptor, kind) + sizeof(hsr_plugin_kind);
+constexpr size_t descriptor_size_1_0 = sizeof(hsr_plugin_descriptor);
+constexpr size_t remover_size_1_0 = offsetof(IHiddenSurfaceRemover, extension);
+constexpr size_t lighting_size_1_0 = offsetof(ILightingModel, extension);
+constexpr size_t param_desc_size_1_0 = sizeof(hsr_param_desc);
+
+// Copies the first struct_size bytes of a plugin's struct into a zeroed host struct, so fields the
+// plugin's (older) layout does not have read as NULL / 0.
+template <class T>
+T copy_prefix(const T& from, uint32_t struct_size) {
+    T to{};
+    std::memcpy(&to, &from, std::min<size_t>(struct_size, sizeof(T)));
+    return to;
+}
+
+std::string plugin_label(const Plugin& p) {
+    return std::string(kind_name(p.descriptor.kind)) + " plugin '" + p.descriptor.name + "'";
+}
+
+[[noreturn]] void throw_status(const Plugin& plugin, const char* what, hsr_status status,
+                               const hsr_error& error) {
+    const char* message = error.message[0] != '\0' ? error.message : "(no message)";
+    throw Error("{} failed in {} (status {}): {}", plugin_label(plugin), what, static_cast<int>(status),
+                message);
+}
+
+std::vector<std::string> split_path_list(const char* list) {
+    std::vector<std::string> out;
+    if (list == nullptr) return out;
+    std::string_view rest(list);
+    while (!rest.empty()) {
+        size_t colon = rest.find(':');
+        if (colon != 0) out.emplace_back(rest.substr(0, colon));
+        if (colon == std::string_view::npos) break;
+        rest.remove_prefix(colon + 1);
+    }
+    return out;
+}
+
+// Boost.DLL reports a failed dlopen() with a generic error code; ask the dynamic loader again for
+// its own words (missing file, wrong ELF class, unresolved symbol, ...).
+std::string loader_message(const fs::path& path, const boost::system::error_code& ec) {
+#ifndef _WIN32
+    if (void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) {
+        ::dlclose(handle);
+    } else if (const char* why = ::dlerror()) {
+        return why;
+    }
+#endif
+    return ec.message();
+}
+
+template <class Table>
+void require_functions(const Plugin& plugin, const Table& table) {
+    if (table.create == nullptr || table.destroy == nullptr)
+        throw Error("{} has a NULL create or destroy function", plugin_label(plugin));
+}
+
+}  // namespace
+
+const char* kind_name(hsr_plugin_kind kind) {
+    switch (kind) {
+    case HSR_KIND_HIDDEN_SURFACE_REMOVER: return "hidden-surface";
+    case HSR_KIND_LIGHTING_MODEL: return "lighting";
+    }
+    return "unknown-kind";
+}
+
+std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major, uint32_t host_minor) {
+    if (d.struct_size < frozen_descriptor_size) return "its descriptor is too small to be an hsr descriptor";
+    if (d.api == nullptr || std::strcmp(d.api, HSR_API_NAME) != 0)
+        return "it is not an hsr plugin (api name differs)";
+    if (d.abi_major != host_major)
+        return fmt::format("it was built for ABI {}.{}, this host speaks ABI {}.{} (major versions must match)",
+                           d.abi_major, d.abi_minor, host_major, host_minor);
+    if (d.abi_minor > host_minor)
+        return fmt::format("it needs ABI {}.{}, newer than this host's {}.{}; update hsr", d.abi_major,
+                           d.abi_minor, host_major, host_minor);
+    if (d.struct_size < descriptor_size_1_0)
+        return fmt::format("its descriptor has struct_size {}, ABI 1.0 needs at least {}", d.struct_size,
+                           descriptor_size_1_0);
+    if (d.kind != HSR_KIND_HIDDEN_SURFACE_REMOVER && d.kind != HSR_KIND_LIGHTING_MODEL)
+        return fmt::format("unknown plugin kind {}", static_cast<int>(d.kind));
+    if (d.name == nullptr || d.name[0] == '\0') return "it has no name";
+    if (d.interface_table == nullptr) return "it has no interface table";
+    if (d.param_count > 0 && d.params == nullptr) return "its parameter table is missing";
+    for (uint32_t i = 0; i < d.param_count; ++i) {
+        const hsr_param_desc& p = d.params[i];
+        if (p.struct_size < param_desc_size_1_0 || p.name == nullptr || p.name[0] == '\0')
+            return fmt::format("its parameter #{} is malformed", i);
+        if (p.type < HSR_PARAM_BOOL || p.type > HSR_PARAM_COLOR)
+            return fmt::format("its parameter '{}' has an unknown type", p.name);
+        if (p.type == HSR_PARAM_ENUM && p.choices == nullptr)
+            return fmt::format("its parameter '{}' is a choice without choices", p.name);
+        try {
+            parse_param_value(p, p.default_value ? p.default_value : "");
+        } catch (const Error& e) {
+            return fmt::format("its parameter '{}' has a bad default: {}", p.name, e.what());
+        }
+    }
+    const uint32_t table_size = *static_cast<const uint32_t*>(d.interface_table);
+    const size_t needed = d.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER ? remover_size_1_0 : lighting_size_1_0;
+    if (table_size < needed)
+        return fmt::format("its interface table has struct_size {}, ABI 1.0 needs at least {}", table_size, needed);
+    return {};
+}
+
+std::vector<Plugin> load_plugin_library(const fs::path& path) {
+    auto library = std::make_shared<boost::dll::shared_library>();
+    boost::system::error_code ec;
+    library->load(boost::dll::fs::path(path.string()), boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local, ec);
+    if (ec) throw Error("{}: cannot load library: {}", path.string(), loader_message(path, ec));
+    if (!library->has(HSR_ENTRY_SYMBOL))
+        throw Error("{}: not an hsr plugin (no '{}' symbol)", path.string(), HSR_ENTRY_SYMBOL);
+    auto entry = library->get<const hsr_plugin_descriptor*(uint32_t)>(HSR_ENTRY_SYMBOL);
+
+    std::vector<Plugin> plugins;
+    constexpr uint32_t max_plugins_per_library = 1024;
+    for (uint32_t index = 0; index < max_plugins_per_library; ++index) {
+        const hsr_plugin_descriptor* d = entry(index);
+        if (d == nullptr) break;
+        std::string reason = check_descriptor(*d);
+        if (!reason.empty()) {
+            std::string name = d->struct_size >= descriptor_size_1_0 && d->name ? d->name : "?";
+            throw Error("{}: plugin '{}' refused: {}", path.string(), name, reason);
+        }
+        Plugin p;
+        p.library = library;
+        p.path = path;
+        p.descriptor = copy_prefix(*d, d->struct_size);
+        plugins.push_back(std::move(p));
+    }
+    if (plugins.empty()) throw Error("{}: the library describes no plugin", path.string());
+    return plugins;
+}
+
+void PluginRegistry::add_library(const fs::path& file) {
+    try {
+        for (Plugin& p : load_plugin_library(file)) {
+            auto same = std::find_if(plugins_.begin(), plugins_.end(), [&](const Plugin& q) {
+                return q.descriptor.kind == p.descriptor.kind && std::strcmp(q.descriptor.name, p.descriptor.name) == 0;
+            });
+            if (same != plugins_.end()) {
+                rejected_.push_back({file, fmt::format("{} plugin '{}' is shadowed by {}", kind_name(p.descriptor.kind),
+                                                       p.descriptor.name, same->path.string())});
+                continue;
+            }
+            plugins_.push_back(std::move(p));
+        }
+    } catch (const Error& e) {
+        rejected_.push_back({file, e.what()});
+    }
+}
+
+void PluginRegistry::scan_directory(const fs::path& dir) {
+    searched_.push_back(dir);
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) return;
+    std::vector<fs::path> files;
+    const std::string suffix = boost::dll::shared_library::suffix().string();
+    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+        if (e.is_regular_file(ec) && e.path().extension() == suffix) files.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files) add_library(f);
+}
+
+const Plugin& PluginRegistry::find(hsr_plugin_kind kind, const std::string& name) const {
+    for (const Plugin& p : plugins_)
+        if (p.descriptor.kind == kind && name == p.descriptor.name) return p;
+    std::string found;
+    for (const Plugin& p : plugins_)
+        if (p.descriptor.kind == kind) found += (found.empty() ? "" : ", ") + std::string(p.descriptor.name);
+    std::string where;
+    for (const fs::path& d : searched_) where += (where.empty() ? "" : ", ") + d.string();
+    std::string refused;
+    for (const RejectedLibrary& r : rejected_) {
+        if (r.reason.find("'" + name + "'") != std::string::npos) refused = "; refused: " + r.reason;
+    }
+    throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kind_name(kind), name,
+                where.empty() ? "nowhere" : where, found.empty() ? "none" : found, refused);
+}
+
+std::vector<fs::path> default_plugin_dirs(const fs::path& executable_dir, const std::vector<std::string>& extra) {
+    std::vector<fs::path> dirs;
+    dirs.push_back(executable_dir / "plugins");
+    const fs::path installed = executable_dir.parent_path() / "lib" / "hsr" / "plugins";
+    std::error_code ec;
+    if (fs::is_directory(installed, ec)) dirs.push_back(installed);
+    for (const std::string& d : split_path_list(std::getenv("HSR_PLUGIN_PATH"))) dirs.emplace_back(d);
+    for (const std::string& d : extra) dirs.emplace_back(d);
+    return dirs;
+}
+
+// ---------------------------------------------------------------------------------------------------
+
+HiddenSurfaceRemover::HiddenSurfaceRemover(const Plugin& plugin, const std::vector<Setting>& settings)
+    : plugin_(plugin) {
+    if (plugin.descriptor.kind != HSR_KIND_HIDDEN_SURFACE_REMOVER)
+        throw Error("'{}' is a {} plugin, not a hidden-surface remover", plugin.descriptor.name,
+                    kind_name(plugin.descriptor.kind));
+    const auto& table = *static_cast<const IHiddenSurfaceRemover*>(plugin.descriptor.interface_table);
+    table_ = copy_prefix(table, table.struct_size);
+    require_functions(plugin_, table_);
+    if (table_.render == nullptr) throw Error("{} has a NULL render function", plugin_label(plugin_));
+    ParamValues values = resolve_params(plugin.descriptor, settings);
+    hsr_error error{};
+    hsr_status status = table_.create(values.data(), values.size(), &instance_, &error);
+    if (status != HSR_OK) throw_status(plugin_, "create", status, error);
+}
+
+HiddenSurfaceRemover::~HiddenSurfaceRemover() {
+    if (instance_ != nullptr) table_.destroy(instance_);
+}
+
+void HiddenSurfaceRemover::render(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
+                                  const hsr_counter_sink* counters) {
+    hsr_error error{};
+    hsr_status status = table_.render(instance_, &scene, &camera, &target, counters, &error);
+    if (status != HSR_OK) throw_status(plugin_, "render", status, error);
+}
+
+LightingModel::LightingModel(const Plugin& plugin, const std::vector<Setting>& settings) : plugin_(plugin) {
+    if (plugin.descriptor.kind != HSR_KIND_LIGHTING_MODEL)
+        throw Error("'{}' is a {} plugin, not a lighting model", plugin.descriptor.name,
+                    kind_name(plugin.descriptor.kind));
+    const auto& table = *static_cast<const ILightingModel*>(plugin.descriptor.interface_table);
+    table_ = copy_prefix(table, table.struct_size);
+    require_functions(plugin_, table_);
+    if (table_.prepare == nullptr || table_.shade == nullptr)
+        throw Error("{} has a NULL prepare or shade function", plugin_label(plugin_));
+    ParamValues values = resolve_params(plugin.descriptor, settings);
+    hsr_error error{};
+    hsr_status status = table_.create(values.data(), values.size(), &instance_, &error);
+    if (status != HSR_OK) throw_status(plugin_, "create", status, error);
+}
+
+LightingModel::~LightingModel() {
+    if (instance_ != nullptr) table_.destroy(instance_);
+}
+
+void LightingModel::prepare(const hsr_scene& scene, const hsr_shading_context& context) {
+    hsr_error error{};
+    hsr_status status = table_.prepare(instance_, &scene, &context, &error);
+    if (status != HSR_OK) throw_status(plugin_, "prepare", status, error);
+}
+
+void LightingModel::shade(hsr_fragment_batch& batch) const {
+    hsr_error error{};
+    hsr_status status = table_.shade(instance_, &batch, &error);
+    if (status != HSR_OK) throw_status(plugin_, "shade", status, error);
+}
+
+}  // namespace hsr

@@ -1,0 +1,291 @@
+// hsr: the command-line host. It parses options, loads the scene and the chosen plugins, and hands
+// them to the framework's frame pipeline; everything else lives in framework/ and plugins/.
+#include "hsr/camera.hpp"
+#include "hsr/error.hpp"
+#include "hsr/image.hpp"
+#include "hsr/params.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/plugin_registry.hpp"
+#include "hsr/scene.hpp"
+
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/program_options.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* default_algorithm = "zbuffer";
+constexpr const char* default_lighting = "blinn-phong";
+constexpr const char* default_light = "dir:-0.5,0.6,1";
+constexpr const char* default_background = "0.15/0.15/0.17";
+
+// A usage mistake: printed with a hint to --help, exit status 2.
+struct UsageError : hsr::Error {
+    using hsr::Error::Error;
+};
+
+const char* usage_text =
+    "usage: hsr <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  render MODEL   render a mesh (OBJ, OFF, PLY, STL) or a .scene file to PNG\n"
+    "  plugins        list the plugins found, with their parameters\n"
+    "\n"
+    "  hsr --version  versions of hsr and of its plugin ABI\n"
+    "  hsr <command> --help\n";
+
+fs::path executable_dir() { return fs::path(boost::dll::program_location().parent_path().string()); }
+
+hsr::PluginRegistry scan_plugins(const std::vector<std::string>& extra_dirs) {
+    hsr::PluginRegistry registry;
+    for (const fs::path& dir : hsr::default_plugin_dirs(executable_dir(), extra_dirs)) registry.scan_directory(dir);
+    return registry;
+}
+
+std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
+    const hsr_plugin_descriptor& d = p.descriptor;
+    std::string out = fmt::format("{}{:<15} {:<20} v{:<7} ABI {}.{}  {}\n", indent, hsr::kind_name(d.kind), d.name,
+                                  d.version ? d.version : "?", d.abi_major, d.abi_minor,
+                                  d.description ? d.description : "");
+    if (d.param_count == 0) out += indent + "    (no parameters)\n";
+    for (uint32_t i = 0; i < d.param_count; ++i) out += indent + "    " + hsr::describe_param(d.params[i]) + "\n";
+    return out;
+}
+
+int run_plugins(const std::vector<std::string>& args) {
+    po::options_description options("hsr plugins: list every plugin found");
+    std::vector<std::string> plugin_dirs;
+    options.add_options()("help,h", "show this help")(
+        "plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
+    po::variables_map vm;
+    po::store(po::command_line_parser(args).options(options).run(), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+        std::cout << options;
+        return 0;
+    }
+    hsr::PluginRegistry registry = scan_plugins(plugin_dirs);
+    std::string dirs;
+    for (const fs::path& d : registry.searched()) dirs += "  " + d.string() + "\n";
+    std::cout << "searched:\n" << dirs << "\n";
+    for (hsr_plugin_kind kind : {HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_LIGHTING_MODEL}) {
+        for (const hsr::Plugin& p : registry.plugins())
+            if (p.descriptor.kind == kind) std::cout << describe_plugin(p, "");
+    }
+    if (registry.plugins().empty()) std::cout << "no plugins found\n";
+    for (const hsr::RejectedLibrary& r : registry.rejected()) std::cout << "refused: " << r.reason << "\n";
+    return 0;
+}
+
+struct RenderOptions {
+    std::string model;
+    std::string output;
+    std::string algorithm = default_algorithm;
+    std::string lighting = default_lighting;
+    std::vector<std::string> lights;
+    std::vector<std::string> plugin_dirs;
+    std::string background = default_background;
+    std::string color;
+    std::string depth_out;
+    float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40;
+    bool orthographic = false;
+    bool stats = false;
+    uint32_t threads = 0;
+    int64_t width = 1024, height = 1024;
+};
+
+glm::vec3 parse_color_option(const std::string& text, const char* option) {
+    hsr_param_desc desc{sizeof(hsr_param_desc), option, HSR_PARAM_COLOR, "", 0, 1, nullptr, ""};
+    try {
+        hsr_param_value v = hsr::parse_param_value(desc, text);
+        return {v.color[0], v.color[1], v.color[2]};
+    } catch (const hsr::Error& e) {
+        throw UsageError("--{}: {}", option, e.what());
+    }
+}
+
+void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remover,
+                 const hsr::LightingModel& lighting, const hsr_scene& scene) {
+    std::fprintf(stderr, "%s + %s, %u triangles, %ux%u\n", remover.plugin().descriptor.name,
+                 lighting.plugin().descriptor.name, scene.triangle_count, frame.width, frame.height);
+    std::fprintf(stderr, "  %-28s %10.2f ms\n", "visibility time", frame.visibility_ms);
+    std::fprintf(stderr, "  %-28s %10.2f ms\n", "shading time", frame.shading_ms);
+    for (const auto& [name, value] : frame.counters)
+        std::fprintf(stderr, "  %-28s %10llu\n", name.c_str(), static_cast<unsigned long long>(value));
+}
+
+int run_render(const std::vector<std::string>& args) {
+    RenderOptions o;
+    po::options_description general("hsr render MODEL [options]: render a mesh or .scene file to PNG");
+    general.add_options()
+        ("help,h", "show this help, with every plugin's parameters")
+        ("output,o", po::value(&o.output), "PNG file to write (default: <model name>.png)")
+        ("algorithm,a", po::value(&o.algorithm)->default_value(default_algorithm),
+         "hidden-surface plugin: NAME[:key=value,...]")
+        ("lighting,l", po::value(&o.lighting)->default_value(default_lighting),
+         "lighting plugin: NAME[:key=value,...]")
+        ("width", po::value(&o.width)->default_value(1024), "image width in pixels")
+        ("height", po::value(&o.height)->default_value(1024), "image height in pixels")
+        ("yaw", po::value(&o.yaw)->default_value(0), "turn the model about the vertical axis, degrees")
+        ("pitch", po::value(&o.pitch)->default_value(0), "tilt: positive looks from above, degrees")
+        ("zoom", po::value(&o.zoom)->default_value(1), "magnification; 1 fits the model to the view")
+        ("ortho", po::bool_switch(&o.orthographic), "orthographic instead of perspective projection")
+        ("light", po::value(&o.lights)->composing(),
+         "light, repeatable: point:x,y,z or dir:x,y,z (toward the light), camera space (x right, y up, "
+         "z toward you), optionally ;intensity=I;color=r/g/b (see docs/scene-format.md). "
+         "Default: " + std::string(default_light))
+        ("background", po::value(&o.background)->default_value(default_background), "background colour r/g/b or #rrggbb")
+        ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
+        ("crease-angle", po::value(&o.crease_angle)->default_value(40),
+         "degrees: shading normals are not smoothed across edges sharper than this")
+        ("depth-out", po::value(&o.depth_out), "also write the depth buffer as a greyscale PNG (near = white)")
+        ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
+        ("threads", po::value(&o.threads)->default_value(0), "shading threads (0 = one per core)")
+        ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
+    po::options_description hidden;
+    hidden.add_options()("model", po::value(&o.model));
+    po::options_description all;
+    all.add(general).add(hidden);
+    po::positional_options_description positional;
+    positional.add("model", 1);
+
+    po::variables_map vm;
+    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+
+    if (vm.count("help")) {
+        std::cout << general << "\nplugins (parameters go after the name: --algorithm zbuffer:cull-backfaces=true):\n";
+        hsr::PluginRegistry registry = scan_plugins(o.plugin_dirs);
+        for (const hsr::Plugin& p : registry.plugins()) std::cout << describe_plugin(p, "  ");
+        return 0;
+    }
+    if (o.model.empty()) throw UsageError("render: no model given");
+    if (o.width <= 0 || o.height <= 0 || o.width > hsr::max_image_side || o.height > hsr::max_image_side)
+        throw UsageError("image size {}x{}: each side must be between 1 and {}", o.width, o.height, hsr::max_image_side);
+    for (float v : {o.yaw, o.pitch, o.zoom, o.crease_angle})
+        if (!std::isfinite(v)) throw UsageError("camera and crease angles must be finite numbers");
+    if (!(o.zoom > 0)) throw UsageError("--zoom must be positive");
+    const glm::vec3 background = parse_color_option(o.background, "background");
+
+    // Plugins first: a typo in a plugin name should not wait for a large mesh to load.
+    hsr::PluginRegistry registry = scan_plugins(o.plugin_dirs);
+    const hsr::PluginSpec algorithm = hsr::parse_plugin_spec(o.algorithm);
+    const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(o.lighting);
+    hsr::HiddenSurfaceRemover remover(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
+    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+
+    // Scene and camera.
+    const fs::path model_path(o.model);
+    hsr::SceneData scene;
+    std::vector<hsr::LightSpec> light_specs;
+    std::optional<glm::vec3> scene_background;
+    bool pixel_camera = false;
+    uint32_t width = static_cast<uint32_t>(o.width), height = static_cast<uint32_t>(o.height);
+    if (hsr::is_scene_file(model_path)) {
+        hsr::SceneFile file = hsr::load_scene_file(model_path);
+        scene = std::move(file.scene);
+        light_specs = file.lights;
+        scene_background = file.background;
+        pixel_camera = file.pixel_camera;
+        if (pixel_camera && !vm["width"].defaulted()) width = static_cast<uint32_t>(o.width);
+        else if (pixel_camera) width = file.pixel_width;
+        if (pixel_camera && !vm["height"].defaulted()) height = static_cast<uint32_t>(o.height);
+        else if (pixel_camera) height = file.pixel_height;
+    } else {
+        hsr::MeshOptions mesh_options;
+        mesh_options.crease_angle_degrees = o.crease_angle;
+        if (!o.color.empty()) mesh_options.color = parse_color_option(o.color, "color");
+        scene = hsr::load_model(model_path, mesh_options);
+    }
+    hsr::check_image_size(width, height);
+
+    hsr_camera camera;
+    if (pixel_camera) {
+        camera = hsr::make_pixel_camera(width, height, scene.bounds_min.z, scene.bounds_max.z);
+    } else {
+        hsr::CameraSettings settings;
+        settings.yaw_degrees = o.yaw;
+        settings.pitch_degrees = o.pitch;
+        settings.zoom = o.zoom;
+        settings.orthographic = o.orthographic;
+        settings.width = width;
+        settings.height = height;
+        camera = hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, settings);
+    }
+
+    if (!o.lights.empty()) {
+        light_specs.clear();
+        for (const std::string& text : o.lights) light_specs.push_back(hsr::parse_light_spec(text));
+    }
+    if (light_specs.empty()) light_specs.push_back(hsr::parse_light_spec(default_light));
+    std::vector<hsr_light> lights;
+    for (const hsr::LightSpec& spec : light_specs) lights.push_back(hsr::to_world_light(spec, camera));
+
+    hsr::FrameSettings frame_settings;
+    frame_settings.background = vm["background"].defaulted() && scene_background ? *scene_background : background;
+    frame_settings.threads = o.threads;
+
+    const hsr_scene scene_view = scene.view();
+    const hsr_shading_context context = hsr::make_shading_context(camera, lights);
+    hsr::Frame frame = hsr::render_frame(scene_view, camera, remover, lighting, context, frame_settings);
+
+    const fs::path output = o.output.empty() ? fs::path(model_path.stem().string() + ".png") : fs::path(o.output);
+    hsr::write_png(output, frame.width, frame.height, 3, frame.rgb);
+    if (!o.depth_out.empty()) hsr::write_depth_png(o.depth_out, frame.width, frame.height, frame.depth);
+    if (o.stats) print_stats(frame, remover, lighting, scene_view);
+    std::fprintf(stderr, "wrote %s (%ux%u, %u triangles, %.1f ms visibility + %.1f ms shading)\n",
+                 output.string().c_str(), frame.width, frame.height, scene_view.triangle_count, frame.visibility_ms,
+                 frame.shading_ms);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    try {
+        if (args.empty()) {
+            std::cerr << usage_text;
+            return 2;
+        }
+        const std::string command = args.front();
+        args.erase(args.begin());
+        if (command == "--help" || command == "-h" || command == "help") {
+            std::cout << usage_text;
+            return 0;
+        }
+        if (command == "--version") {
+            std::cout << fmt::format("hsr {} (plugin ABI {}.{})\n", HSR_VERSION, HSR_ABI_MAJOR, HSR_ABI_MINOR);
+            return 0;
+        }
+        if (command == "render") return run_render(args);
+        if (command == "plugins") return run_plugins(args);
+        throw UsageError("unknown command '{}' (commands: render, plugins)", command);
+    } catch (const UsageError& e) {
+        std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
+        return 2;
+    } catch (const po::error& e) {
+        std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
+        return 2;
+    } catch (const hsr::Error& e) {
+        std::cerr << "hsr: error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "hsr: error: out of memory\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "hsr: error: " << e.what() << "\n";
+        return 1;
+    }
+}
