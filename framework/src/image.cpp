@@ -32,6 +32,25 @@ void write_png(const std::filesystem::path& path, uint32_t width, uint32_t heigh
     }
 }
 
+Image read_png_rgb(const std::filesystem::path& path) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&image, path.c_str()))
+        throw Error("cannot read {}: {}", path.string(), image.message);
+    image.format = PNG_FORMAT_RGB;
+    Image out;
+    out.width = image.width;
+    out.height = image.height;
+    out.channels = 3;
+    out.pixels.resize(PNG_IMAGE_SIZE(image));
+    if (!png_image_finish_read(&image, nullptr, out.pixels.data(), 0, nullptr)) {
+        std::string why = image.message;
+        png_image_free(&image);
+        throw Error("cannot read {}: {}", path.string(), why);
+    }
+    return out;
+}
+
 void write_depth_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
                      std::span<const float> depth) {
     float nearest = std::numeric_limits<float>::infinity();

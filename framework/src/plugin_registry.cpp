@@ -207,7 +207,7 @@ const Plugin& PluginRegistry::find(hsr_plugin_kind kind, const std::string& name
 std::vector<fs::path> default_plugin_dirs(const fs::path& executable_dir, const std::vector<std::string>& extra) {
     std::vector<fs::path> dirs;
     dirs.push_back(executable_dir / "plugins");
-    const fs::path installed = executable_dir.parent_path() / "lib" / "hsr" / "plugins";
+    const fs::path installed = executable_dir.parent_path() / HSR_INSTALL_PLUGIN_DIR;
     std::error_code ec;
     if (fs::is_directory(installed, ec)) dirs.push_back(installed);
     for (const std::string& d : split_path_list(std::getenv("HSR_PLUGIN_PATH"))) dirs.emplace_back(d);

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <vector>
 
 namespace hsr {
 
@@ -11,6 +12,15 @@ namespace hsr {
 // be written.
 void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
                std::span<const uint8_t> pixels);
+
+struct Image {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    int channels = 0;
+    std::vector<uint8_t> pixels;  // rows top to bottom
+};
+// Reads any PNG as 8-bit RGB (channels 3); throws hsr::Error if it cannot.
+Image read_png_rgb(const std::filesystem::path& path);
 
 // Depth buffer as greyscale: nearest covered depth white, farthest covered depth dark grey (64),
 // uncovered pixels black. Only finite values count.

@@ -1,0 +1,167 @@
+// The hsr executable as a user meets it: every bad input gives one line on stderr and a non-zero
+// exit status; a good one writes a picture whose pixels make sense.
+#include "hsr/image.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int status = -1;
+    std::string out, err;
+};
+
+fs::path scratch_dir() {
+    fs::path dir = fs::path(HSR_BINARY_DIR) / "test-cli-scratch";
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// Runs `hsr <args>` with a time limit; returns exit status and output.
+Run hsr(const std::string& args, const std::string& tag) {
+    const fs::path dir = scratch_dir();
+    const fs::path out = dir / (tag + ".out"), err = dir / (tag + ".err");
+    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/host/hsr " + args + " > " +
+                                out.string() + " 2> " + err.string() + " < /dev/null";
+    const int raw = std::system(command.c_str());
+    Run r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+fs::path write_file(const std::string& name, const std::string& text) {
+    const fs::path p = scratch_dir() / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+std::string model(const char* name) { return std::string(HSR_MODELS_DIR) + "/" + name; }
+
+// One line, naming the problem, exit status 1 or 2 (not a crash: a signal gives -1 or >= 128).
+void require_one_line_error(const Run& r, const std::string& expected) {
+    INFO("stderr: " << r.err);
+    CHECK((r.status == 1 || r.status == 2));
+    CHECK(r.err.rfind("hsr: error: ", 0) == 0);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_THAT(r.err, Catch::Contains(expected));
+}
+
+}  // namespace
+
+TEST_CASE("cli: a missing model file", "[cli]") {
+    require_one_line_error(hsr("render /nonexistent/model.obj -o x.png", "missing"), "/nonexistent/model.obj");
+}
+
+TEST_CASE("cli: a malformed mesh", "[cli]") {
+    const fs::path bad = write_file("garbage.off", "OFF\nthis is not a mesh\n");
+    require_one_line_error(hsr("render " + bad.string() + " -o x.png", "malformed"), "garbage.off");
+}
+
+TEST_CASE("cli: an empty mesh", "[cli]") {
+    const fs::path empty = write_file("empty.off", "OFF\n0 0 0\n");
+    require_one_line_error(hsr("render " + empty.string() + " -o x.png", "empty"), "empty.off");
+}
+
+TEST_CASE("cli: NaN vertices", "[cli]") {
+    const fs::path nan = write_file("nan.off", "OFF\n3 1 0\n0 0 0\nnan 1 0\n1 0 0\n3 0 1 2\n");
+    require_one_line_error(hsr("render " + nan.string() + " -o x.png", "nan"), "nan.off");
+}
+
+TEST_CASE("cli: an unknown plugin says where it looked and what it found", "[cli]") {
+    const Run r = hsr("render " + model("cube.obj") + " --algorithm no-such-algorithm -o x.png", "unknown-plugin");
+    require_one_line_error(r, "no hidden-surface plugin named 'no-such-algorithm'");
+    CHECK_THAT(r.err, Catch::Contains("searched:") && Catch::Contains("zbuffer"));
+    require_one_line_error(hsr("render " + model("cube.obj") + " --lighting toon -o x.png", "unknown-lighting"),
+                           "no lighting plugin named 'toon'");
+}
+
+TEST_CASE("cli: unknown and out-of-range plugin parameters", "[cli]") {
+    require_one_line_error(hsr("render " + model("cube.obj") + " --algorithm zbuffer:colour=red -o x.png", "unknown-param"),
+                           "plugin 'zbuffer' has no parameter 'colour'");
+    require_one_line_error(
+        hsr("render " + model("cube.obj") + " --lighting blinn-phong:shininess=-3 -o x.png", "range-param"),
+        "out of range");
+    require_one_line_error(
+        hsr("render " + model("cube.obj") + " --algorithm zbuffer:depth-test=sideways -o x.png", "enum-param"),
+        "not one of less|greater");
+}
+
+TEST_CASE("cli: zero and absurd image sizes are refused before allocating", "[cli]") {
+    require_one_line_error(hsr("render " + model("cube.obj") + " --width 0 -o x.png", "zero-size"), "image size");
+    require_one_line_error(hsr("render " + model("cube.obj") + " --width 1000000 --height 1000000 -o x.png", "huge"),
+                           "image size");
+    require_one_line_error(hsr("render " + model("cube.obj") + " --height -5 -o x.png", "negative"), "image size");
+}
+
+TEST_CASE("cli: unknown commands and options", "[cli]") {
+    require_one_line_error(hsr("paint", "unknown-command"), "unknown command 'paint'");
+    require_one_line_error(hsr("render " + model("cube.obj") + " --frobnicate", "unknown-option"), "frobnicate");
+    require_one_line_error(hsr("render", "no-model"), "no model");
+    require_one_line_error(hsr("render " + model("cube.obj") + " --zoom abc", "bad-number"), "zoom");
+}
+
+TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") {
+    const Run r = hsr(std::string("plugins --plugin-path ") + HSR_TEST_PLUGIN_DIR, "plugins-refused");
+    CHECK(r.status == 0);
+    CHECK_THAT(r.out, Catch::Contains("refused:") && Catch::Contains("built for ABI 2.0"));
+    CHECK_THAT(r.out, Catch::Contains("needs ABI 1.1"));
+    CHECK_THAT(r.out, Catch::Contains("no-entry.so: not an hsr plugin"));
+}
+
+TEST_CASE("cli: plugins lists every plugin with its parameters", "[cli]") {
+    const Run r = hsr("plugins", "plugins");
+    CHECK(r.status == 0);
+    for (const char* name : {"zbuffer", "lambert", "phong", "blinn-phong", "facecolor"}) CHECK_THAT(r.out, Catch::Contains(name));
+    CHECK_THAT(r.out, Catch::Contains("ABI 1.0"));
+    CHECK_THAT(r.out, Catch::Contains("depth-test=less (less|greater)"));
+    CHECK_THAT(r.out, Catch::Contains("interpolation="));
+    const Run help = hsr("render --help", "render-help");
+    CHECK(help.status == 0);
+    CHECK_THAT(help.out, Catch::Contains("--algorithm") && Catch::Contains("--depth-out") &&
+                             Catch::Contains("shininess="));
+}
+
+TEST_CASE("cli: a render writes a PNG with the model in the middle and background at the corners", "[cli]") {
+    const fs::path png = scratch_dir() / "cube.png";
+    const fs::path depth = scratch_dir() / "cube-depth.png";
+    fs::remove(png);
+    const Run r = hsr("render " + model("cube.obj") + " --yaw 30 --pitch 20 --width 96 --height 64 --background 0/0/1 "
+                      "--lighting lambert -o " + png.string() + " --depth-out " + depth.string(), "render-cube");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const hsr::Image img = hsr::read_png_rgb(png);
+    REQUIRE(img.width == 96);
+    REQUIRE(img.height == 64);
+    auto pixel = [&](uint32_t x, uint32_t y) {
+        const uint8_t* p = &img.pixels[3 * (size_t(y) * img.width + x)];
+        return std::array<int, 3>{p[0], p[1], p[2]};
+    };
+    CHECK(pixel(0, 0) == std::array<int, 3>{0, 0, 255});
+    CHECK(pixel(95, 63) == std::array<int, 3>{0, 0, 255});
+    CHECK(pixel(48, 32) != std::array<int, 3>{0, 0, 255});
+    const hsr::Image d = hsr::read_png_rgb(depth);
+    CHECK(d.pixels[0] == 0);                                  // uncovered: black
+    CHECK(d.pixels[3 * (32 * 96 + 48)] >= 64);                // covered: grey to white
+}
