@@ -1,0 +1,391 @@
+// Shared shading helpers for lighting plugins: the local reflection formulas (Lambert, Phong 1975,
+// Blinn 1977) and ShadedLightingModel, which implements prepare() and the three interpolation modes
+// (flat, Gouraud 1971, Phong 1975) once, so that a lighting plugin is a parameter list and one line
+// naming its specular term:
+//
+//   class MyModel final : public hsr::shading::ShadedLightingModel<hsr::shading::BlinnPhongSpecular> {
+//   public:
+//       static constexpr hsr::sdk::PluginInfo info{"my-model", "1.0.0", "..."};
+//       static inline const hsr::sdk::ParamSpec params[] = {
+//           hsr::shading::param::interpolation("phong"), hsr::shading::param::ambient(), ...};
+//       explicit MyModel(const hsr::sdk::Params& p)
+//           : ShadedLightingModel(hsr::shading::read_material(p, true)) {}
+//   };
+//   HSR_EXPORT_PLUGIN(MyModel)
+//
+// Conventions (docs/lighting.md has the formulas):
+//   colour = clamp(ka*C + sum over lights of E_l * (kd*C*max(0, N.L) + ks*S*spec(N, L, V)), 0, 1)
+// with C the face colour, S the specular colour, E_l = light colour * intensity, spec = 0 unless
+// N.L > 0. L is the unit vector from the surface point toward the light, V toward the viewer.
+// Header-only and installed with the SDK; depends on abi.h, sdk.hpp and GLM only.
+#pragma once
+
+#include "hsr/abi.h"
+#include "hsr/sdk.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hsr::shading {
+
+// ------------------------------------------------------------------------------------------------
+// Reflection formulas. All vectors unit length; l points toward the light, v toward the viewer.
+
+// Lambert's cosine law: the diffuse factor max(0, N.L).
+inline float lambert_term(glm::vec3 n, glm::vec3 l) { return std::max(0.0f, glm::dot(n, l)); }
+
+// Mirror direction of l about n: R = 2 (N.L) N - L.
+inline glm::vec3 mirror_direction(glm::vec3 n, glm::vec3 l) { return 2.0f * glm::dot(n, l) * n - l; }
+
+// Phong (1975): (R.V)^shininess, zero when the light is behind the surface (N.L <= 0) or R.V <= 0.
+inline float phong_specular(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) {
+    if (glm::dot(n, l) <= 0.0f) return 0.0f;
+    const float r_dot_v = glm::dot(mirror_direction(n, l), v);
+    return r_dot_v > 0.0f ? std::pow(r_dot_v, shininess) : 0.0f;
+}
+
+// Blinn (1977): (N.H)^shininess with the half vector H = normalize(L + V); zero when N.L <= 0.
+inline float blinn_phong_specular(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) {
+    if (glm::dot(n, l) <= 0.0f) return 0.0f;
+    const glm::vec3 sum = l + v;
+    const float length_squared = glm::dot(sum, sum);
+    if (length_squared <= 0.0f) return 0.0f;  // L = -V: no half vector
+    const float n_dot_h = glm::dot(n, sum) / std::sqrt(length_squared);
+    return n_dot_h > 0.0f ? std::pow(n_dot_h, shininess) : 0.0f;
+}
+
+// Specular terms as types, so ShadedLightingModel is compiled once per term and its per-fragment
+// loops contain no indirect call.
+struct NoSpecular {
+    static constexpr bool has_specular = false;
+    float operator()(glm::vec3, glm::vec3, glm::vec3, float) const { return 0.0f; }
+};
+struct PhongSpecular {
+    static constexpr bool has_specular = true;
+    float operator()(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) const {
+        return phong_specular(n, l, v, shininess);
+    }
+};
+struct BlinnPhongSpecular {
+    static constexpr bool has_specular = true;
+    float operator()(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) const {
+        return blinn_phong_specular(n, l, v, shininess);
+    }
+};
+
+inline glm::vec3 clamp01(glm::vec3 c) { return glm::clamp(c, glm::vec3(0.0f), glm::vec3(1.0f)); }
+
+// ------------------------------------------------------------------------------------------------
+// Material and parameters
+
+// Where the reflection model is evaluated. Values are the indices in "flat|gouraud|phong".
+enum class Interpolation : int {
+    flat = 0,     // once per face, at the centroid with the face normal
+    gouraud = 1,  // once per corner (corner normal and position), colours interpolated
+    phong = 2     // per fragment, with the interpolated normal
+};
+
+struct Material {
+    float ambient = 0.1f;
+    float diffuse = 0.8f;
+    float specular = 0.0f;
+    float shininess = 32.0f;
+    glm::vec3 specular_color{1.0f};
+    bool two_sided = true;
+    Interpolation interpolation = Interpolation::phong;
+};
+
+// The parameter specs the lit models share; each plugin lists the ones it reads.
+namespace param {
+constexpr sdk::ParamSpec interpolation(const char* default_mode) {
+    return sdk::ParamSpec::choice(
+        "interpolation", default_mode, "flat|gouraud|phong",
+        "flat: one colour per face; gouraud: colours at the corners interpolated; phong: normal "
+        "interpolated, model evaluated per pixel");
+}
+constexpr sdk::ParamSpec ambient() {
+    return sdk::ParamSpec::real("ambient", "0.1", 0.0, 1.0, "ambient coefficient ka (times the face colour)");
+}
+constexpr sdk::ParamSpec diffuse() {
+    return sdk::ParamSpec::real("diffuse", "0.8", 0.0, 1.0, "diffuse coefficient kd (times the face colour)");
+}
+constexpr sdk::ParamSpec specular() {
+    return sdk::ParamSpec::real("specular", "0.5", 0.0, 1.0, "specular coefficient ks");
+}
+constexpr sdk::ParamSpec shininess(const char* default_value) {
+    return sdk::ParamSpec::real("shininess", default_value, 1.0, 1000.0,
+                                "specular exponent n: larger is a smaller, sharper highlight");
+}
+constexpr sdk::ParamSpec specular_color() {
+    return sdk::ParamSpec::color("specular-color", "1/1/1", "colour of the highlight");
+}
+constexpr sdk::ParamSpec two_sided() {
+    return sdk::ParamSpec::boolean("two-sided", true,
+                                   "light the back of a face as if it were the front (open meshes, inside views)");
+}
+}  // namespace param
+
+// Reads the parameters above; with_specular = false for models without a specular term (they do
+// not declare specular, shininess or specular-color).
+inline Material read_material(const sdk::Params& p, bool with_specular) {
+    Material m;
+    m.ambient = static_cast<float>(p.real("ambient"));
+    m.diffuse = static_cast<float>(p.real("diffuse"));
+    if (with_specular) {
+        m.specular = static_cast<float>(p.real("specular"));
+        m.shininess = static_cast<float>(p.real("shininess"));
+        m.specular_color = p.color("specular-color");
+    }
+    m.two_sided = p.boolean("two-sided");
+    const int mode = p.choice("interpolation");
+    if (mode < 0 || mode > 2) throw sdk::InvalidArgument("interpolation: unknown mode index " + std::to_string(mode));
+    m.interpolation = static_cast<Interpolation>(mode);
+    return m;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Lights and viewer, validated and pre-multiplied once per frame.
+
+class LightEnvironment {
+public:
+    // Throws sdk::InvalidArgument for a malformed context.
+    void set(const hsr_shading_context& context) {
+        if (context.struct_size < sizeof(hsr_shading_context))
+            throw sdk::InvalidArgument("shading context: struct_size " + std::to_string(context.struct_size) +
+                                       " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_shading_context)));
+        if (context.light_count > 0 && context.lights == nullptr)
+            throw sdk::InvalidArgument("shading context: light_count is " + std::to_string(context.light_count) +
+                                       " but lights is NULL");
+        directional_.clear();
+        point_.clear();
+        for (uint32_t i = 0; i < context.light_count; ++i) {
+            const hsr_light& light = context.lights[i];
+            const glm::vec3 vector{light.vector[0], light.vector[1], light.vector[2]};
+            const glm::vec3 radiance =
+                glm::vec3{light.color[0], light.color[1], light.color[2]} * light.intensity;
+            if (!all_finite(vector) || !all_finite(radiance))
+                throw sdk::InvalidArgument("light " + std::to_string(i) + ": non-finite vector, colour or intensity");
+            if (light.type == HSR_LIGHT_DIRECTIONAL) {
+                const float length = glm::length(vector);
+                if (!(length > 0.0f))
+                    throw sdk::InvalidArgument("light " + std::to_string(i) + ": directional light with a zero direction");
+                directional_.push_back({vector / length, radiance});
+            } else if (light.type == HSR_LIGHT_POINT) {
+                point_.push_back({vector, radiance});
+            } else {
+                throw sdk::InvalidArgument("light " + std::to_string(i) + ": unknown light type " +
+                                           std::to_string(static_cast<int>(light.type)));
+            }
+        }
+        if (context.projection_type == HSR_PROJECTION_PERSPECTIVE) {
+            perspective_ = true;
+            eye_ = {context.eye[0], context.eye[1], context.eye[2]};
+            if (!all_finite(eye_)) throw sdk::InvalidArgument("shading context: non-finite eye point");
+        } else if (context.projection_type == HSR_PROJECTION_ORTHOGRAPHIC) {
+            perspective_ = false;
+            const glm::vec3 d{context.view_direction[0], context.view_direction[1], context.view_direction[2]};
+            const float length = glm::length(d);
+            if (!(length > 0.0f) || !all_finite(d))
+                throw sdk::InvalidArgument("shading context: orthographic view_direction must be a non-zero vector");
+            toward_viewer_ = -d / length;
+        } else {
+            throw sdk::InvalidArgument("shading context: unknown projection type " +
+                                       std::to_string(static_cast<int>(context.projection_type)));
+        }
+    }
+
+    // Unit vector from p toward the viewer (zero when p is the eye point itself).
+    glm::vec3 view_vector(glm::vec3 p) const {
+        if (!perspective_) return toward_viewer_;
+        const glm::vec3 d = eye_ - p;
+        const float length_squared = glm::dot(d, d);
+        return length_squared > 0.0f ? d / std::sqrt(length_squared) : glm::vec3(0.0f);
+    }
+
+    // The reflected colour at point p with unit shading normal n and view vector v, clamped to [0, 1].
+    template <class Specular>
+    glm::vec3 reflect(const Material& m, Specular specular, glm::vec3 base, glm::vec3 p, glm::vec3 n,
+                      glm::vec3 v) const {
+        glm::vec3 diffuse_sum(0.0f);
+        glm::vec3 specular_sum(0.0f);
+        auto add = [&](glm::vec3 l, glm::vec3 radiance) {
+            const float n_dot_l = glm::dot(n, l);
+            if (n_dot_l <= 0.0f) return;
+            diffuse_sum += radiance * n_dot_l;
+            if constexpr (Specular::has_specular) specular_sum += radiance * specular(n, l, v, m.shininess);
+        };
+        for (const Directional& light : directional_) add(light.direction, light.radiance);
+        for (const Point& light : point_) {
+            const glm::vec3 to_light = light.position - p;
+            const float length_squared = glm::dot(to_light, to_light);
+            if (length_squared > 0.0f) add(to_light / std::sqrt(length_squared), light.radiance);
+        }
+        glm::vec3 color = base * (m.ambient + m.diffuse * diffuse_sum);
+        if constexpr (Specular::has_specular) color += m.specular * m.specular_color * specular_sum;
+        return clamp01(color);
+    }
+
+private:
+    struct Directional {
+        glm::vec3 direction;  // unit, toward the light
+        glm::vec3 radiance;   // colour * intensity
+    };
+    struct Point {
+        glm::vec3 position;
+        glm::vec3 radiance;
+    };
+    static bool all_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+    std::vector<Directional> directional_;
+    std::vector<Point> point_;
+    bool perspective_ = true;
+    glm::vec3 eye_{0.0f};
+    glm::vec3 toward_viewer_{0.0f, 0.0f, 1.0f};
+};
+
+// ------------------------------------------------------------------------------------------------
+// A complete lighting model: ambient + diffuse + Specular, with flat, Gouraud or Phong interpolation.
+//
+// Two-sided lighting: which side of a face the viewer sees is decided by the face normal (for a
+// plane the sign of N_face.V is the same at every point of it); when the back is seen, the shading
+// normal (face, corner or interpolated) is negated before the model is evaluated. Deciding by the
+// face rather than by each interpolated normal keeps the three modes consistent and avoids flips
+// inside a triangle near silhouettes.
+template <class Specular>
+class ShadedLightingModel : public sdk::LightingModel {
+public:
+    explicit ShadedLightingModel(const Material& material) : material_(material) {}
+
+    void prepare(const sdk::Scene& scene, const hsr_shading_context& context) final {
+        scene_.reset();
+        const hsr_scene& raw = scene.raw();
+        if (raw.struct_size < sizeof(hsr_scene))
+            throw sdk::InvalidArgument("scene: struct_size " + std::to_string(raw.struct_size) +
+                                       " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_scene)));
+        if (raw.triangle_count > 0 && (raw.positions == nullptr || raw.indices == nullptr ||
+                                       raw.face_normals == nullptr || raw.corner_normals == nullptr ||
+                                       raw.face_colors == nullptr))
+            throw sdk::InvalidArgument("scene: positions, indices, normals or face colours missing");
+        lights_.set(context);
+        const uint32_t triangles = scene.triangle_count();
+        for (uint32_t t = 0; t < triangles; ++t)
+            for (int corner = 0; corner < 3; ++corner)
+                if (scene.index(t, corner) >= scene.vertex_count())
+                    throw sdk::InvalidArgument("scene: triangle " + std::to_string(t) + " refers to vertex " +
+                                               std::to_string(scene.index(t, corner)) + " of " +
+                                               std::to_string(scene.vertex_count()));
+
+        face_color_.clear();
+        corner_color_.clear();
+        const Specular specular{};
+        if (material_.interpolation == Interpolation::flat) {
+            face_color_.resize(triangles);
+            for (uint32_t t = 0; t < triangles; ++t) {
+                const glm::vec3 centroid = (scene.corner_position(t, 0) + scene.corner_position(t, 1) +
+                                            scene.corner_position(t, 2)) / 3.0f;
+                const glm::vec3 v = lights_.view_vector(centroid);
+                const glm::vec3 n = facing_normal(scene.face_normal(t), scene.face_normal(t), v);
+                face_color_[t] = lights_.reflect(material_, specular, scene.face_color(t), centroid, n, v);
+            }
+        } else if (material_.interpolation == Interpolation::gouraud) {
+            corner_color_.resize(3 * size_t{triangles});
+            for (uint32_t t = 0; t < triangles; ++t) {
+                const glm::vec3 face_normal = scene.face_normal(t);
+                const glm::vec3 base = scene.face_color(t);
+                for (int corner = 0; corner < 3; ++corner) {
+                    const glm::vec3 p = scene.corner_position(t, corner);
+                    const glm::vec3 v = lights_.view_vector(p);
+                    const glm::vec3 n = facing_normal(scene.corner_normal(t, corner), face_normal, v);
+                    corner_color_[3 * size_t{t} + corner] = lights_.reflect(material_, specular, base, p, n, v);
+                }
+            }
+        }
+        scene_.emplace(scene);
+    }
+
+    void shade(hsr_fragment_batch& batch) const final {
+        if (!scene_) throw sdk::InvalidArgument("shade() called before a successful prepare()");
+        if (batch.struct_size < sizeof(hsr_fragment_batch))
+            throw sdk::InvalidArgument("fragment batch: struct_size " + std::to_string(batch.struct_size) +
+                                       " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_fragment_batch)));
+        if (batch.count == 0) return;
+        if (batch.face == nullptr || batch.color == nullptr || batch.bary == nullptr ||
+            batch.position == nullptr || batch.normal == nullptr)
+            throw sdk::InvalidArgument("fragment batch: face, bary, position, normal or color array is NULL");
+        switch (material_.interpolation) {
+        case Interpolation::flat: shade_flat(batch); break;
+        case Interpolation::gouraud: shade_gouraud(batch); break;
+        case Interpolation::phong: shade_phong(batch); break;
+        }
+    }
+
+    const Material& material() const { return material_; }
+
+private:
+    // n, negated when two-sided lighting is on and the viewer sees the back of the face.
+    glm::vec3 facing_normal(glm::vec3 n, glm::vec3 face_normal, glm::vec3 v) const {
+        return material_.two_sided && glm::dot(face_normal, v) < 0.0f ? -n : n;
+    }
+
+    void check_face(uint32_t face) const {
+        if (face >= scene_->triangle_count()) [[unlikely]]
+            throw sdk::InvalidArgument("fragment batch: face index " + std::to_string(face) + " out of range (" +
+                                       std::to_string(scene_->triangle_count()) + " triangles)");
+    }
+
+    static void store(float* out, glm::vec3 c) {
+        out[0] = c.x;
+        out[1] = c.y;
+        out[2] = c.z;
+    }
+
+    void shade_flat(hsr_fragment_batch& batch) const {
+        const glm::vec3* colors = face_color_.data();
+        for (uint32_t i = 0; i < batch.count; ++i) {
+            const uint32_t f = batch.face[i];
+            check_face(f);
+            store(batch.color + 3 * size_t{i}, colors[f]);
+        }
+    }
+
+    void shade_gouraud(hsr_fragment_batch& batch) const {
+        const glm::vec3* colors = corner_color_.data();
+        for (uint32_t i = 0; i < batch.count; ++i) {
+            const uint32_t f = batch.face[i];
+            check_face(f);
+            const float b1 = batch.bary[2 * size_t{i}];
+            const float b2 = batch.bary[2 * size_t{i} + 1];
+            const glm::vec3* c = colors + 3 * size_t{f};
+            store(batch.color + 3 * size_t{i}, clamp01((1.0f - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2]));
+        }
+    }
+
+    void shade_phong(hsr_fragment_batch& batch) const {
+        const sdk::Scene& scene = *scene_;
+        const Specular specular{};
+        for (uint32_t i = 0; i < batch.count; ++i) {
+            const uint32_t f = batch.face[i];
+            check_face(f);
+            const float* pos = batch.position + 3 * size_t{i};
+            const float* nrm = batch.normal + 3 * size_t{i};
+            const glm::vec3 p{pos[0], pos[1], pos[2]};
+            const glm::vec3 v = lights_.view_vector(p);
+            const glm::vec3 n = facing_normal({nrm[0], nrm[1], nrm[2]}, scene.face_normal(f), v);
+            store(batch.color + 3 * size_t{i}, lights_.reflect(material_, specular, scene.face_color(f), p, n, v));
+        }
+    }
+
+    Material material_;
+    LightEnvironment lights_;
+    std::optional<sdk::Scene> scene_;     // set by a successful prepare()
+    std::vector<glm::vec3> face_color_;   // flat: one per triangle
+    std::vector<glm::vec3> corner_color_; // gouraud: three per triangle
+};
+
+}  // namespace hsr::shading

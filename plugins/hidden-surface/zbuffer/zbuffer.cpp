@@ -1,0 +1,108 @@
+// zbuffer: the plain depth buffer (Catmull, "A Subdivision Algorithm for Computer Display of Curved
+// Surfaces", PhD thesis, University of Utah, 1974). Triangles are drawn one after another in scene
+// order; every covered pixel centre compares the triangle's depth with the depth stored for that
+// pixel and keeps the nearer (or, with depth-test=greater, the farther) surface.
+//
+// Rasterization uses the shared helpers of hsr/raster.hpp: near/far and guard-band clipping in
+// homogeneous clip space, integer edge functions (Pineda 1988) on a 1/256-pixel grid with the
+// top-left fill rule, and perspective-correct barycentrics computed only for pixels that pass the
+// depth test. docs/algorithms/zbuffer.md describes the steps and the counters.
+#include "hsr/raster.hpp"
+#include "hsr/sdk.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+namespace {
+
+namespace raster = hsr::raster;
+using hsr::sdk::ParamSpec;
+
+class ZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
+public:
+    static constexpr hsr::sdk::PluginInfo info{
+        "zbuffer", "1.0.0", "plain z-buffer (Catmull 1974): per-triangle edge-function rasterization"};
+    static inline const ParamSpec params[] = {
+        ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+        ParamSpec::choice("depth-test", "less", "less|greater",
+                          "keep the nearest surface (less) or the farthest one (greater)"),
+    };
+
+    explicit ZBuffer(const hsr::sdk::Params& p)
+        : cull_backfaces_(p.boolean("cull-backfaces")), keep_farthest_(p.choice("depth-test") == 1) {}
+
+    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                hsr::sdk::Counters& counters) override {
+        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+        geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
+
+        const size_t pixel_count = size_t(target.width()) * target.height();
+        PixelStats pixels;
+        if (keep_farthest_) {
+            // The host clears depth to +infinity; keeping the farthest surface needs -infinity.
+            std::fill_n(target.depth(), pixel_count, -std::numeric_limits<float>::infinity());
+            draw<false>(scene.triangle_count(), target, pixels);
+            // Uncovered pixels go back to the buffer's "nothing here" depth.
+            float* depth = target.depth();
+            const uint32_t* face = target.face();
+            for (size_t p = 0; p < pixel_count; ++p)
+                if (face[p] == HSR_NO_FACE) depth[p] = std::numeric_limits<float>::infinity();
+        } else {
+            draw<true>(scene.triangle_count(), target, pixels);
+        }
+
+        geometry_.stats().report(counters);
+        counters.set("pixels-depth-tested", pixels.depth_tested);
+        counters.set("pixels-written", pixels.written);
+    }
+
+private:
+    struct PixelStats {
+        uint64_t depth_tested = 0;
+        uint64_t written = 0;
+    };
+
+    template <bool kKeepNearest>
+    void draw(uint32_t triangle_count, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
+        float* const depth = target.depth();
+        uint32_t* const face = target.face();
+        float* const bary = target.bary();
+        const size_t width = target.width();
+        for (uint32_t t = 0; t < triangle_count; ++t) {
+            geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                // Everything the pixel loop touches is a local, so the compiler can keep it in
+                // registers (a store to face[] could otherwise alias a captured uint32_t).
+                uint64_t tested = 0, written = 0;
+                float* const depth_out = depth;
+                uint32_t* const face_out = face;
+                float* const bary_out = bary;
+                const size_t stride = width;
+                const uint32_t id = t;
+                raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) {
+                    ++tested;
+                    const size_t p = size_t(y) * stride + size_t(x);
+                    const float z = raster::depth_at(s, i, j);
+                    if (kKeepNearest ? !(z < depth_out[p]) : !(z > depth_out[p])) return;
+                    ++written;
+                    depth_out[p] = z;
+                    face_out[p] = id;
+                    const glm::vec2 b = raster::barycentrics_at(s, i, j);
+                    bary_out[2 * p] = b.x;
+                    bary_out[2 * p + 1] = b.y;
+                });
+                pixels.depth_tested += tested;
+                pixels.written += written;
+            });
+        }
+    }
+
+    bool cull_backfaces_;
+    bool keep_farthest_;
+    raster::GeometryStage geometry_;  // keeps its vertex buffers between frames
+};
+
+}  // namespace
+
+HSR_EXPORT_PLUGIN(ZBuffer)
