@@ -144,7 +144,7 @@ int run_render(const std::vector<std::string>& args) {
         ("light", po::value(&o.lights)->composing(),
          "light, repeatable: point:x,y,z or dir:x,y,z (toward the light), camera space (x right, y up, "
          "z toward you), optionally ;intensity=I;color=r/g/b (see docs/scene-format.md). "
-         "Default: " + std::string(default_light))
+         "Default: dir:-0.5,0.6,1")
         ("background", po::value(&o.background)->default_value(default_background), "background colour r/g/b or #rrggbb")
         ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
         ("crease-angle", po::value(&o.crease_angle)->default_value(40),
@@ -185,44 +185,44 @@ int run_render(const std::vector<std::string>& args) {
     hsr::HiddenSurfaceRemover remover(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
     hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
 
-    // Scene and camera.
+    // Scene and camera. What the command line says explicitly wins over what a scene file says.
     const fs::path model_path(o.model);
+    auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
     hsr::SceneData scene;
     std::vector<hsr::LightSpec> light_specs;
     std::optional<glm::vec3> scene_background;
     bool pixel_camera = false;
     uint32_t width = static_cast<uint32_t>(o.width), height = static_cast<uint32_t>(o.height);
+    hsr::CameraSettings settings;
+    settings.yaw_degrees = o.yaw;
+    settings.pitch_degrees = o.pitch;
+    settings.zoom = o.zoom;
+    settings.orthographic = o.orthographic;
     if (hsr::is_scene_file(model_path)) {
         hsr::SceneFile file = hsr::load_scene_file(model_path);
         scene = std::move(file.scene);
         light_specs = file.lights;
         scene_background = file.background;
         pixel_camera = file.pixel_camera;
-        if (pixel_camera && !vm["width"].defaulted()) width = static_cast<uint32_t>(o.width);
-        else if (pixel_camera) width = file.pixel_width;
-        if (pixel_camera && !vm["height"].defaulted()) height = static_cast<uint32_t>(o.height);
-        else if (pixel_camera) height = file.pixel_height;
+        if (file.width && !given("width")) width = *file.width;
+        if (file.height && !given("height")) height = *file.height;
+        if (file.yaw_degrees && !given("yaw")) settings.yaw_degrees = *file.yaw_degrees;
+        if (file.pitch_degrees && !given("pitch")) settings.pitch_degrees = *file.pitch_degrees;
+        if (file.zoom && !given("zoom")) settings.zoom = *file.zoom;
+        if (file.orthographic && !o.orthographic) settings.orthographic = *file.orthographic;
     } else {
         hsr::MeshOptions mesh_options;
         mesh_options.crease_angle_degrees = o.crease_angle;
         if (!o.color.empty()) mesh_options.color = parse_color_option(o.color, "color");
         scene = hsr::load_model(model_path, mesh_options);
     }
+    for (const std::string& warning : scene.warnings) std::fprintf(stderr, "hsr: warning: %s\n", warning.c_str());
     hsr::check_image_size(width, height);
-
-    hsr_camera camera;
-    if (pixel_camera) {
-        camera = hsr::make_pixel_camera(width, height, scene.bounds_min.z, scene.bounds_max.z);
-    } else {
-        hsr::CameraSettings settings;
-        settings.yaw_degrees = o.yaw;
-        settings.pitch_degrees = o.pitch;
-        settings.zoom = o.zoom;
-        settings.orthographic = o.orthographic;
-        settings.width = width;
-        settings.height = height;
-        camera = hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, settings);
-    }
+    settings.width = width;
+    settings.height = height;
+    const hsr_camera camera = pixel_camera
+        ? hsr::make_pixel_camera(width, height, scene.bounds_min.z, scene.bounds_max.z)
+        : hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, settings);
 
     if (!o.lights.empty()) {
         light_specs.clear();
@@ -230,7 +230,7 @@ int run_render(const std::vector<std::string>& args) {
     }
     if (light_specs.empty()) light_specs.push_back(hsr::parse_light_spec(default_light));
     std::vector<hsr_light> lights;
-    for (const hsr::LightSpec& spec : light_specs) lights.push_back(hsr::to_world_light(spec, camera));
+    for (const hsr::LightSpec& spec : light_specs) lights.push_back(hsr::resolve_light(spec, camera));
 
     hsr::FrameSettings frame_settings;
     frame_settings.background = vm["background"].defaulted() && scene_background ? *scene_background : background;

@@ -38,10 +38,10 @@ std::string slurp(const fs::path& p) {
 }
 
 // Runs `hsr <args>` with a time limit; returns exit status and output.
-Run hsr(const std::string& args, const std::string& tag) {
+Run run_hsr(const std::string& args, const std::string& tag) {
     const fs::path dir = scratch_dir();
     const fs::path out = dir / (tag + ".out"), err = dir / (tag + ".err");
-    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/host/hsr " + args + " > " +
+    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/hsr " + args + " > " +
                                 out.string() + " 2> " + err.string() + " < /dev/null";
     const int raw = std::system(command.c_str());
     Run r;
@@ -71,59 +71,59 @@ void require_one_line_error(const Run& r, const std::string& expected) {
 }  // namespace
 
 TEST_CASE("cli: a missing model file", "[cli]") {
-    require_one_line_error(hsr("render /nonexistent/model.obj -o x.png", "missing"), "/nonexistent/model.obj");
+    require_one_line_error(run_hsr("render /nonexistent/model.obj -o x.png", "missing"), "/nonexistent/model.obj");
 }
 
 TEST_CASE("cli: a malformed mesh", "[cli]") {
     const fs::path bad = write_file("garbage.off", "OFF\nthis is not a mesh\n");
-    require_one_line_error(hsr("render " + bad.string() + " -o x.png", "malformed"), "garbage.off");
+    require_one_line_error(run_hsr("render " + bad.string() + " -o x.png", "malformed"), "garbage.off");
 }
 
 TEST_CASE("cli: an empty mesh", "[cli]") {
     const fs::path empty = write_file("empty.off", "OFF\n0 0 0\n");
-    require_one_line_error(hsr("render " + empty.string() + " -o x.png", "empty"), "empty.off");
+    require_one_line_error(run_hsr("render " + empty.string() + " -o x.png", "empty"), "empty.off");
 }
 
 TEST_CASE("cli: NaN vertices", "[cli]") {
     const fs::path nan = write_file("nan.off", "OFF\n3 1 0\n0 0 0\nnan 1 0\n1 0 0\n3 0 1 2\n");
-    require_one_line_error(hsr("render " + nan.string() + " -o x.png", "nan"), "nan.off");
+    require_one_line_error(run_hsr("render " + nan.string() + " -o x.png", "nan"), "nan.off");
 }
 
 TEST_CASE("cli: an unknown plugin says where it looked and what it found", "[cli]") {
-    const Run r = hsr("render " + model("cube.obj") + " --algorithm no-such-algorithm -o x.png", "unknown-plugin");
+    const Run r = run_hsr("render " + model("cube.obj") + " --algorithm no-such-algorithm -o x.png", "unknown-plugin");
     require_one_line_error(r, "no hidden-surface plugin named 'no-such-algorithm'");
     CHECK_THAT(r.err, Catch::Contains("searched:") && Catch::Contains("zbuffer"));
-    require_one_line_error(hsr("render " + model("cube.obj") + " --lighting toon -o x.png", "unknown-lighting"),
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --lighting toon -o x.png", "unknown-lighting"),
                            "no lighting plugin named 'toon'");
 }
 
 TEST_CASE("cli: unknown and out-of-range plugin parameters", "[cli]") {
-    require_one_line_error(hsr("render " + model("cube.obj") + " --algorithm zbuffer:colour=red -o x.png", "unknown-param"),
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --algorithm zbuffer:colour=red -o x.png", "unknown-param"),
                            "plugin 'zbuffer' has no parameter 'colour'");
     require_one_line_error(
-        hsr("render " + model("cube.obj") + " --lighting blinn-phong:shininess=-3 -o x.png", "range-param"),
+        run_hsr("render " + model("cube.obj") + " --lighting blinn-phong:shininess=-3 -o x.png", "range-param"),
         "out of range");
     require_one_line_error(
-        hsr("render " + model("cube.obj") + " --algorithm zbuffer:depth-test=sideways -o x.png", "enum-param"),
+        run_hsr("render " + model("cube.obj") + " --algorithm zbuffer:depth-test=sideways -o x.png", "enum-param"),
         "not one of less|greater");
 }
 
 TEST_CASE("cli: zero and absurd image sizes are refused before allocating", "[cli]") {
-    require_one_line_error(hsr("render " + model("cube.obj") + " --width 0 -o x.png", "zero-size"), "image size");
-    require_one_line_error(hsr("render " + model("cube.obj") + " --width 1000000 --height 1000000 -o x.png", "huge"),
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --width 0 -o x.png", "zero-size"), "image size");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --width 1000000 --height 1000000 -o x.png", "huge"),
                            "image size");
-    require_one_line_error(hsr("render " + model("cube.obj") + " --height -5 -o x.png", "negative"), "image size");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --height -5 -o x.png", "negative"), "image size");
 }
 
 TEST_CASE("cli: unknown commands and options", "[cli]") {
-    require_one_line_error(hsr("paint", "unknown-command"), "unknown command 'paint'");
-    require_one_line_error(hsr("render " + model("cube.obj") + " --frobnicate", "unknown-option"), "frobnicate");
-    require_one_line_error(hsr("render", "no-model"), "no model");
-    require_one_line_error(hsr("render " + model("cube.obj") + " --zoom abc", "bad-number"), "zoom");
+    require_one_line_error(run_hsr("paint", "unknown-command"), "unknown command 'paint'");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --frobnicate", "unknown-option"), "frobnicate");
+    require_one_line_error(run_hsr("render", "no-model"), "no model");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --zoom abc", "bad-number"), "zoom");
 }
 
 TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") {
-    const Run r = hsr(std::string("plugins --plugin-path ") + HSR_TEST_PLUGIN_DIR, "plugins-refused");
+    const Run r = run_hsr(std::string("plugins --plugin-path ") + HSR_TEST_PLUGIN_DIR, "plugins-refused");
     CHECK(r.status == 0);
     CHECK_THAT(r.out, Catch::Contains("refused:") && Catch::Contains("built for ABI 2.0"));
     CHECK_THAT(r.out, Catch::Contains("needs ABI 1.1"));
@@ -131,13 +131,13 @@ TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") 
 }
 
 TEST_CASE("cli: plugins lists every plugin with its parameters", "[cli]") {
-    const Run r = hsr("plugins", "plugins");
+    const Run r = run_hsr("plugins", "plugins");
     CHECK(r.status == 0);
     for (const char* name : {"zbuffer", "lambert", "phong", "blinn-phong", "facecolor"}) CHECK_THAT(r.out, Catch::Contains(name));
     CHECK_THAT(r.out, Catch::Contains("ABI 1.0"));
     CHECK_THAT(r.out, Catch::Contains("depth-test=less (less|greater)"));
     CHECK_THAT(r.out, Catch::Contains("interpolation="));
-    const Run help = hsr("render --help", "render-help");
+    const Run help = run_hsr("render --help", "render-help");
     CHECK(help.status == 0);
     CHECK_THAT(help.out, Catch::Contains("--algorithm") && Catch::Contains("--depth-out") &&
                              Catch::Contains("shininess="));
@@ -147,7 +147,7 @@ TEST_CASE("cli: a render writes a PNG with the model in the middle and backgroun
     const fs::path png = scratch_dir() / "cube.png";
     const fs::path depth = scratch_dir() / "cube-depth.png";
     fs::remove(png);
-    const Run r = hsr("render " + model("cube.obj") + " --yaw 30 --pitch 20 --width 96 --height 64 --background 0/0/1 "
+    const Run r = run_hsr("render " + model("cube.obj") + " --yaw 30 --pitch 20 --width 96 --height 64 --background 0/0/1 "
                       "--lighting lambert -o " + png.string() + " --depth-out " + depth.string(), "render-cube");
     INFO(r.err);
     REQUIRE(r.status == 0);
