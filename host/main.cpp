@@ -59,7 +59,17 @@ std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
                                   d.version ? d.version : "?", d.abi_major, d.abi_minor,
                                   d.description ? d.description : "");
     if (d.param_count == 0) out += indent + "    (no parameters)\n";
-    for (uint32_t i = 0; i < d.param_count; ++i) out += indent + "    " + hsr::describe_param(d.params[i]) + "\n";
+    for (uint32_t i = 0; i < d.param_count; ++i) out += indent + "    " + hsr::describe_param(hsr::param_desc(d, i)) + "\n";
+    return out;
+}
+
+// Hidden-surface plugins first, then lighting; within a kind in the order found.
+std::string describe_plugins(const hsr::PluginRegistry& registry, const std::string& indent) {
+    std::string out;
+    for (hsr_plugin_kind kind : {HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_LIGHTING_MODEL}) {
+        for (const hsr::Plugin& p : registry.plugins())
+            if (p.descriptor.kind == kind) out += describe_plugin(p, indent);
+    }
     return out;
 }
 
@@ -79,10 +89,7 @@ int run_plugins(const std::vector<std::string>& args) {
     std::string dirs;
     for (const fs::path& d : registry.searched()) dirs += "  " + d.string() + "\n";
     std::cout << "searched:\n" << dirs << "\n";
-    for (hsr_plugin_kind kind : {HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_LIGHTING_MODEL}) {
-        for (const hsr::Plugin& p : registry.plugins())
-            if (p.descriptor.kind == kind) std::cout << describe_plugin(p, "");
-    }
+    std::cout << describe_plugins(registry, "");
     if (registry.plugins().empty()) std::cout << "no plugins found\n";
     for (const hsr::RejectedLibrary& r : registry.rejected()) std::cout << "refused: " << r.reason << "\n";
     return 0;
@@ -143,7 +150,7 @@ int run_render(const std::vector<std::string>& args) {
         ("ortho", po::bool_switch(&o.orthographic), "orthographic instead of perspective projection")
         ("light", po::value(&o.lights)->composing(),
          "light, repeatable: point:x,y,z or dir:x,y,z (toward the light), camera space (x right, y up, "
-         "z toward you), optionally ;intensity=I;color=r/g/b (see docs/scene-format.md). "
+         "z toward you), optionally followed by ,intensity=I,color=r/g/b (docs/scene-format.md). "
          "Default: dir:-0.5,0.6,1")
         ("background", po::value(&o.background)->default_value(default_background), "background colour r/g/b or #rrggbb")
         ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
@@ -167,7 +174,7 @@ int run_render(const std::vector<std::string>& args) {
     if (vm.count("help")) {
         std::cout << general << "\nplugins (parameters go after the name: --algorithm zbuffer:cull-backfaces=true):\n";
         hsr::PluginRegistry registry = scan_plugins(o.plugin_dirs);
-        for (const hsr::Plugin& p : registry.plugins()) std::cout << describe_plugin(p, "  ");
+        std::cout << describe_plugins(registry, "  ");
         return 0;
     }
     if (o.model.empty()) throw UsageError("render: no model given");

@@ -88,10 +88,10 @@ Fragment fragment(uint32_t face, glm::vec3 position, glm::vec3 normal) { return 
 
 hsr_light directional(glm::vec3 toward_light, glm::vec3 color = glm::vec3(1), float intensity = 1) {
     const glm::vec3 d = glm::normalize(toward_light);
-    return {HSR_LIGHT_DIRECTIONAL, {d.x, d.y, d.z}, {color.r, color.g, color.b}, intensity};
+    return {sizeof(hsr_light), HSR_LIGHT_DIRECTIONAL, {d.x, d.y, d.z}, {color.r, color.g, color.b}, intensity};
 }
 hsr_light point_light(glm::vec3 position, glm::vec3 color = glm::vec3(1), float intensity = 1) {
-    return {HSR_LIGHT_POINT, {position.x, position.y, position.z}, {color.r, color.g, color.b}, intensity};
+    return {sizeof(hsr_light), HSR_LIGHT_POINT, {position.x, position.y, position.z}, {color.r, color.g, color.b}, intensity};
 }
 
 hsr_shading_context perspective(const std::vector<hsr_light>& lights, glm::vec3 eye) {

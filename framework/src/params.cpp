@@ -60,6 +60,10 @@ std::string format_number(double v) { return fmt::format("{:g}", v); }
 
 }  // namespace
 
+const hsr_param_desc& param_desc(const hsr_plugin_descriptor& plugin, uint32_t i) {
+    return *HSR_ELEMENT(hsr_param_desc, plugin.params, i);
+}
+
 std::vector<std::string> split_choices(const char* choices) {
     std::vector<std::string> out;
     if (choices == nullptr) return out;
@@ -97,6 +101,7 @@ PluginSpec parse_plugin_spec(std::string_view text) {
 
 hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view text) {
     hsr_param_value v{};
+    v.struct_size = sizeof v;
     v.name = desc.name;
     v.type = desc.type;
     switch (desc.type) {
@@ -145,7 +150,7 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
 ParamValues resolve_params(const hsr_plugin_descriptor& plugin, const std::vector<Setting>& settings) {
     const char* plugin_name = plugin.name ? plugin.name : "?";
     std::vector<std::string_view> known;
-    for (uint32_t i = 0; i < plugin.param_count; ++i) known.emplace_back(plugin.params[i].name);
+    for (uint32_t i = 0; i < plugin.param_count; ++i) known.emplace_back(param_desc(plugin, i).name);
 
     for (size_t i = 0; i < settings.size(); ++i) {
         const std::string& key = settings[i].first;
@@ -162,7 +167,7 @@ ParamValues resolve_params(const hsr_plugin_descriptor& plugin, const std::vecto
 
     ParamValues out;
     for (uint32_t i = 0; i < plugin.param_count; ++i) {
-        const hsr_param_desc& desc = plugin.params[i];
+        const hsr_param_desc& desc = param_desc(plugin, i);
         std::string_view text = desc.default_value ? desc.default_value : "";
         bool from_user = false;
         for (const Setting& s : settings) {

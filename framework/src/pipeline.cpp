@@ -63,7 +63,7 @@ uint32_t assemble_fragments(const hsr_scene& scene, const Frame& frame, uint32_t
         for (uint32_t x = 0; x < w; ++x) {
             const uint32_t pixel = y * w + x;
             const uint32_t t = frame.face[pixel];
-            if (t == HSR_NO_FACE || t >= scene.triangle_count) continue;
+            if (t == HSR_NO_FACE) continue;
             const float b1 = frame.bary[2 * pixel], b2 = frame.bary[2 * pixel + 1];
             const float b0 = 1.0f - b1 - b2;
             const uint32_t* tri = scene.indices + 3 * t;
@@ -131,6 +131,14 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
     const auto start = Clock::now();
     remover.render(scene, camera, target, &sink);
     frame.visibility_ms = ms_since(start);
+
+    // A face id the scene does not have is a bug in the plugin; say so rather than shade garbage.
+    for (size_t p = 0; p < pixels; ++p) {
+        const uint32_t t = frame.face[p];
+        if (t != HSR_NO_FACE && t >= scene.triangle_count)
+            throw Error("hidden-surface plugin '{}' wrote face {} at pixel ({}, {}), but the scene has {} triangles",
+                        remover.plugin().descriptor.name, t, p % frame.width, p / frame.width, scene.triangle_count);
+    }
 }
 
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,

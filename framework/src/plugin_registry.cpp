@@ -107,9 +107,11 @@ std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major
     if (d.name == nullptr || d.name[0] == '\0') return "it has no name";
     if (d.interface_table == nullptr) return "it has no interface table";
     if (d.param_count > 0 && d.params == nullptr) return "its parameter table is missing";
+    if (d.param_count > 0 && d.params[0].struct_size < param_desc_size_1_0)
+        return "its parameter table has elements smaller than ABI 1.0's";
     for (uint32_t i = 0; i < d.param_count; ++i) {
-        const hsr_param_desc& p = d.params[i];
-        if (p.struct_size < param_desc_size_1_0 || p.name == nullptr || p.name[0] == '\0')
+        const hsr_param_desc& p = param_desc(d, i);
+        if (p.struct_size != d.params[0].struct_size || p.name == nullptr || p.name[0] == '\0')
             return fmt::format("its parameter #{} is malformed", i);
         if (p.type < HSR_PARAM_BOOL || p.type > HSR_PARAM_COLOR)
             return fmt::format("its parameter '{}' has an unknown type", p.name);

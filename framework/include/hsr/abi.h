@@ -14,6 +14,9 @@
  *    struct_size of each struct covers; fields beyond it are treated as absent (NULL / zero).
  *  - Every struct the host passes to a plugin starts with struct_size as well; a newer host passes
  *    larger structs, and a plugin MUST NOT read beyond the struct_size it was built with.
+ *  - Arrays of structs (parameter descriptions and values, lights) are stepped by the struct_size of
+ *    their elements, not by sizeof, so that their elements too can grow in a minor version: use
+ *    HSR_ELEMENT(type, array, i). Every element of one array has the same struct_size.
  *  - Nothing C++ crosses: no exceptions (a plugin catches everything and returns a status), no RTTI,
  *    no STL types, no memory allocated on one side and freed on the other. Strings handed across are
  *    NUL-terminated UTF-8 and stay owned by the side that made them.
@@ -50,6 +53,10 @@ extern "C" {
 #define HSR_EXPORT __attribute__((visibility("default")))
 #endif
 
+/* Element i of an array of structs that begin with struct_size (see the rule above). */
+#define HSR_ELEMENT(type, array, i) \
+    ((const type*)((const char*)(array) + (size_t)(i) * ((const type*)(array))->struct_size))
+
 /* ---------------------------------------------------------------------------------------------- */
 /* Status codes and error messages                                                                 */
 
@@ -81,7 +88,7 @@ typedef enum hsr_param_type {
 } hsr_param_type;
 
 /* One entry of a plugin's parameter schema. The host lists, validates and documents parameters from
- * this alone. All strings are static in the plugin library. */
+ * this alone. All strings are static in the plugin library. The array is stepped by struct_size. */
 typedef struct hsr_param_desc {
     uint32_t struct_size;
     const char* name;          /* lower-case, words joined by '-', e.g. "depth-test" */
@@ -96,6 +103,7 @@ typedef struct hsr_param_desc {
 /* A validated parameter value, as the host hands it to create(). The host always passes every
  * parameter of the schema, in schema order, defaults filled in. */
 typedef struct hsr_param_value {
+    uint32_t struct_size;
     const char* name;
     hsr_param_type type;
     double number;  /* BOOL, INT, FLOAT, ENUM (choice index) */
@@ -159,6 +167,7 @@ typedef enum hsr_light_type {
 } hsr_light_type;
 
 typedef struct hsr_light {
+    uint32_t struct_size;
     hsr_light_type type;
     float vector[3];  /* POINT: world-space position. DIRECTIONAL: unit world-space direction from
                          the surface toward the light. */

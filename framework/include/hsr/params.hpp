@@ -40,6 +40,9 @@ ParamValues resolve_params(const hsr_plugin_descriptor& plugin, const std::vecto
 // One parameter's text value parsed by its type; throws hsr::Error (without the plugin name).
 hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view text);
 
+// Parameter i of a plugin's schema (the array is stepped by struct_size, see abi.h).
+const hsr_param_desc& param_desc(const hsr_plugin_descriptor& plugin, uint32_t i);
+
 // "less|greater" -> {"less", "greater"}
 std::vector<std::string> split_choices(const char* choices);
 

@@ -82,7 +82,7 @@ struct ParamSpec {
 // in the schema, or with the wrong type, throws (a plugin bug, reported as an internal error).
 class Params {
 public:
-    Params(const hsr_param_value* values, uint32_t count) : values_(values, count) {}
+    Params(const hsr_param_value* values, uint32_t count) : values_(values), count_(count) {}
 
     bool boolean(std::string_view name) const { return find(name, HSR_PARAM_BOOL).number != 0.0; }
     int64_t integer(std::string_view name) const {
@@ -100,7 +100,8 @@ public:
 
 private:
     const hsr_param_value& find(std::string_view name, hsr_param_type type) const {
-        for (const hsr_param_value& v : values_) {
+        for (uint32_t i = 0; i < count_; ++i) {
+            const hsr_param_value& v = *HSR_ELEMENT(hsr_param_value, values_, i);
             if (v.name != nullptr && name == v.name) {
                 if (v.type != type) throw std::logic_error("parameter '" + std::string(name) + "' read with the wrong type");
                 return v;
@@ -108,7 +109,8 @@ private:
         }
         throw std::logic_error("parameter '" + std::string(name) + "' is not in the values the host passed");
     }
-    std::span<const hsr_param_value> values_;
+    const hsr_param_value* values_;
+    uint32_t count_;
 };
 
 // Read-only view of hsr_scene with typed accessors. Cheap to copy.
@@ -347,8 +349,18 @@ const hsr_plugin_descriptor* descriptor() {
 }  // namespace detail
 }  // namespace hsr::sdk
 
-// A plugin class with no parameters declares: static inline const std::array<hsr::sdk::ParamSpec, 0> params{};
-#define HSR_EXPORT_PLUGIN(PluginClass)                                                              \
+namespace hsr::sdk::detail {
+template <class... Plugins>
+const hsr_plugin_descriptor* descriptor_at(uint32_t index) {
+    const hsr_plugin_descriptor* all[] = {descriptor<Plugins>()...};
+    return index < sizeof...(Plugins) ? all[index] : nullptr;
+}
+}  // namespace hsr::sdk::detail
+
+// The library's one exported symbol, describing the plugin classes it holds (usually one). A plugin
+// class with no parameters declares: static inline const std::array<hsr::sdk::ParamSpec, 0> params{};
+#define HSR_EXPORT_PLUGINS(...)                                                                     \
     extern "C" HSR_EXPORT const hsr_plugin_descriptor* hsr_plugin_entry(uint32_t index) {           \
-        return index == 0 ? ::hsr::sdk::detail::descriptor<PluginClass>() : nullptr;               \
+        return ::hsr::sdk::detail::descriptor_at<__VA_ARGS__>(index);                              \
     }
+#define HSR_EXPORT_PLUGIN(PluginClass) HSR_EXPORT_PLUGINS(PluginClass)

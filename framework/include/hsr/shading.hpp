@@ -165,7 +165,7 @@ public:
         directional_.clear();
         point_.clear();
         for (uint32_t i = 0; i < context.light_count; ++i) {
-            const hsr_light& light = context.lights[i];
+            const hsr_light& light = *HSR_ELEMENT(hsr_light, context.lights, i);
             const glm::vec3 vector{light.vector[0], light.vector[1], light.vector[2]};
             const glm::vec3 radiance =
                 glm::vec3{light.color[0], light.color[1], light.color[2]} * light.intensity;

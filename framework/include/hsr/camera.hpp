@@ -1,0 +1,38 @@
+// Cameras: an orbit camera that frames a model's bounds automatically, and the pixel-space
+// orthographic camera of textbook raster exercises. Both fill every field of hsr_camera.
+#pragma once
+
+#include "hsr/abi.h"
+#include "hsr/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+
+namespace hsr {
+
+struct CameraSettings {
+    float yaw_degrees = 0, pitch_degrees = 0, zoom = 1;
+    bool orthographic = false;
+    uint32_t width = 1024, height = 1024;
+    float fov_y_degrees = 35;  // perspective only; at zoom z the field of view is narrowed z times
+};
+
+// Looks at the centre of the bounds' bounding sphere, which fills the smaller image dimension (with a
+// 5% margin) at zoom 1; zoom 2 makes everything twice as large. Yaw 0, pitch 0 looks from +z toward
+// -z with +y up (the front of an OBJ model); positive yaw moves the eye toward +x around the
+// vertical axis, positive pitch raises it (looking down on the model). The near and far planes
+// enclose the bounding sphere closely. Throws hsr::Error for unusable settings or bounds.
+hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& settings);
+
+// Orthographic camera in pixel units: world (x, y, z) lands at window (x, H - y), so pixel column
+// floor(x) and image row H - 1 - floor(y) (origin bottom left, y up); the viewer is on +z looking
+// toward -z, so a larger z is nearer (smaller depth, linear in z). z in [z_min, z_max] lies inside
+// the clip volume with some room to spare.
+hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max);
+
+// A light spec in world space for this camera: camera-space vectors (x right, y up, z toward the
+// viewer, eye at the origin) are carried through the inverse view matrix.
+hsr_light resolve_light(const LightSpec& light, const hsr_camera& camera);
+
+}  // namespace hsr

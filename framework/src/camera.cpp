@@ -1,0 +1,142 @@
+// Orbit and pixel cameras (see camera.hpp). Computed in double precision, stored as float.
+//
+// Framing: a sphere of radius r seen from distance d covers a cone of half-angle asin(r / d), whose
+// image has radius r / sqrt(d^2 - r^2) on the plane at distance 1. Setting that to
+// tan(half field of view) / margin gives d = r * sqrt(1 + (margin / tan)^2). Zoom narrows the
+// field of view (or the orthographic window) instead of moving the eye, so "twice as big" is exact.
+#include "hsr/camera.hpp"
+
+#include "hsr/error.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace hsr {
+namespace {
+
+constexpr double frame_margin = 1.05;
+
+void store(float (&out)[16], const glm::dmat4& m) {
+    glm::mat4 f(m);
+    std::memcpy(out, glm::value_ptr(f), sizeof out);
+}
+
+void store(float (&out)[3], const glm::dvec3& v) {
+    for (int k = 0; k < 3; ++k) out[k] = static_cast<float>(v[k]);
+}
+
+hsr_camera assemble(uint32_t width, uint32_t height, hsr_projection type, const glm::dmat4& view,
+                    const glm::dmat4& projection, const glm::dvec3& eye, const glm::dvec3& direction,
+                    double near_plane, double far_plane) {
+    hsr_camera camera{};
+    camera.struct_size = sizeof(hsr_camera);
+    camera.width = width;
+    camera.height = height;
+    camera.projection_type = type;
+    store(camera.view, view);
+    store(camera.projection, projection);
+    store(camera.view_projection, projection * view);
+    store(camera.eye, eye);
+    store(camera.view_direction, glm::normalize(direction));
+    camera.near_plane = static_cast<float>(near_plane);
+    camera.far_plane = static_cast<float>(far_plane);
+    return camera;
+}
+
+void check_size(uint32_t width, uint32_t height) {
+    if (width == 0 || height == 0) throw Error("image size {}x{}: both must be at least 1 pixel", width, height);
+}
+
+bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& s) {
+    check_size(s.width, s.height);
+    if (!(std::isfinite(s.zoom) && s.zoom > 0.0f)) throw Error("zoom {} must be a number greater than 0", s.zoom);
+    if (!(s.fov_y_degrees > 0.0f && s.fov_y_degrees < 180.0f))
+        throw Error("field of view {} degrees must be between 0 and 180", s.fov_y_degrees);
+    if (!std::isfinite(s.yaw_degrees) || !std::isfinite(s.pitch_degrees))
+        throw Error("yaw and pitch must be finite numbers");
+    if (!finite3(bounds_min) || !finite3(bounds_max) || glm::any(glm::greaterThan(bounds_min, bounds_max)))
+        throw Error("the scene bounds are not a valid box");
+
+    const glm::dvec3 lo(bounds_min), hi(bounds_max);
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    double radius = 0.5 * glm::length(hi - lo);
+    if (!(radius > 1e-9 * std::max(1.0, glm::length(centre)))) radius = std::max(1.0, 1e-3 * glm::length(centre));
+
+    const double yaw = glm::radians(static_cast<double>(s.yaw_degrees));
+    const double pitch = glm::radians(static_cast<double>(s.pitch_degrees));
+    const glm::dvec3 toward_eye(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
+    const glm::dvec3 up(-std::sin(pitch) * std::sin(yaw), std::cos(pitch), -std::sin(pitch) * std::cos(yaw));
+
+    const double aspect = static_cast<double>(s.width) / static_cast<double>(s.height);
+    const double tan_half_y = std::tan(glm::radians(static_cast<double>(s.fov_y_degrees)) / 2.0);
+    const double tan_half_min = tan_half_y * std::min(1.0, aspect);
+    const double distance = radius * std::sqrt(1.0 + (frame_margin / tan_half_min) * (frame_margin / tan_half_min));
+    const glm::dvec3 eye = centre + distance * toward_eye;
+
+    // Tight around the sphere; never at or behind the eye.
+    const double far_plane = distance + 1.02 * radius;
+    const double near_plane = std::max(distance - 1.02 * radius, 1e-3 * far_plane);
+
+    const glm::dmat4 view = glm::lookAt(eye, centre, up);
+    const double zoom = s.zoom;
+    glm::dmat4 projection;
+    if (s.orthographic) {
+        const double half = radius * frame_margin / zoom;  // half of the smaller image dimension
+        const double half_x = aspect >= 1.0 ? half * aspect : half;
+        const double half_y = aspect >= 1.0 ? half : half / aspect;
+        projection = glm::ortho(-half_x, half_x, -half_y, half_y, near_plane, far_plane);
+    } else {
+        const double fov_y = 2.0 * std::atan(tan_half_y / zoom);
+        projection = glm::perspective(fov_y, aspect, near_plane, far_plane);
+    }
+    return assemble(s.width, s.height, s.orthographic ? HSR_PROJECTION_ORTHOGRAPHIC : HSR_PROJECTION_PERSPECTIVE,
+                    view, projection, eye, -toward_eye, near_plane, far_plane);
+}
+
+hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max) {
+    check_size(width, height);
+    if (!std::isfinite(z_min) || !std::isfinite(z_max) || z_min > z_max)
+        throw Error("pixel camera: depth range [{}, {}] is not valid", z_min, z_max);
+    // The eye sits above the image centre, in front of the nearest z; view space is world space
+    // shifted there, so the projection maps x in [0, W] and y in [0, H] onto the whole window.
+    const double pad = std::max(1.0, 1e-3 * (static_cast<double>(z_max) - z_min));
+    const double w = width, h = height;
+    const glm::dvec3 eye(w / 2.0, h / 2.0, static_cast<double>(z_max) + 2.0 * pad);
+    const double near_plane = pad;
+    const double far_plane = eye.z - z_min + pad;
+    const glm::dmat4 view = glm::translate(glm::dmat4(1.0), -eye);
+    const glm::dmat4 projection = glm::ortho(-w / 2.0, w / 2.0, -h / 2.0, h / 2.0, near_plane, far_plane);
+    return assemble(width, height, HSR_PROJECTION_ORTHOGRAPHIC, view, projection, eye, glm::dvec3(0, 0, -1),
+                    near_plane, far_plane);
+}
+
+hsr_light resolve_light(const LightSpec& light, const hsr_camera& camera) {
+    glm::vec3 vector = light.vector;
+    if (light.camera_space) {
+        glm::mat4 view;
+        std::memcpy(glm::value_ptr(view), camera.view, sizeof camera.view);
+        const glm::mat4 camera_to_world = glm::inverse(view);
+        vector = light.type == HSR_LIGHT_POINT ? glm::vec3(camera_to_world * glm::vec4(vector, 1.0f))
+                                               : glm::mat3(camera_to_world) * vector;
+    }
+    if (light.type == HSR_LIGHT_DIRECTIONAL) vector = glm::normalize(vector);
+    hsr_light out{};
+    out.struct_size = sizeof out;
+    out.type = light.type;
+    for (int k = 0; k < 3; ++k) {
+        out.vector[k] = vector[k];
+        out.color[k] = light.color[k];
+    }
+    out.intensity = light.intensity;
+    return out;
+}
+
+}  // namespace hsr

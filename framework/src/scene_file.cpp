@@ -1,0 +1,389 @@
+// The `.scene` text format (docs/scene-format.md) and light specifications ("point:1,2,3,...").
+// A scene file is read line by line; `mesh` and `polygon` open an object that the following
+// property lines (name, color, transforms, vertices) describe, until the next top-level statement.
+#include "hsr/error.hpp"
+#include "hsr/scene.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+
+namespace hsr {
+namespace {
+
+std::string lower(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text;
+}
+
+std::optional<float> to_float(std::string_view text) {
+    if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+    double value = 0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    if (!std::isfinite(value) || std::fabs(value) > 3.0e38) return std::nullopt;
+    return static_cast<float>(value);
+}
+
+std::vector<std::string_view> split(std::string_view text, char separator) {
+    std::vector<std::string_view> parts;
+    std::size_t start = 0;
+    while (true) {
+        std::size_t end = text.find(separator, start);
+        parts.push_back(text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
+        if (end == std::string_view::npos) return parts;
+        start = end + 1;
+    }
+}
+
+// "r/g/b" with channels in [0, 1], or "#rrggbb".
+std::optional<glm::vec3> parse_color_text(std::string_view text) {
+    if (!text.empty() && text.front() == '#') {
+        if (text.size() != 7) return std::nullopt;
+        glm::vec3 color;
+        for (int k = 0; k < 3; ++k) {
+            unsigned value = 0;
+            auto [end, ec] = std::from_chars(text.data() + 1 + 2 * k, text.data() + 3 + 2 * k, value, 16);
+            if (ec != std::errc() || end != text.data() + 3 + 2 * k) return std::nullopt;
+            color[k] = static_cast<float>(value) / 255.0f;
+        }
+        return color;
+    }
+    std::vector<std::string_view> parts = split(text, '/');
+    if (parts.size() != 3) return std::nullopt;
+    glm::vec3 color;
+    for (int k = 0; k < 3; ++k) {
+        std::optional<float> v = to_float(parts[static_cast<std::size_t>(k)]);
+        if (!v || *v < 0.0f || *v > 1.0f) return std::nullopt;
+        color[k] = *v;
+    }
+    return color;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct Statement {
+    std::size_t line;
+    std::vector<std::string> words;  // quotes removed
+};
+
+class SceneParser {
+public:
+    explicit SceneParser(const std::filesystem::path& file) : file_(file), folder_(file.parent_path()) {}
+
+    SceneFile parse() {
+        std::error_code ec;
+        if (!std::filesystem::exists(file_, ec)) throw Error("{}: no such file", file_.string());
+        std::ifstream in(file_);
+        if (!in) throw Error("{}: cannot open the file for reading", file_.string());
+        std::string text;
+        std::size_t number = 0;
+        while (std::getline(in, text)) {
+            ++number;
+            Statement statement{number, split_words(text, number)};
+            if (!statement.words.empty()) handle(statement);
+        }
+        finish_object();
+        if (builder_.object_count() == 0) throw Error("{}: the scene has no mesh or polygon", file_.string());
+        try {
+            result_.scene = builder_.build();
+        } catch (const Error& e) {
+            throw Error("{}: {}", file_.string(), e.what());
+        }
+        if (result_.pixel_camera && !result_.width) {
+            glm::vec3 top = result_.scene.bounds_max;
+            if (!(top.x >= 1.0f && top.y >= 1.0f && top.x <= 16384.0f && top.y <= 16384.0f))
+                throw Error("{}: `camera pixel` needs `size W H` here (the scene's top right corner is at {}, {})",
+                            file_.string(), top.x, top.y);
+            result_.width = static_cast<uint32_t>(std::ceil(top.x));
+            result_.height = static_cast<uint32_t>(std::ceil(top.y));
+        }
+        return std::move(result_);
+    }
+
+private:
+    [[noreturn]] void fail(std::size_t line, const std::string& message) const {
+        throw Error("{}:{}: {}", file_.string(), line, message);
+    }
+
+    // Words separated by spaces; "double quotes" keep spaces; '#' at the start of a word starts a
+    // comment (so `color=#rrggbb` inside a word is not one).
+    std::vector<std::string> split_words(const std::string& text, std::size_t line) const {
+        std::vector<std::string> words;
+        std::size_t i = 0;
+        while (i < text.size()) {
+            while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+            if (i >= text.size() || text[i] == '#') break;
+            std::string word;
+            if (text[i] == '"') {
+                std::size_t close = text.find('"', i + 1);
+                if (close == std::string::npos) fail(line, "unterminated quote");
+                word = text.substr(i + 1, close - i - 1);
+                i = close + 1;
+            } else {
+                while (i < text.size() && !std::isspace(static_cast<unsigned char>(text[i]))) word += text[i++];
+            }
+            words.push_back(std::move(word));
+        }
+        return words;
+    }
+
+    float number(const Statement& s, std::size_t index, const char* what) const {
+        std::optional<float> v = to_float(s.words[index]);
+        if (!v) fail(s.line, fmt::format("{} '{}' is not a finite number", what, s.words[index]));
+        return *v;
+    }
+
+    glm::vec3 vector3(const Statement& s, std::size_t first, const char* what) const {
+        return {number(s, first, what), number(s, first + 1, what), number(s, first + 2, what)};
+    }
+
+    void expect_count(const Statement& s, std::size_t count, const char* usage) const {
+        if (s.words.size() != count) fail(s.line, fmt::format("expected: {}", usage));
+    }
+
+    glm::vec3 color(const Statement& s, const char* usage) const {
+        expect_count(s, 4, usage);
+        glm::vec3 c = vector3(s, 1, "colour channel");
+        for (int k = 0; k < 3; ++k)
+            if (c[k] < 0.0f || c[k] > 1.0f)
+                fail(s.line, fmt::format("colour channel {} is outside [0, 1]", c[k]));
+        return c;
+    }
+
+    void handle(const Statement& s) {
+        const std::string& keyword = s.words[0];
+        if (keyword == "mesh") {
+            finish_object();
+            expect_count(s, 2, "mesh <file>  (quote a path with spaces)");
+            open_object(s, Kind::mesh);
+            object_.path = s.words[1];
+        } else if (keyword == "polygon") {
+            finish_object();
+            expect_count(s, 1, "polygon  (then color and vertex lines)");
+            open_object(s, Kind::polygon);
+        } else if (keyword == "background") {
+            finish_object();
+            if (result_.background) fail(s.line, "background is given twice");
+            result_.background = color(s, "background <r> <g> <b>  (each in [0, 1])");
+        } else if (keyword == "size") {
+            finish_object();
+            expect_count(s, 3, "size <width> <height>");
+            if (result_.width) fail(s.line, "size is given twice");
+            uint32_t size[2];
+            for (int k = 0; k < 2; ++k) {
+                const std::string& word = s.words[static_cast<std::size_t>(k) + 1];
+                auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), size[k]);
+                if (ec != std::errc() || end != word.data() + word.size() || size[k] == 0 || size[k] > 16384)
+                    fail(s.line, fmt::format("image size '{}' is not a whole number in [1, 16384]", word));
+            }
+            result_.width = size[0];
+            result_.height = size[1];
+        } else if (keyword == "camera") {
+            finish_object();
+            camera(s);
+        } else if (keyword == "light") {
+            finish_object();
+            if (s.words.size() < 2) fail(s.line, "expected: light point:x,y,z  or  light dir:x,y,z  (then ,key=value ...)");
+            std::string spec;
+            for (std::size_t i = 1; i < s.words.size(); ++i) spec += s.words[i];
+            try {
+                result_.lights.push_back(parse_light_spec(spec));
+            } catch (const Error& e) {
+                fail(s.line, e.what());
+            }
+        } else if (keyword == "name" || keyword == "color" || keyword == "translate" || keyword == "rotate" ||
+                   keyword == "scale" || keyword == "crease" || keyword == "vertex") {
+            property(s);
+        } else {
+            fail(s.line, fmt::format("unknown statement '{}'", keyword));
+        }
+    }
+
+    void camera(const Statement& s) {
+        if (camera_line_ != 0) fail(s.line, fmt::format("the camera is already set on line {}", camera_line_));
+        camera_line_ = s.line;
+        if (s.words.size() >= 2 && s.words[1] == "pixel") {
+            expect_count(s, 2, "camera pixel");
+            result_.pixel_camera = true;
+            return;
+        }
+        if (s.words.size() < 2 || s.words[1] != "orbit")
+            fail(s.line, "expected: camera pixel  or  camera orbit [yaw <deg>] [pitch <deg>] [zoom <z>] [orthographic|perspective]");
+        for (std::size_t i = 2; i < s.words.size(); ++i) {
+            const std::string& key = s.words[i];
+            if (key == "orthographic" || key == "perspective") {
+                result_.orthographic = key == "orthographic";
+                continue;
+            }
+            if (key != "yaw" && key != "pitch" && key != "zoom")
+                fail(s.line, fmt::format("unknown camera setting '{}' (yaw, pitch, zoom, orthographic, perspective)", key));
+            if (i + 1 >= s.words.size()) fail(s.line, fmt::format("camera setting '{}' needs a value", key));
+            float value = number(s, ++i, key.c_str());
+            if (key == "yaw") result_.yaw_degrees = value;
+            if (key == "pitch") result_.pitch_degrees = value;
+            if (key == "zoom") {
+                if (value <= 0.0f) fail(s.line, "zoom must be greater than 0");
+                result_.zoom = value;
+            }
+        }
+    }
+
+    enum class Kind { none, mesh, polygon };
+
+    struct PendingObject {
+        Kind kind = Kind::none;
+        std::size_t line = 0;
+        std::string path;
+        MeshOptions options;
+        bool has_name = false, has_color = false, has_crease = false;
+        std::vector<glm::vec3> vertices;
+    };
+
+    void open_object(const Statement& s, Kind kind) {
+        object_ = PendingObject{};
+        object_.kind = kind;
+        object_.line = s.line;
+    }
+
+    void property(const Statement& s) {
+        const std::string& keyword = s.words[0];
+        if (object_.kind == Kind::none)
+            fail(s.line, fmt::format("'{}' must follow a mesh or polygon line", keyword));
+        MeshOptions& options = object_.options;
+        if (keyword == "name") {
+            expect_count(s, 2, "name <name>  (quote a name with spaces)");
+            if (object_.has_name) fail(s.line, "the object already has a name");
+            object_.has_name = true;
+            options.name = s.words[1];
+        } else if (keyword == "color") {
+            if (object_.has_color) fail(s.line, "the object already has a colour");
+            object_.has_color = true;
+            options.color = color(s, "color <r> <g> <b>  (each in [0, 1])");
+        } else if (keyword == "translate") {
+            expect_count(s, 4, "translate <x> <y> <z>");
+            options.transform = glm::translate(glm::mat4(1.0f), vector3(s, 1, "offset")) * options.transform;
+        } else if (keyword == "rotate") {
+            expect_count(s, 5, "rotate <degrees> <axis x> <axis y> <axis z>");
+            float degrees = number(s, 1, "angle");
+            glm::vec3 axis = vector3(s, 2, "axis component");
+            if (glm::length(axis) == 0.0f) fail(s.line, "the rotation axis is zero");
+            options.transform = glm::rotate(glm::mat4(1.0f), glm::radians(degrees), glm::normalize(axis)) * options.transform;
+        } else if (keyword == "scale") {
+            if (s.words.size() != 2 && s.words.size() != 4) fail(s.line, "expected: scale <s>  or  scale <x> <y> <z>");
+            glm::vec3 factor = s.words.size() == 2 ? glm::vec3(number(s, 1, "scale")) : vector3(s, 1, "scale");
+            if (factor.x == 0.0f || factor.y == 0.0f || factor.z == 0.0f) fail(s.line, "a scale factor is zero");
+            options.transform = glm::scale(glm::mat4(1.0f), factor) * options.transform;
+        } else if (keyword == "crease") {
+            if (object_.kind != Kind::mesh) fail(s.line, "crease applies to meshes only");
+            expect_count(s, 2, "crease <degrees>");
+            if (object_.has_crease) fail(s.line, "the mesh already has a crease angle");
+            object_.has_crease = true;
+            options.crease_angle_degrees = number(s, 1, "crease angle");
+            if (options.crease_angle_degrees < 0.0f || options.crease_angle_degrees > 180.0f)
+                fail(s.line, "the crease angle must be within [0, 180] degrees");
+        } else if (keyword == "vertex") {
+            if (object_.kind != Kind::polygon) fail(s.line, "vertex lines belong to a polygon");
+            expect_count(s, 4, "vertex <x> <y> <z>");
+            object_.vertices.push_back(vector3(s, 1, "coordinate"));
+        }
+    }
+
+    void finish_object() {
+        PendingObject object = std::move(object_);
+        object_ = PendingObject{};
+        try {
+            if (object.kind == Kind::mesh) {
+                std::filesystem::path path(object.path);
+                if (path.is_relative()) path = folder_ / path;
+                builder_.add_model_file(path.lexically_normal(), object.options);
+            } else if (object.kind == Kind::polygon) {
+                if (object.vertices.size() < 3)
+                    fail(object.line, fmt::format("the polygon has {} vertex lines; it needs at least 3",
+                                                  object.vertices.size()));
+                const glm::mat4& m = object.options.transform;
+                for (glm::vec3& v : object.vertices) v = glm::vec3(m * glm::vec4(v, 1.0f));
+                if (glm::determinant(glm::mat3(m)) < 0.0f)  // a mirror keeps the same side in front
+                    std::reverse(object.vertices.begin(), object.vertices.end());
+                builder_.add_polygon(object.vertices, object.options.color, object.options.name);
+            }
+        } catch (const Error& e) {
+            if (std::string_view(e.what()).starts_with(file_.string() + ":")) throw;
+            fail(object.line, e.what());
+        }
+    }
+
+    std::filesystem::path file_, folder_;
+    SceneBuilder builder_;
+    SceneFile result_;
+    PendingObject object_;
+    std::size_t camera_line_ = 0;
+};
+
+}  // namespace
+
+LightSpec parse_light_spec(std::string_view text) {
+    auto fail = [&](const std::string& problem) -> Error {
+        return Error("light '{}': {} (expected e.g. point:1,2,3 or dir:0,0,1,intensity=0.8,color=1/0.9/0.8)",
+                     text, problem);
+    };
+    std::size_t colon = text.find(':');
+    if (colon == std::string_view::npos) throw fail("missing ':' after the light type");
+    std::string type = lower(std::string(text.substr(0, colon)));
+    LightSpec light;
+    if (type == "point") light.type = HSR_LIGHT_POINT;
+    else if (type == "dir" || type == "directional") light.type = HSR_LIGHT_DIRECTIONAL;
+    else throw fail(fmt::format("unknown light type '{}' (point or dir)", type));
+
+    std::vector<std::string_view> parts = split(text.substr(colon + 1), ',');
+    if (parts.size() < 3) throw fail("needs three coordinates x,y,z");
+    for (int k = 0; k < 3; ++k) {
+        std::optional<float> v = to_float(parts[static_cast<std::size_t>(k)]);
+        if (!v) throw fail(fmt::format("coordinate '{}' is not a finite number", parts[static_cast<std::size_t>(k)]));
+        light.vector[k] = *v;
+    }
+    bool seen_intensity = false, seen_color = false, seen_space = false;
+    for (std::size_t i = 3; i < parts.size(); ++i) {
+        std::size_t equals = parts[i].find('=');
+        if (equals == std::string_view::npos) throw fail(fmt::format("'{}' is not key=value", parts[i]));
+        std::string key = lower(std::string(parts[i].substr(0, equals)));
+        std::string_view value = parts[i].substr(equals + 1);
+        if (key == "intensity") {
+            std::optional<float> v = to_float(value);
+            if (!v || *v < 0.0f) throw fail(fmt::format("intensity '{}' is not a number >= 0", value));
+            if (seen_intensity) throw fail("intensity given twice");
+            seen_intensity = true;
+            light.intensity = *v;
+        } else if (key == "color" || key == "colour") {
+            std::optional<glm::vec3> c = parse_color_text(value);
+            if (!c) throw fail(fmt::format("colour '{}' is not r/g/b in [0, 1] or #rrggbb", value));
+            if (seen_color) throw fail("colour given twice");
+            seen_color = true;
+            light.color = *c;
+        } else if (key == "space") {
+            if (value != "camera" && value != "world") throw fail(fmt::format("space '{}' is not camera or world", value));
+            if (seen_space) throw fail("space given twice");
+            seen_space = true;
+            light.camera_space = value == "camera";
+        } else {
+            throw fail(fmt::format("unknown key '{}' (intensity, color, space)", key));
+        }
+    }
+    if (light.type == HSR_LIGHT_DIRECTIONAL) {
+        float length = glm::length(light.vector);
+        if (!(length > 0.0f) || !std::isfinite(length)) throw fail("a direction cannot be zero");
+        light.vector /= length;
+    }
+    return light;
+}
+
+bool is_scene_file(const std::filesystem::path& file) { return lower(file.extension().string()) == ".scene"; }
+
+SceneFile load_scene_file(const std::filesystem::path& file) { return SceneParser(file).parse(); }
+
+}  // namespace hsr
