@@ -1,5 +1,7 @@
 // hsr: the command-line host. It parses options, loads the scene and the chosen plugins, and hands
 // them to the framework's frame pipeline; everything else lives in framework/ and plugins/.
+#include "commands.hpp"
+
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"
@@ -23,6 +25,13 @@
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
 
+hsr::PluginRegistry hsr::host::scan_plugins(const std::vector<std::string>& extra_dirs) {
+    const fs::path executable_dir(boost::dll::program_location().parent_path().string());
+    hsr::PluginRegistry registry;
+    for (const fs::path& dir : hsr::default_plugin_dirs(executable_dir, extra_dirs)) registry.scan_directory(dir);
+    return registry;
+}
+
 namespace {
 
 constexpr const char* default_algorithm = "zbuffer";
@@ -30,10 +39,8 @@ constexpr const char* default_lighting = "blinn-phong";
 constexpr const char* default_light = "dir:-0.5,0.6,1";
 constexpr const char* default_background = "0.15/0.15/0.17";
 
-// A usage mistake: printed with a hint to --help, exit status 2.
-struct UsageError : hsr::Error {
-    using hsr::Error::Error;
-};
+using hsr::host::scan_plugins;
+using hsr::host::UsageError;
 
 const char* usage_text =
     "usage: hsr <command> [options]\n"
@@ -41,17 +48,11 @@ const char* usage_text =
     "commands:\n"
     "  render MODEL   render a mesh (OBJ, OFF, PLY, STL) or a .scene file to PNG\n"
     "  plugins        list the plugins found, with their parameters\n"
+    "  bench          time algorithms on models and deep scenes: table, CSV, SVG plot\n"
     "\n"
     "  hsr --version  versions of hsr and of its plugin ABI\n"
     "  hsr <command> --help\n";
 
-fs::path executable_dir() { return fs::path(boost::dll::program_location().parent_path().string()); }
-
-hsr::PluginRegistry scan_plugins(const std::vector<std::string>& extra_dirs) {
-    hsr::PluginRegistry registry;
-    for (const fs::path& dir : hsr::default_plugin_dirs(executable_dir(), extra_dirs)) registry.scan_directory(dir);
-    return registry;
-}
 
 std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
     const hsr_plugin_descriptor& d = p.descriptor;
@@ -278,7 +279,8 @@ int main(int argc, char** argv) {
         }
         if (command == "render") return run_render(args);
         if (command == "plugins") return run_plugins(args);
-        throw UsageError("unknown command '{}' (commands: render, plugins)", command);
+        if (command == "bench") return hsr::host::run_bench(args);
+        throw UsageError("unknown command '{}' (commands: render, plugins, bench)", command);
     } catch (const UsageError& e) {
         std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
         return 2;

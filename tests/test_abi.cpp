@@ -57,27 +57,40 @@ void collect(void* context, const char* name, uint64_t value) {
 TEST_CASE("a plugin built for another ABI major is refused with the reason", "[abi]") {
     const std::string message = load_error(test_plugin("wrong-major"));
     CHECK_THAT(message, Catch::Contains("wrong-major.so"));
-    CHECK_THAT(message, Catch::Contains("built for ABI 2.0"));
+    CHECK_THAT(message, Catch::Contains("built for ABI " + std::to_string(HSR_ABI_MAJOR + 1) + "."));
     CHECK_THAT(message, Catch::Contains("major versions must match"));
 }
 
 TEST_CASE("a plugin that needs a newer minor than the host is refused", "[abi]") {
     const std::string message = load_error(test_plugin("newer-minor"));
-    CHECK_THAT(message, Catch::Contains("needs ABI 1.1"));
+    CHECK_THAT(message, Catch::Contains("needs ABI 1." + std::to_string(HSR_ABI_MINOR + 1)));
     CHECK_THAT(message, Catch::Contains("update hsr"));
 }
 
 TEST_CASE("a plugin built against an older minor is accepted by a newer host", "[abi]") {
-    // This host is ABI 1.0, so no real older minor exists yet; the policy is a pure function of the
-    // two versions and is checked here with a simulated 1.3 host.
-    auto plugins = hsr::load_plugin_library(test_plugin("short-tables"));
+    // frozen-1.0.so is compiled against the ABI 1.0 header kept in tests/plugins/abi-1.0.
+    auto plugins = hsr::load_plugin_library(test_plugin("frozen-1.0"));
     REQUIRE(plugins.size() == 1);
     const hsr_plugin_descriptor& d = plugins[0].descriptor;
-    CHECK(hsr::check_descriptor(d, 1, 3).empty());
+    CHECK(d.abi_major == 1);
+    CHECK(d.abi_minor == 0);
+    CHECK(d.struct_size <= sizeof(hsr_plugin_descriptor));
+    hsr::HiddenSurfaceRemover remover(plugins[0], {{"level", "2"}});
+    TinyFrame f;
+    std::vector<std::pair<std::string, uint64_t>> counters;
+    hsr_counter_sink sink{&counters, &collect};
+    remover.render(f.scene, f.camera, f.target, &sink);
+    CHECK(f.face[5] == 0u);
+    CHECK(f.depth[5] == 0.5f);
+    REQUIRE(counters.size() == 1);
+    CHECK(counters[0].second == 16);
+
+    // The policy itself, for versions that do not exist yet (a simulated 1.9 host).
+    CHECK(hsr::check_descriptor(d, 1, 9).empty());
     CHECK_THAT(hsr::check_descriptor(d, 2, 0), Catch::Contains("major versions must match"));
     hsr_plugin_descriptor newer = d;
-    newer.abi_minor = 4;
-    CHECK_THAT(hsr::check_descriptor(newer, 1, 3), Catch::Contains("needs ABI 1.4"));
+    newer.abi_minor = 10;
+    CHECK_THAT(hsr::check_descriptor(newer, 1, 9), Catch::Contains("needs ABI 1.10"));
 }
 
 TEST_CASE("fields beyond a table's struct_size are never read", "[abi]") {
@@ -158,8 +171,8 @@ TEST_CASE("the registry explains where it looked when a plugin is missing", "[ab
     hsr::PluginRegistry registry;
     registry.scan_directory(HSR_TEST_PLUGIN_DIR);
     registry.scan_directory("/nonexistent-dir");
-    // handmade (short-tables) and throwing load; the others are refused with reasons.
-    CHECK(registry.plugins().size() == 2);
+    // handmade (short-tables), frozen-1.0 and throwing load; the others are refused with reasons.
+    CHECK(registry.plugins().size() == 3);
     CHECK(registry.rejected().size() == 3);
     try {
         registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, "octree-zbuffer");

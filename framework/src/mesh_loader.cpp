@@ -710,6 +710,8 @@ hsr_scene SceneData::view() const {
         s.bounds_min[i] = bounds_min[i];
         s.bounds_max[i] = bounds_max[i];
     }
+    s.instance_count = static_cast<uint32_t>(instances.size());
+    s.instances = instances.empty() ? nullptr : instances.data();
     return s;
 }
 

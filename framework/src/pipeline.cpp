@@ -1,6 +1,8 @@
 #include "hsr/pipeline.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/raster.hpp"
+#include "hsr/scene.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -40,12 +42,13 @@ uint8_t to_byte(float v) {
 
 // Fragment arrays for one batch (a band of rows), reused across the band's rows.
 struct FragmentArrays {
-    std::vector<uint32_t> face, pixel;
+    std::vector<uint32_t> face, pixel, instance;
     std::vector<float> bary, position, normal, color;
 
     void reserve(size_t n) {
         face.resize(n);
         pixel.resize(n);
+        instance.resize(n);
         bary.resize(2 * n);
         position.resize(3 * n);
         normal.resize(3 * n);
@@ -53,10 +56,31 @@ struct FragmentArrays {
     }
 };
 
+// Where each instance puts its triangles: world = transform * p, normals turn by rotation.
+struct Placements {
+    std::vector<glm::mat4> transform;
+    std::vector<glm::mat3> rotation;
+
+    explicit Placements(const hsr_scene& scene) {
+        for (uint32_t k = 0; k < scene.instance_count; ++k) {
+            const hsr_instance& i = *HSR_ELEMENT(hsr_instance, scene.instances, k);
+            glm::mat4 m;
+            glm::mat3 r;
+            for (int c = 0; c < 4; ++c)
+                for (int row = 0; row < 4; ++row) m[c][row] = i.transform[4 * c + row];
+            for (int c = 0; c < 3; ++c)
+                for (int row = 0; row < 3; ++row) r[c][row] = i.rotation[3 * c + row];
+            transform.push_back(m);
+            rotation.push_back(r);
+        }
+    }
+};
+
 // Gathers the covered pixels of rows [row_begin, row_end) into fragments: world position and
 // interpolated shading normal from the barycentrics. Returns the fragment count.
-uint32_t assemble_fragments(const hsr_scene& scene, const Frame& frame, uint32_t row_begin, uint32_t row_end,
-                            FragmentArrays& out) {
+uint32_t assemble_fragments(const hsr_scene& scene, const Placements& placements, const Frame& frame,
+                            uint32_t row_begin, uint32_t row_end, FragmentArrays& out) {
+    const bool instanced = !frame.instance.empty();
     uint32_t n = 0;
     const uint32_t w = frame.width;
     for (uint32_t y = row_begin; y < row_end; ++y) {
@@ -81,14 +105,23 @@ uint32_t assemble_fragments(const hsr_scene& scene, const Frame& frame, uint32_t
                 const float* fn = scene.face_normals + 3 * t;
                 nx = fn[0], ny = fn[1], nz = fn[2];
             }
+            glm::vec3 position(b0 * p0[0] + b1 * p1[0] + b2 * p2[0], b0 * p0[1] + b1 * p1[1] + b2 * p2[1],
+                               b0 * p0[2] + b1 * p1[2] + b2 * p2[2]);
+            glm::vec3 normal(nx, ny, nz);
+            if (instanced) {
+                const uint32_t k = frame.instance[pixel];
+                position = glm::vec3(placements.transform[k] * glm::vec4(position, 1.0f));
+                normal = placements.rotation[k] * normal;
+                out.instance[n] = k;
+            }
             out.face[n] = t;
             out.pixel[n] = pixel;
             out.bary[2 * n] = b1;
             out.bary[2 * n + 1] = b2;
-            for (int k = 0; k < 3; ++k) out.position[3 * n + k] = b0 * p0[k] + b1 * p1[k] + b2 * p2[k];
-            out.normal[3 * n] = nx;
-            out.normal[3 * n + 1] = ny;
-            out.normal[3 * n + 2] = nz;
+            for (int k = 0; k < 3; ++k) {
+                out.position[3 * n + k] = position[k];
+                out.normal[3 * n + k] = normal[k];
+            }
             ++n;
         }
     }
@@ -109,15 +142,30 @@ uint64_t Frame::counter(const std::string& name) const {
     return 0;
 }
 
+bool needs_flat_scene(const Plugin& plugin, const hsr_scene& scene) {
+    return scene.instance_count > 0 && plugin.descriptor.abi_minor < 1;
+}
+
 void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                        Frame& frame) {
+                        Frame& frame, bool count_depth_tests) {
     check_image_size(camera.width, camera.height);
+    if (needs_flat_scene(remover.plugin(), scene))
+        throw Error("hidden-surface plugin '{}' is built against ABI 1.0, which has no instances; copy the "
+                    "instances out first (flatten_instances)", remover.plugin().descriptor.name);
     const size_t pixels = size_t(camera.width) * camera.height;
     frame.width = camera.width;
     frame.height = camera.height;
     frame.depth.assign(pixels, std::numeric_limits<float>::infinity());
     frame.face.assign(pixels, HSR_NO_FACE);
     frame.bary.assign(2 * pixels, 0.0f);
+    if (scene.instance_count > 0)
+        frame.instance.assign(pixels, 0);
+    else
+        frame.instance.clear();
+    if (count_depth_tests)
+        frame.depth_tests.assign(pixels, 0);
+    else
+        frame.depth_tests.clear();
 
     hsr_visibility_buffer target{};
     target.struct_size = sizeof target;
@@ -126,6 +174,8 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
     target.depth = frame.depth.data();
     target.face = frame.face.data();
     target.bary = frame.bary.data();
+    target.instance = frame.instance.empty() ? nullptr : frame.instance.data();
+    target.depth_tests = frame.depth_tests.empty() ? nullptr : frame.depth_tests.data();
     hsr_counter_sink sink{&frame.counters, &collect_counter};
 
     const auto start = Clock::now();
@@ -138,11 +188,21 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
         if (t != HSR_NO_FACE && t >= scene.triangle_count)
             throw Error("hidden-surface plugin '{}' wrote face {} at pixel ({}, {}), but the scene has {} triangles",
                         remover.plugin().descriptor.name, t, p % frame.width, p / frame.width, scene.triangle_count);
+        if (!frame.instance.empty() && t != HSR_NO_FACE && frame.instance[p] >= scene.instance_count)
+            throw Error("hidden-surface plugin '{}' wrote instance {} at pixel ({}, {}), but the scene has {} instances",
+                        remover.plugin().descriptor.name, frame.instance[p], p % frame.width, p / frame.width,
+                        scene.instance_count);
     }
 }
 
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,
                  const FrameSettings& settings, Frame& frame) {
+    if (needs_flat_scene(lighting.plugin(), scene))
+        throw Error("lighting plugin '{}' is built against ABI 1.0, which has no instances; copy the instances "
+                    "out first (flatten_instances)", lighting.plugin().descriptor.name);
+    if (scene.instance_count > 0 && frame.instance.size() != frame.face.size())
+        throw Error("the scene has instances but the visibility buffer has no instance ids");
+    const Placements placements(scene);
     const auto start = Clock::now();
     lighting.prepare(scene, context);
     const size_t pixels = size_t(frame.width) * frame.height;
@@ -172,7 +232,7 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
                 for (size_t p = size_t(row_begin) * frame.width; p < size_t(row_end) * frame.width; ++p) {
                     frame.rgb[3 * p] = bg[0], frame.rgb[3 * p + 1] = bg[1], frame.rgb[3 * p + 2] = bg[2];
                 }
-                const uint32_t n = assemble_fragments(scene, frame, row_begin, row_end, arrays);
+                const uint32_t n = assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
                 if (n == 0) continue;
                 hsr_fragment_batch batch{};
                 batch.struct_size = sizeof batch;
@@ -183,6 +243,7 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
                 batch.normal = arrays.normal.data();
                 batch.pixel = arrays.pixel.data();
                 batch.color = arrays.color.data();
+                batch.instance = frame.instance.empty() ? nullptr : arrays.instance.data();
                 lighting.shade(batch);
                 for (uint32_t i = 0; i < n; ++i) {
                     uint8_t* out = &frame.rgb[3 * size_t(arrays.pixel[i])];
@@ -213,7 +274,16 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
 Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                    LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings) {
     Frame frame;
-    resolve_visibility(scene, camera, remover, frame);
+    if (needs_flat_scene(remover.plugin(), scene) || needs_flat_scene(lighting.plugin(), scene)) {
+        // A plugin built against ABI 1.0 cannot see instances: both get the copied-out triangles,
+        // so that face ids mean the same to both.
+        const SceneData flat = flatten_instances(scene);
+        const hsr_scene flat_view = flat.view();
+        resolve_visibility(flat_view, camera, remover, frame, settings.count_depth_tests);
+        shade_frame(flat_view, lighting, context, settings, frame);
+        return frame;
+    }
+    resolve_visibility(scene, camera, remover, frame, settings.count_depth_tests);
     shade_frame(scene, lighting, context, settings, frame);
     return frame;
 }
@@ -227,6 +297,56 @@ hsr_shading_context make_shading_context(const hsr_camera& camera, const std::ve
     std::copy(std::begin(camera.eye), std::end(camera.eye), context.eye);
     std::copy(std::begin(camera.view_direction), std::end(camera.view_direction), context.view_direction);
     return context;
+}
+
+}  // namespace hsr
+
+namespace hsr {
+
+DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera) {
+    check_image_size(camera.width, camera.height);
+    DepthComplexity result;
+    result.width = camera.width;
+    result.height = camera.height;
+    result.count.assign(size_t(camera.width) * camera.height, 0);
+    if (scene.triangle_count == 0) return result;
+
+    std::vector<float> depth(1), bary(2);
+    uint32_t face = 0;
+    hsr_visibility_buffer target{};
+    target.struct_size = sizeof target;
+    target.width = camera.width;
+    target.height = camera.height;
+    target.depth = depth.data();  // only checked for NULL by validate_frame
+    target.face = &face;
+    target.bary = bary.data();
+    try {
+        raster::validate_frame("depth complexity", scene, camera, target);
+    } catch (const sdk::InvalidArgument& e) {
+        throw Error("{}", e.what());
+    }
+
+    raster::GeometryStage geometry;
+    geometry.begin_frame(scene, camera, false);
+    const sdk::Scene view(scene);
+    uint32_t* const count = result.count.data();
+    const size_t width = camera.width;
+    for (uint32_t k = 0; k < view.placement_count(); ++k) {
+        const sdk::Placement placement = view.placement(k);
+        geometry.place(placement);
+        for (uint32_t t = placement.first_triangle; t < placement.first_triangle + placement.triangle_count; ++t)
+            geometry.process(t, [&](const raster::TriangleSetup& s) {
+                raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double, double) {
+                    ++count[size_t(y) * width + size_t(x)];
+                });
+            });
+    }
+    for (uint32_t c : result.count) {
+        result.fragments += c;
+        result.covered_pixels += c > 0;
+        result.max = std::max(result.max, c);
+    }
+    return result;
 }
 
 }  // namespace hsr

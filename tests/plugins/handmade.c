@@ -1,6 +1,7 @@
 /* A hidden-surface plugin written in plain C against abi.h alone, without the C++ SDK, so that the
  * tests can give it any version number or struct size. It marks every pixel as covered by face 0 at
  * depth 0.5.
+ *   HANDMADE_NAME                     its plugin name (default "handmade")
  *   HANDMADE_MAJOR / HANDMADE_MINOR   the ABI version it claims (default: the header's)
  *   HANDMADE_SHORT_TABLES             its tables end before the optional `extension` field, as a plugin
  *                                     built against an older minor would */
@@ -8,6 +9,9 @@
 
 #ifndef HANDMADE_MAJOR
 #define HANDMADE_MAJOR HSR_ABI_MAJOR
+#endif
+#ifndef HANDMADE_NAME
+#define HANDMADE_NAME "handmade"
 #endif
 #ifndef HANDMADE_MINOR
 #define HANDMADE_MINOR HSR_ABI_MINOR
@@ -60,7 +64,7 @@ static const hsr_param_desc params[] = {
 
 static const hsr_plugin_descriptor descriptor = {
     sizeof(hsr_plugin_descriptor), HSR_API_NAME, HANDMADE_MAJOR, HANDMADE_MINOR,
-    HSR_KIND_HIDDEN_SURFACE_REMOVER, "handmade", "0.1.0", "test plugin written in C",
+    HSR_KIND_HIDDEN_SURFACE_REMOVER, HANDMADE_NAME, "0.1.0", "test plugin written in C",
     params, 1, &table};
 
 HSR_EXPORT const hsr_plugin_descriptor* hsr_plugin_entry(uint32_t index) {

@@ -31,6 +31,10 @@
  * Version history (append-only within a major):
  *   1.0  initial: descriptors with parameter schemas, IHiddenSurfaceRemover, ILightingModel,
  *        visibility buffer, fragment batches, counters, extension hooks.
+ *   1.1  instancing: hsr_instance, hsr_scene.instance_count/instances, the per-pixel instance id in
+ *        hsr_visibility_buffer and hsr_fragment_batch; hsr_visibility_buffer.depth_tests (per-pixel
+ *        work counts for overdraw pictures). A host hands a 1.0 plugin an instanced scene only
+ *        after copying the instances out into plain triangles.
  */
 #ifndef HSR_ABI_H
 #define HSR_ABI_H
@@ -44,7 +48,7 @@ extern "C" {
 
 #define HSR_API_NAME "hsr"
 #define HSR_ABI_MAJOR 1
-#define HSR_ABI_MINOR 0
+#define HSR_ABI_MINOR 1
 #define HSR_ENTRY_SYMBOL "hsr_plugin_entry"
 
 #if defined(_WIN32)
@@ -115,6 +119,23 @@ typedef struct hsr_param_value {
 
 #define HSR_NO_NEIGHBOR (-1)
 
+/* Since 1.1: one placement of a range of the scene's triangles (usually one object) in the world.
+ * The same triangles may be placed any number of times without being copied. The transform is a
+ * similarity (rotation, positive uniform scale, translation: no mirroring or shear), so triangles
+ * keep their winding, and a normal n maps to the unit vector rotation * n. */
+typedef struct hsr_instance {
+    uint32_t struct_size;
+    uint32_t first_triangle;   /* the triangles [first_triangle, first_triangle + triangle_count) */
+    uint32_t triangle_count;
+    uint32_t first_vertex;     /* every vertex those triangles use lies in */
+    uint32_t vertex_count;     /* [first_vertex, first_vertex + vertex_count) */
+    float transform[16];       /* column-major, world = transform * (position, 1) */
+    float rotation[9];         /* column-major 3x3: the transform's rotation, scale divided out */
+    float scale;               /* the transform's uniform scale, > 0 */
+    float bounds_min[3];       /* world-space bounds of the placed triangles */
+    float bounds_max[3];
+} hsr_instance;
+
 /* All geometry of the scene as one indexed triangle mesh in world space. Several objects are
  * concatenated; face_object tells which object a triangle came from. Triangle t has corners
  * indices[3t+0..2], counter-clockwise seen from its front. */
@@ -133,8 +154,14 @@ typedef struct hsr_scene {
                                       corner i to corner (i+1)%3, the triangle across it, or
                                       HSR_NO_NEIGHBOR on a boundary (from the half-edge mesh) */
     const uint32_t* face_object; /* triangle_count: object index in [0, object_count) */
-    float bounds_min[3];         /* axis-aligned bounds of all positions */
+    float bounds_min[3];         /* axis-aligned world-space bounds of everything drawn */
     float bounds_max[3];
+    /* Since 1.1: when instance_count > 0, positions and normals above are in object space and
+     * what is drawn is exactly the instances: each instance's triangle range, transformed by it
+     * (triangles no instance names are not drawn). A pixel then shows a (face, instance) pair.
+     * When instance_count == 0 the mesh is in world space and drawn once, as in 1.0. */
+    uint32_t instance_count;
+    const hsr_instance* instances; /* instance_count elements, stepped by struct_size */
 } hsr_scene;
 
 typedef enum hsr_projection {
@@ -201,6 +228,12 @@ typedef struct hsr_visibility_buffer {
     float* depth;   /* width * height */
     uint32_t* face; /* width * height */
     float* bary;    /* 2 * width * height: b1, b2 interleaved */
+    /* Since 1.1: */
+    uint32_t* instance;    /* width * height: the instance of the visible face; non-NULL exactly
+                              when the scene has instances (cleared to 0) */
+    uint32_t* depth_tests; /* width * height or NULL: when non-NULL (cleared to 0), the plugin
+                              adds 1 at a pixel for every depth comparison it makes there, so the
+                              host can draw where the algorithm worked (overdraw) */
 } hsr_visibility_buffer;
 
 typedef struct IHiddenSurfaceRemover {
@@ -244,6 +277,9 @@ typedef struct hsr_fragment_batch {
     const float* normal;    /* 3 * count: corner normals interpolated and renormalised */
     const uint32_t* pixel;  /* count: y * width + x, for plugins that care where they are */
     float* color;           /* 3 * count: output RGB, expected in [0, 1] (the host clamps) */
+    /* Since 1.1: */
+    const uint32_t* instance; /* count: the face's instance, or NULL when the scene has none;
+                                 position and normal above are already in world space */
 } hsr_fragment_batch;
 
 typedef struct ILightingModel {

@@ -22,6 +22,7 @@ void check_image_size(uint32_t width, uint32_t height);
 struct FrameSettings {
     glm::vec3 background{1.0f, 1.0f, 1.0f};
     unsigned threads = 0;  // shading threads; 0 = one per core
+    bool count_depth_tests = false;  // ask the remover for per-pixel depth-test counts (Frame::depth_tests)
 };
 
 struct Frame {
@@ -30,6 +31,8 @@ struct Frame {
     std::vector<float> depth;   // visibility buffer, as the plugin left it
     std::vector<uint32_t> face;
     std::vector<float> bary;
+    std::vector<uint32_t> instance;     // per pixel; empty unless the scene has instances
+    std::vector<uint32_t> depth_tests;  // per pixel; empty unless asked for (FrameSettings)
     std::vector<uint8_t> rgb;   // 3 * width * height, rows top to bottom
     std::vector<std::pair<std::string, uint64_t>> counters;  // the plugins' and the host's, in order
     double visibility_ms = 0;   // time inside the hidden-surface plugin
@@ -38,9 +41,15 @@ struct Frame {
     uint64_t counter(const std::string& name) const;  // 0 when absent
 };
 
-// Clears and fills a visibility buffer of camera.width x camera.height with the remover.
+// Clears and fills a visibility buffer of camera.width x camera.height with the remover. Throws
+// hsr::Error when the scene has instances and the remover predates them (ABI 1.0): render_frame()
+// copies the instances out for such plugins, see needs_flat_scene().
 void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                        Frame& frame);
+                        Frame& frame, bool count_depth_tests = false);
+
+// True when a plugin was built before instancing (ABI 1.0) and the scene has instances: it must be
+// given flatten_instances(scene) instead.
+bool needs_flat_scene(const Plugin& plugin, const hsr_scene& scene);
 
 // Shades every covered pixel of frame's visibility buffer; uncovered pixels get the background.
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,
@@ -48,6 +57,19 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
 
 Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                    LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings);
+
+// Depth complexity: how many triangles cover each pixel centre (all of them, front- and
+// back-facing, before any depth test), counted with the same rasterization rules as the z-buffer
+// plugins. An independent measure of the scene, not of an algorithm.
+struct DepthComplexity {
+    uint32_t width = 0, height = 0;
+    std::vector<uint32_t> count;  // per pixel
+    uint64_t fragments = 0;       // sum of count
+    uint64_t covered_pixels = 0;  // pixels with count > 0
+    uint32_t max = 0;
+    double mean_over_covered() const { return covered_pixels ? double(fragments) / double(covered_pixels) : 0.0; }
+};
+DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera);
 
 // The shading context for a camera: where the viewer is, and the lights (already in world space).
 hsr_shading_context make_shading_context(const hsr_camera& camera, const std::vector<hsr_light>& lights);

@@ -402,10 +402,10 @@ inline void validate_frame(const char* plugin, const hsr_scene& scene, const hsr
                            const hsr_visibility_buffer& target) {
     const std::string who = std::string(plugin) + ": ";
     auto fail = [&](const std::string& message) { throw hsr::sdk::InvalidArgument(who + message); };
-    if (scene.struct_size < sizeof(hsr_scene)) fail("scene struct is smaller than ABI 1.0's");
-    if (camera.struct_size < sizeof(hsr_camera)) fail("camera struct is smaller than ABI 1.0's");
+    if (scene.struct_size < sizeof(hsr_scene)) fail("scene struct is smaller than the ABI this plugin was built with");
+    if (camera.struct_size < sizeof(hsr_camera)) fail("camera struct is smaller than the ABI this plugin was built with");
     if (target.struct_size < sizeof(hsr_visibility_buffer))
-        fail("visibility buffer struct is smaller than ABI 1.0's");
+        fail("visibility buffer struct is smaller than the ABI this plugin was built with");
     if (target.width != camera.width || target.height != camera.height)
         fail("visibility buffer is " + std::to_string(target.width) + "x" + std::to_string(target.height) +
              " but the camera is " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
@@ -426,35 +426,72 @@ inline void validate_frame(const char* plugin, const hsr_scene& scene, const hsr
     if (largest >= scene.vertex_count)
         fail("a triangle refers to vertex " + std::to_string(largest) + " but the scene has " +
              std::to_string(scene.vertex_count) + " vertices");
+
+    const hsr::sdk::Scene view(scene);
+    const hsr_instance* last_checked = nullptr;  // instances of one object usually come together
+    for (uint32_t k = 0; k < view.instance_count(); ++k) {
+        const hsr_instance& i = view.instance(k);
+        const std::string which = "instance " + std::to_string(k) + " ";
+        if (i.struct_size < sizeof(hsr_instance)) fail(which + "is smaller than ABI 1.1's");
+        if (uint64_t(i.first_triangle) + i.triangle_count > scene.triangle_count ||
+            uint64_t(i.first_vertex) + i.vertex_count > scene.vertex_count)
+            fail(which + "names triangles or vertices the scene does not have");
+        for (float m : i.transform)
+            if (!std::isfinite(m)) fail(which + "has a transform that is not finite");
+        if (!(i.scale > 0.0f)) fail(which + "has a scale that is not positive");
+        if (last_checked && last_checked->first_triangle == i.first_triangle &&
+            last_checked->triangle_count == i.triangle_count && last_checked->first_vertex == i.first_vertex &&
+            last_checked->vertex_count == i.vertex_count)
+            continue;
+        for (uint64_t c = 3 * uint64_t(i.first_triangle); c < 3 * (uint64_t(i.first_triangle) + i.triangle_count); ++c)
+            if (scene.indices[c] < i.first_vertex || scene.indices[c] - i.first_vertex >= i.vertex_count)
+                fail(which + "has a triangle whose vertex lies outside its vertex range");
+        last_checked = &i;
+    }
 }
 
 // Transforms every vertex once per frame, then turns triangles into TriangleSetups. Buffers are
 // kept between frames, so a long-lived instance allocates nothing in steady state.
 class GeometryStage {
 public:
-    // scene, camera and target sizes must have passed validate_frame.
+    // scene, camera and target sizes must have passed validate_frame. Then place() each placement
+    // of the scene (hsr::sdk::Scene::placement) before processing its triangles.
     void begin_frame(const hsr_scene& scene, const hsr_camera& camera, bool cull_backfaces) {
         width_ = camera.width;
         height_ = camera.height;
         indices_ = scene.indices;
+        positions_ = scene.positions;
         cull_backfaces_ = cull_backfaces;
         guard_ = GuardBand(width_, height_);
         viewport_ = Viewport(width_, height_);
         stats_ = TriangleStats{};
-        const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
-        const uint32_t n = scene.vertex_count;
-        clip_.resize(n);
-        outcode_.resize(n);
-        window_.resize(n);
-        for (uint32_t k = 0; k < n; ++k) {
-            const glm::vec3 p(scene.positions[3 * k], scene.positions[3 * k + 1], scene.positions[3 * k + 2]);
-            clip_[k] = to_clip(view_projection, p);
+        view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
+        clip_.resize(scene.vertex_count);
+        outcode_.resize(scene.vertex_count);
+        window_.resize(scene.vertex_count);
+    }
+
+    // Transforms the vertices of one placement to clip and window space; process() then works on
+    // its triangles. Placing another placement over the same vertices overwrites them.
+    void place(const hsr::sdk::Placement& placement) {
+        const glm::dmat4 m = placement.identity ? view_projection_
+                                                : view_projection_ * glm::dmat4(placement.transform);
+        const uint32_t end = placement.first_vertex + placement.vertex_count;
+        for (uint32_t k = placement.first_vertex; k < end; ++k) {
+            const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
+            clip_[k] = to_clip(m, p);
             uint32_t code = outcode(clip_[k], guard_);
             if (!(code & (kNeedsClipping | kNonFinite)) && !viewport_.to_window(clip_[k], 0.0, 0.0, window_[k]))
                 code |= kNonFinite;
             outcode_[k] = code;
         }
     }
+
+    // Window-space vertex k of the current placement, when its outcode is clean (no clipping needed,
+    // finite); for bounding tests by hierarchical algorithms.
+    uint32_t vertex_outcode(uint32_t k) const { return outcode_[k]; }
+    const WindowVertex& window_vertex(uint32_t k) const { return window_[k]; }
+    const glm::dvec4& clip_vertex(uint32_t k) const { return clip_[k]; }
 
     // Culls, clips and sets up triangle t, calling emit(const TriangleSetup&) for every piece that
     // holds pixel centres inside the image (one piece unless clipping made a polygon).
@@ -534,6 +571,8 @@ private:
     std::vector<uint32_t> outcode_;
     std::vector<WindowVertex> window_;  // valid where the outcode needs neither clipping nor skipping
     const uint32_t* indices_ = nullptr;
+    const float* positions_ = nullptr;
+    glm::dmat4 view_projection_{1.0};
     uint32_t width_ = 0;
     uint32_t height_ = 0;
     bool cull_backfaces_ = false;

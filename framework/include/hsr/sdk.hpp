@@ -21,6 +21,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -113,6 +114,30 @@ private:
     uint32_t count_;
 };
 
+// A column-major float[16] of abi.h as a GLM matrix.
+inline glm::mat4 load_matrix(const float (&m)[16]) {
+    glm::mat4 r;
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row) r[c][row] = m[4 * c + row];
+    return r;
+}
+
+// One placement of triangles in the world (see Scene::placement): world = transform * object, and a
+// normal n maps to rotation * n. `instance` is what goes into the visibility buffer's instance array.
+struct Placement {
+    uint32_t instance = 0;
+    uint32_t first_triangle = 0;
+    uint32_t triangle_count = 0;
+    uint32_t first_vertex = 0;
+    uint32_t vertex_count = 0;
+    glm::mat4 transform{1.0f};
+    glm::mat3 rotation{1.0f};
+    float scale = 1.0f;
+    glm::vec3 bounds_min{0.0f};  // world space
+    glm::vec3 bounds_max{0.0f};
+    bool identity = true;  // the scene has no instances: object space is world space
+};
+
 // Read-only view of hsr_scene with typed accessors. Cheap to copy.
 class Scene {
 public:
@@ -140,17 +165,46 @@ public:
     glm::vec3 bounds_min() const { return {s_->bounds_min[0], s_->bounds_min[1], s_->bounds_min[2]}; }
     glm::vec3 bounds_max() const { return {s_->bounds_max[0], s_->bounds_max[1], s_->bounds_max[2]}; }
 
+    // Instances (ABI 1.1); 0 when the scene has none or the host predates them.
+    uint32_t instance_count() const {
+        return s_->struct_size >= offsetof(hsr_scene, instances) + sizeof s_->instances && s_->instances != nullptr
+                   ? s_->instance_count
+                   : 0;
+    }
+    const hsr_instance& instance(uint32_t k) const { return *HSR_ELEMENT(hsr_instance, s_->instances, k); }
+
+    // What is drawn, as a list of placements: each instance, or, in a scene without instances, the
+    // whole mesh once with the identity transform. Renderers loop over these and need no other case.
+    uint32_t placement_count() const { return instance_count() > 0 ? instance_count() : 1; }
+    Placement placement(uint32_t k) const {
+        Placement p;
+        if (instance_count() == 0) {
+            p.triangle_count = triangle_count();
+            p.vertex_count = vertex_count();
+            p.bounds_min = bounds_min();
+            p.bounds_max = bounds_max();
+            return p;
+        }
+        const hsr_instance& i = instance(k);
+        p.instance = k;
+        p.first_triangle = i.first_triangle;
+        p.triangle_count = i.triangle_count;
+        p.first_vertex = i.first_vertex;
+        p.vertex_count = i.vertex_count;
+        p.transform = load_matrix(i.transform);
+        for (int c = 0; c < 3; ++c)
+            for (int r = 0; r < 3; ++r) p.rotation[c][r] = i.rotation[3 * c + r];
+        p.scale = i.scale;
+        p.bounds_min = {i.bounds_min[0], i.bounds_min[1], i.bounds_min[2]};
+        p.bounds_max = {i.bounds_max[0], i.bounds_max[1], i.bounds_max[2]};
+        p.identity = false;
+        return p;
+    }
+
 private:
     static glm::vec3 load3(const float* a, uint32_t i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
     const hsr_scene* s_;
 };
-
-inline glm::mat4 load_matrix(const float (&m)[16]) {
-    glm::mat4 r;
-    for (int c = 0; c < 4; ++c)
-        for (int row = 0; row < 4; ++row) r[c][row] = m[4 * c + row];
-    return r;
-}
 
 // Mutable view of the visibility buffer.
 class VisibilityBuffer {
@@ -161,9 +215,16 @@ public:
     float* depth() { return b_->depth; }
     uint32_t* face() { return b_->face; }
     float* bary() { return b_->bary; }
+    // ABI 1.1: non-NULL exactly when the scene has instances.
+    uint32_t* instance() { return has(offsetof(hsr_visibility_buffer, instance)) ? b_->instance : nullptr; }
+    // ABI 1.1: NULL unless the host wants per-pixel depth-test counts.
+    uint32_t* depth_tests() {
+        return has(offsetof(hsr_visibility_buffer, depth_tests)) ? b_->depth_tests : nullptr;
+    }
     hsr_visibility_buffer& raw() { return *b_; }
 
 private:
+    bool has(size_t field_offset) const { return b_->struct_size >= field_offset + sizeof(void*); }
     hsr_visibility_buffer* b_;
 };
 

@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -158,7 +159,7 @@ public:
     void set(const hsr_shading_context& context) {
         if (context.struct_size < sizeof(hsr_shading_context))
             throw sdk::InvalidArgument("shading context: struct_size " + std::to_string(context.struct_size) +
-                                       " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_shading_context)));
+                                       " is smaller than this plugin's " + std::to_string(sizeof(hsr_shading_context)));
         if (context.light_count > 0 && context.lights == nullptr)
             throw sdk::InvalidArgument("shading context: light_count is " + std::to_string(context.light_count) +
                                        " but lights is NULL");
@@ -267,7 +268,7 @@ public:
         const hsr_scene& raw = scene.raw();
         if (raw.struct_size < sizeof(hsr_scene))
             throw sdk::InvalidArgument("scene: struct_size " + std::to_string(raw.struct_size) +
-                                       " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_scene)));
+                                       " is smaller than this plugin's " + std::to_string(sizeof(hsr_scene)));
         if (raw.triangle_count > 0 && (raw.positions == nullptr || raw.indices == nullptr ||
                                        raw.face_normals == nullptr || raw.corner_normals == nullptr ||
                                        raw.face_colors == nullptr))
@@ -283,8 +284,19 @@ public:
 
         face_color_.clear();
         corner_color_.clear();
+        instance_transform_.clear();
+        instance_rotation_.clear();
         const Specular specular{};
-        if (material_.interpolation == Interpolation::flat) {
+        if (scene.instance_count() > 0) {
+            // Instanced (ABI 1.1): the same face lies in many places, lit differently in each, so
+            // flat and Gouraud colours are worked out per fragment from its instance's placement
+            // instead of per face here (storing them per face and instance could take gigabytes).
+            for (uint32_t k = 0; k < scene.instance_count(); ++k) {
+                const sdk::Placement placement = scene.placement(k);
+                instance_transform_.push_back(placement.transform);
+                instance_rotation_.push_back(placement.rotation);
+            }
+        } else if (material_.interpolation == Interpolation::flat) {
             face_color_.resize(triangles);
             for (uint32_t t = 0; t < triangles; ++t) {
                 const glm::vec3 centroid = (scene.corner_position(t, 0) + scene.corner_position(t, 1) +
@@ -313,11 +325,20 @@ public:
         if (!scene_) throw sdk::InvalidArgument("shade() called before a successful prepare()");
         if (batch.struct_size < sizeof(hsr_fragment_batch))
             throw sdk::InvalidArgument("fragment batch: struct_size " + std::to_string(batch.struct_size) +
-                                       " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_fragment_batch)));
+                                       " is smaller than this plugin's " + std::to_string(sizeof(hsr_fragment_batch)));
         if (batch.count == 0) return;
         if (batch.face == nullptr || batch.color == nullptr || batch.bary == nullptr ||
             batch.position == nullptr || batch.normal == nullptr)
             throw sdk::InvalidArgument("fragment batch: face, bary, position, normal or color array is NULL");
+        const bool instanced = batch.struct_size >= offsetof(hsr_fragment_batch, instance) + sizeof batch.instance &&
+                               batch.instance != nullptr;
+        if (instanced != !instance_transform_.empty())
+            throw sdk::InvalidArgument(instanced ? "fragment batch has instance ids but the scene has no instances"
+                                                 : "the scene has instances but the fragment batch has no instance ids");
+        if (instanced) {
+            shade_instanced(batch);
+            return;
+        }
         switch (material_.interpolation) {
         case Interpolation::flat: shade_flat(batch); break;
         case Interpolation::gouraud: shade_gouraud(batch); break;
@@ -381,8 +402,62 @@ private:
         }
     }
 
+    // Fragments of an instanced scene: positions and normals arrive in world space; face and corner
+    // data are turned into world space with the fragment's instance.
+    void shade_instanced(hsr_fragment_batch& batch) const {
+        const sdk::Scene& scene = *scene_;
+        const Specular specular{};
+        for (uint32_t i = 0; i < batch.count; ++i) {
+            const uint32_t f = batch.face[i];
+            check_face(f);
+            const uint32_t k = batch.instance[i];
+            if (k >= instance_transform_.size()) [[unlikely]]
+                throw sdk::InvalidArgument("fragment batch: instance " + std::to_string(k) + " out of range");
+            const glm::mat4& transform = instance_transform_[k];
+            const glm::mat3& rotation = instance_rotation_[k];
+            const glm::vec3 face_normal = rotation * scene.face_normal(f);
+            const glm::vec3 base = scene.face_color(f);
+            auto world = [&](glm::vec3 p) { return glm::vec3(transform * glm::vec4(p, 1.0f)); };
+            glm::vec3 color;
+            switch (material_.interpolation) {
+            case Interpolation::flat: {
+                const glm::vec3 centroid = world((scene.corner_position(f, 0) + scene.corner_position(f, 1) +
+                                                  scene.corner_position(f, 2)) / 3.0f);
+                const glm::vec3 v = lights_.view_vector(centroid);
+                color = lights_.reflect(material_, specular, base, centroid, facing_normal(face_normal, face_normal, v), v);
+                break;
+            }
+            case Interpolation::gouraud: {
+                const float b[3] = {1.0f - batch.bary[2 * size_t{i}] - batch.bary[2 * size_t{i} + 1],
+                                    batch.bary[2 * size_t{i}], batch.bary[2 * size_t{i} + 1]};
+                color = glm::vec3(0.0f);
+                for (int corner = 0; corner < 3; ++corner) {
+                    const glm::vec3 p = world(scene.corner_position(f, corner));
+                    const glm::vec3 v = lights_.view_vector(p);
+                    const glm::vec3 n = facing_normal(rotation * scene.corner_normal(f, corner), face_normal, v);
+                    color += b[corner] * lights_.reflect(material_, specular, base, p, n, v);
+                }
+                color = clamp01(color);
+                break;
+            }
+            case Interpolation::phong: {
+                const float* pos = batch.position + 3 * size_t{i};
+                const float* nrm = batch.normal + 3 * size_t{i};
+                const glm::vec3 p{pos[0], pos[1], pos[2]};
+                const glm::vec3 v = lights_.view_vector(p);
+                const glm::vec3 n = facing_normal({nrm[0], nrm[1], nrm[2]}, face_normal, v);
+                color = lights_.reflect(material_, specular, base, p, n, v);
+                break;
+            }
+            }
+            store(batch.color + 3 * size_t{i}, color);
+        }
+    }
+
     Material material_;
     LightEnvironment lights_;
+    std::vector<glm::mat4> instance_transform_;  // instanced scenes: one per instance
+    std::vector<glm::mat3> instance_rotation_;
     std::optional<sdk::Scene> scene_;     // set by a successful prepare()
     std::vector<glm::vec3> face_color_;   // flat: one per triangle
     std::vector<glm::vec3> corner_color_; // gouraud: three per triangle

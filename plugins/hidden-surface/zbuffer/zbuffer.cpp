@@ -43,14 +43,14 @@ public:
         if (keep_farthest_) {
             // The host clears depth to +infinity; keeping the farthest surface needs -infinity.
             std::fill_n(target.depth(), pixel_count, -std::numeric_limits<float>::infinity());
-            draw<false>(scene.triangle_count(), target, pixels);
+            draw<false>(scene, target, pixels);
             // Uncovered pixels go back to the buffer's "nothing here" depth.
             float* depth = target.depth();
             const uint32_t* face = target.face();
             for (size_t p = 0; p < pixel_count; ++p)
                 if (face[p] == HSR_NO_FACE) depth[p] = std::numeric_limits<float>::infinity();
         } else {
-            draw<true>(scene.triangle_count(), target, pixels);
+            draw<true>(scene, target, pixels);
         }
 
         geometry_.stats().report(counters);
@@ -65,39 +65,58 @@ private:
     };
 
     template <bool kKeepNearest>
-    void draw(uint32_t triangle_count, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
+    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
+        if (target.depth_tests() == nullptr)
+            draw<kKeepNearest, false>(scene, target, pixels);
+        else
+            draw<kKeepNearest, true>(scene, target, pixels);
+    }
+
+    template <bool kKeepNearest, bool kCountTests>
+    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
         float* const depth = target.depth();
         uint32_t* const face = target.face();
         float* const bary = target.bary();
+        uint32_t* const instance = target.instance();
+        uint32_t* const tests = target.depth_tests();
         const size_t width = target.width();
-        for (uint32_t t = 0; t < triangle_count; ++t) {
-            geometry_.process(t, [&](const raster::TriangleSetup& s) {
-                // Everything the pixel loop touches is a local, so the compiler can keep it in
-                // registers (a store to face[] could otherwise alias a captured uint32_t).
-                uint64_t tested = 0, written = 0;
-                float* const depth_out = depth;
-                uint32_t* const face_out = face;
-                float* const bary_out = bary;
-                const size_t stride = width;
-                const uint32_t id = t;
-                raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) {
-                    ++tested;
-                    const size_t p = size_t(y) * stride + size_t(x);
-                    const float z = raster::depth_at(s, i, j);
-                    if (kKeepNearest ? !(z < depth_out[p]) : !(z > depth_out[p])) return;
-                    ++written;
-                    depth_out[p] = z;
-                    face_out[p] = id;
-                    const glm::vec2 b = raster::barycentrics_at(s, i, j);
-                    bary_out[2 * p] = b.x;
-                    bary_out[2 * p + 1] = b.y;
+        for (uint32_t k = 0; k < scene.placement_count(); ++k) {
+            const hsr::sdk::Placement placement = scene.placement(k);
+            geometry_.place(placement);
+            const uint32_t end = placement.first_triangle + placement.triangle_count;
+            for (uint32_t t = placement.first_triangle; t < end; ++t) {
+                geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                    // Everything the pixel loop touches is a local, so the compiler can keep it in
+                    // registers (a store to face[] could otherwise alias a captured uint32_t).
+                    uint64_t tested = 0, written = 0;
+                    float* const depth_out = depth;
+                    uint32_t* const face_out = face;
+                    float* const bary_out = bary;
+                    uint32_t* const tests_out = tests;
+                    uint32_t* const instance_out = instance;
+                    const size_t stride = width;
+                    const uint32_t id = t;
+                    const uint32_t instance_id = placement.instance;
+                    raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) {
+                        ++tested;
+                        const size_t p = size_t(y) * stride + size_t(x);
+                        if constexpr (kCountTests) ++tests_out[p];
+                        const float z = raster::depth_at(s, i, j);
+                        if (kKeepNearest ? !(z < depth_out[p]) : !(z > depth_out[p])) return;
+                        ++written;
+                        depth_out[p] = z;
+                        face_out[p] = id;
+                        if (instance_out != nullptr) instance_out[p] = instance_id;
+                        const glm::vec2 b = raster::barycentrics_at(s, i, j);
+                        bary_out[2 * p] = b.x;
+                        bary_out[2 * p + 1] = b.y;
+                    });
+                    pixels.depth_tested += tested;
+                    pixels.written += written;
                 });
-                pixels.depth_tested += tested;
-                pixels.written += written;
-            });
+            }
         }
     }
-
     bool cull_backfaces_;
     bool keep_farthest_;
     raster::GeometryStage geometry_;  // keeps its vertex buffers between frames

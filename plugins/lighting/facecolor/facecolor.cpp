@@ -22,7 +22,7 @@ public:
         const hsr_scene& raw = scene.raw();
         if (raw.struct_size < sizeof(hsr_scene))
             throw hsr::sdk::InvalidArgument("scene: struct_size " + std::to_string(raw.struct_size) +
-                                            " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_scene)));
+                                            " is smaller than this plugin's " + std::to_string(sizeof(hsr_scene)));
         if (raw.triangle_count > 0 && raw.face_colors == nullptr)
             throw hsr::sdk::InvalidArgument("scene: face colours missing");
         scene_.emplace(scene);
@@ -32,7 +32,7 @@ public:
         if (!scene_) throw hsr::sdk::InvalidArgument("shade() called before a successful prepare()");
         if (batch.struct_size < sizeof(hsr_fragment_batch))
             throw hsr::sdk::InvalidArgument("fragment batch: struct_size " + std::to_string(batch.struct_size) +
-                                            " is smaller than ABI 1.0's " + std::to_string(sizeof(hsr_fragment_batch)));
+                                            " is smaller than this plugin's " + std::to_string(sizeof(hsr_fragment_batch)));
         if (batch.count == 0) return;
         if (batch.face == nullptr || batch.color == nullptr)
             throw hsr::sdk::InvalidArgument("fragment batch: face or color array is NULL");
