@@ -106,6 +106,10 @@ struct RenderOptions {
     std::string background = default_background;
     std::string color;
     std::string depth_out;
+    std::string overdraw_out;
+    std::string depth_tests_out;
+    std::string repeat;
+    float repeat_gap = 0.25f, repeat_jitter = 0.0f;
     float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40;
     bool orthographic = false;
     bool stats = false;
@@ -123,14 +127,51 @@ glm::vec3 parse_color_option(const std::string& text, const char* option) {
     }
 }
 
+// "CxRxL" (columns x rows x layers) for --repeat.
+hsr::InstanceGrid parse_repeat(const std::string& text, float gap, float jitter) {
+    hsr::InstanceGrid grid;
+    unsigned long long c = 0, r = 0, l = 0;
+    char x1 = 0, x2 = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%llu%c%llu%c%llu%c", &c, &x1, &r, &x2, &l, &extra) != 5 || x1 != 'x' || x2 != 'x' ||
+        c == 0 || r == 0 || l == 0 || c > 100000 || r > 100000 || l > 100000)
+        throw UsageError("--repeat '{}': expected COLUMNSxROWSxLAYERS, each at least 1, e.g. 4x3x20", text);
+    if (!(gap >= 0.0f) || !std::isfinite(gap)) throw UsageError("--repeat-gap must be 0 or more");
+    if (!(jitter >= 0.0f) || !(jitter <= 180.0f)) throw UsageError("--repeat-jitter must be between 0 and 180 degrees");
+    grid.columns = uint32_t(c);
+    grid.rows = uint32_t(r);
+    grid.layers = uint32_t(l);
+    grid.gap = gap;
+    grid.yaw_jitter_degrees = jitter;
+    return grid;
+}
+
 void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remover,
-                 const hsr::LightingModel& lighting, const hsr_scene& scene) {
-    std::fprintf(stderr, "%s + %s, %u triangles, %ux%u\n", remover.plugin().descriptor.name,
-                 lighting.plugin().descriptor.name, scene.triangle_count, frame.width, frame.height);
+                 const hsr::LightingModel& lighting, const hsr_scene& scene,
+                 const std::optional<hsr::DepthComplexity>& depth_complexity) {
+    const uint64_t drawn = hsr::drawn_triangle_count(scene);
+    std::fprintf(stderr, "%s + %s, %llu triangles", remover.plugin().descriptor.name, lighting.plugin().descriptor.name,
+                 static_cast<unsigned long long>(drawn));
+    if (scene.instance_count > 0)
+        std::fprintf(stderr, " (%u instances of %u stored)", scene.instance_count, scene.triangle_count);
+    std::fprintf(stderr, ", %ux%u\n", frame.width, frame.height);
+    const double build_ms = double(frame.counter("build-time-us")) / 1000.0;
     std::fprintf(stderr, "  %-28s %10.2f ms\n", "visibility time", frame.visibility_ms);
+    if (build_ms > 0.0) {
+        std::fprintf(stderr, "    %-26s %10.2f ms\n", "of which build", build_ms);
+        std::fprintf(stderr, "    %-26s %10.2f ms\n", "of which render", frame.visibility_ms - build_ms);
+    }
     std::fprintf(stderr, "  %-28s %10.2f ms\n", "shading time", frame.shading_ms);
     for (const auto& [name, value] : frame.counters)
         std::fprintf(stderr, "  %-28s %10llu\n", name.c_str(), static_cast<unsigned long long>(value));
+    if (depth_complexity) {
+        std::fprintf(stderr, "  %-28s %10.2f (max %u, over %llu covered pixels)\n", "depth complexity",
+                     depth_complexity->mean_over_covered(), depth_complexity->max,
+                     static_cast<unsigned long long>(depth_complexity->covered_pixels));
+        const uint64_t tested = frame.counter("pixels-depth-tested");
+        if (depth_complexity->fragments > 0)
+            std::fprintf(stderr, "  %-28s %10.3f\n", "depth tests / fragments",
+                         double(tested) / double(depth_complexity->fragments));
+    }
 }
 
 int run_render(const std::vector<std::string>& args) {
@@ -158,6 +199,17 @@ int run_render(const std::vector<std::string>& args) {
         ("crease-angle", po::value(&o.crease_angle)->default_value(40),
          "degrees: shading normals are not smoothed across edges sharper than this")
         ("depth-out", po::value(&o.depth_out), "also write the depth buffer as a greyscale PNG (near = white)")
+        ("overdraw-out", po::value(&o.overdraw_out),
+         "also write the scene's depth complexity (surfaces over each pixel) as a heat-map PNG")
+        ("depth-tests-out", po::value(&o.depth_tests_out),
+         "also write where the algorithm made depth tests (per pixel) as a heat map on the same scale "
+         "as --overdraw-out: what a hierarchy saves shows as darker")
+        ("repeat", po::value(&o.repeat),
+         "CxRxL: place the model C across, R up and L layers deep (a deep scene; the mesh is stored once)")
+        ("repeat-gap", po::value(&o.repeat_gap)->default_value(0.25f, "0.25"),
+         "space between repeated copies, as a fraction of the model's size")
+        ("repeat-jitter", po::value(&o.repeat_jitter)->default_value(0.0f, "0"),
+         "turn each copy about the vertical by a random angle up to this many degrees")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
         ("threads", po::value(&o.threads)->default_value(0), "shading threads (0 = one per core)")
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
@@ -224,6 +276,7 @@ int run_render(const std::vector<std::string>& args) {
         if (!o.color.empty()) mesh_options.color = parse_color_option(o.color, "color");
         scene = hsr::load_model(model_path, mesh_options);
     }
+    if (!o.repeat.empty()) scene = hsr::make_instance_grid(scene, parse_repeat(o.repeat, o.repeat_gap, o.repeat_jitter));
     for (const std::string& warning : scene.warnings) std::fprintf(stderr, "hsr: warning: %s\n", warning.c_str());
     hsr::check_image_size(width, height);
     settings.width = width;
@@ -243,6 +296,7 @@ int run_render(const std::vector<std::string>& args) {
     hsr::FrameSettings frame_settings;
     frame_settings.background = vm["background"].defaulted() && scene_background ? *scene_background : background;
     frame_settings.threads = o.threads;
+    frame_settings.count_depth_tests = !o.depth_tests_out.empty();
 
     const hsr_scene scene_view = scene.view();
     const hsr_shading_context context = hsr::make_shading_context(camera, lights);
@@ -251,9 +305,26 @@ int run_render(const std::vector<std::string>& args) {
     const fs::path output = o.output.empty() ? fs::path(model_path.stem().string() + ".png") : fs::path(o.output);
     hsr::write_png(output, frame.width, frame.height, 3, frame.rgb);
     if (!o.depth_out.empty()) hsr::write_depth_png(o.depth_out, frame.width, frame.height, frame.depth);
-    if (o.stats) print_stats(frame, remover, lighting, scene_view);
-    std::fprintf(stderr, "wrote %s (%ux%u, %u triangles, %.1f ms visibility + %.1f ms shading)\n",
-                 output.string().c_str(), frame.width, frame.height, scene_view.triangle_count, frame.visibility_ms,
+    std::optional<hsr::DepthComplexity> depth_complexity;
+    if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())
+        depth_complexity = hsr::measure_depth_complexity(scene_view, camera);
+    if (!o.overdraw_out.empty()) {
+        hsr::write_heat_map_png(o.overdraw_out, frame.width, frame.height, depth_complexity->count, depth_complexity->max);
+        std::fprintf(stderr, "wrote %s (depth complexity heat map: black 0 ... pale yellow %u)\n",
+                     o.overdraw_out.c_str(), depth_complexity->max);
+    }
+    if (!o.depth_tests_out.empty()) {
+        if (remover.plugin().descriptor.abi_minor < 1)  // ABI 1.0 has no per-pixel depth-test counts
+            throw hsr::Error("--depth-tests-out: plugin '{}' does not report per-pixel depth tests",
+                             remover.plugin().descriptor.name);
+        hsr::write_heat_map_png(o.depth_tests_out, frame.width, frame.height, frame.depth_tests, depth_complexity->max);
+        std::fprintf(stderr, "wrote %s (depth tests heat map: black 0 ... pale yellow %u)\n",
+                     o.depth_tests_out.c_str(), depth_complexity->max);
+    }
+    if (o.stats) print_stats(frame, remover, lighting, scene_view, depth_complexity);
+    std::fprintf(stderr, "wrote %s (%ux%u, %llu triangles, %.1f ms visibility + %.1f ms shading)\n",
+                 output.string().c_str(), frame.width, frame.height,
+                 static_cast<unsigned long long>(hsr::drawn_triangle_count(scene_view)), frame.visibility_ms,
                  frame.shading_ms);
     return 0;
 }

@@ -166,3 +166,30 @@ TEST_CASE("cli: a render writes a PNG with the model in the middle and backgroun
     CHECK(d.pixels[0] == 0);                                  // uncovered: black
     CHECK(d.pixels[3 * (32 * 96 + 48)] >= 64);                // covered: grey to white
 }
+
+TEST_CASE("cli: --repeat makes a deep scene; --stats, --overdraw-out and --depth-tests-out show it", "[cli]") {
+    const fs::path dir = scratch_dir();
+    const fs::path picture = dir / "deep.png", overdraw = dir / "deep-overdraw.png", tests = dir / "deep-tests.png";
+    const Run r = run_hsr("render " + model("cube.obj") + " --repeat 2x1x5 --ortho --width 64 --height 48 --stats -o " +
+                              picture.string() + " --overdraw-out " + overdraw.string() + " --depth-tests-out " +
+                              tests.string(),
+                          "repeat");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    // 10 cubes of 12 triangles, stored once; seen straight along the layers, every covered pixel
+    // has the front and back face of each of the 5 cubes in its column.
+    CHECK_THAT(r.err, Catch::Contains("120 triangles (10 instances of 12 stored)"));
+    CHECK_THAT(r.err, Catch::Contains("depth complexity") && Catch::Contains("10.00 (max 10"));
+    const hsr::Image heat = hsr::read_png_rgb(overdraw);
+    CHECK(heat.width == 64);
+    CHECK(heat.height == 48 + 16);  // the picture and the legend strip below it
+    const hsr::Image work = hsr::read_png_rgb(tests);
+    CHECK(work.height == 48 + 16);
+    // zbuffer depth-tests every covered sample: its work map equals the depth complexity map.
+    CHECK(work.pixels == heat.pixels);
+}
+
+TEST_CASE("cli: a malformed --repeat is a one-line error", "[cli]") {
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --repeat 3x0x2 -o x.png", "repeat-zero"), "--repeat");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --repeat 3x2 -o x.png", "repeat-short"), "COLUMNSxROWSxLAYERS");
+}

@@ -303,6 +303,13 @@ hsr_shading_context make_shading_context(const hsr_camera& camera, const std::ve
 
 namespace hsr {
 
+uint64_t drawn_triangle_count(const hsr_scene& scene) {
+    if (scene.instance_count == 0) return scene.triangle_count;
+    uint64_t n = 0;
+    for (uint32_t k = 0; k < scene.instance_count; ++k) n += HSR_ELEMENT(hsr_instance, scene.instances, k)->triangle_count;
+    return n;
+}
+
 DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera) {
     check_image_size(camera.width, camera.height);
     DepthComplexity result;

@@ -71,6 +71,9 @@ struct DepthComplexity {
 };
 DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera);
 
+// Triangles drawn: the sum over instances, or the mesh's count when there are none.
+uint64_t drawn_triangle_count(const hsr_scene& scene);
+
 // The shading context for a camera: where the viewer is, and the lights (already in world space).
 hsr_shading_context make_shading_context(const hsr_camera& camera, const std::vector<hsr_light>& lights);
 
