@@ -866,6 +866,11 @@ TEST_CASE("scene file mistakes are reported as file:line", "[scene][file][errors
         {"mesh cube.obj\nlight spot:1,2,3\n", 2, "unknown light type"},
         {"mesh \"cube.obj\n", 1, "unterminated quote"},
         {"mesh a.obj b.obj\n", 1, "expected: mesh"},
+        {"mesh cube.obj\nrepeat 2 2\n", 2, "expected: repeat"},
+        {"mesh cube.obj\nrepeat 2 0 3\n", 2, "not a whole number"},
+        {"mesh cube.obj\nrepeat 2 2 3 gap -1\n", 2, "gap must be 0 or more"},
+        {"mesh cube.obj\nrepeat 2 2 3 spin 4\n", 2, "unknown repeat setting"},
+        {"mesh cube.obj\nrepeat 2 2 3\nrepeat 1 1 1\n", 3, "repeat is given twice"},
     };
     int index = 0;
     for (const Case& c : cases) {
@@ -887,4 +892,24 @@ TEST_CASE("scene file mistakes are reported as file:line", "[scene][file][errors
         const fs::path below = dir.write("below.scene", "camera pixel\npolygon\n vertex -5 -5 0\n vertex -1 -5 0\n vertex -1 -1 0\n");
         CHECK_THAT(error_of([&] { hsr::load_scene_file(below); }), Contains("below.scene") && Contains("size W H"));
     }
+}
+
+TEST_CASE("scene files: repeat places the whole scene on a grid of instances", "[scene][file][instancing]") {
+    TempDir dir;
+    fs::copy_file(models_dir / "cube.obj", dir.path / "box.obj");
+    const fs::path file = dir.write("deep.scene",
+                                    "mesh box.obj\n"
+                                    "  color 1 0 0\n"
+                                    "polygon\n"
+                                    "  vertex 0 0 3\n  vertex 1 0 3\n  vertex 0 1 3\n"
+                                    "repeat 3 2 5 gap 0.5 jitter 10\n");
+    const hsr::SceneFile f = hsr::load_scene_file(file);
+    CHECK(f.scene.triangle_count() == 13);  // stored once: the cube's 12 and the polygon's 1
+    REQUIRE(f.scene.instances.size() == 30);
+    for (const hsr_instance& i : f.scene.instances) {
+        CHECK(i.triangle_count == 13);
+        CHECK(i.vertex_count == f.scene.vertex_count());
+    }
+    // Layers recede along -z, one scene depth (4 units: z from -1 to 3) plus the gap apart.
+    CHECK(f.scene.bounds_max.z - f.scene.bounds_min.z > 4 * 5);
 }

@@ -95,6 +95,7 @@ public:
         } catch (const Error& e) {
             throw Error("{}: {}", file_.string(), e.what());
         }
+        if (repeat_) result_.scene = make_instance_grid(result_.scene, *repeat_);
         if (result_.pixel_camera && !result_.width) {
             glm::vec3 top = result_.scene.bounds_max;
             if (!(top.x >= 1.0f && top.y >= 1.0f && top.x <= 16384.0f && top.y <= 16384.0f))
@@ -197,12 +198,45 @@ private:
             } catch (const Error& e) {
                 fail(s.line, e.what());
             }
+        } else if (keyword == "repeat") {
+            finish_object();
+            repeat(s);
         } else if (keyword == "name" || keyword == "color" || keyword == "translate" || keyword == "rotate" ||
                    keyword == "scale" || keyword == "crease" || keyword == "vertex") {
             property(s);
         } else {
             fail(s.line, fmt::format("unknown statement '{}'", keyword));
         }
+    }
+
+    // repeat <columns> <rows> <layers> [gap <g>] [jitter <degrees>]: the whole scene becomes a grid
+    // of instances (make_instance_grid), stored once.
+    void repeat(const Statement& s) {
+        const char* usage = "repeat <columns> <rows> <layers> [gap <g>] [jitter <degrees>]";
+        if (repeat_) fail(s.line, "repeat is given twice");
+        if (s.words.size() < 4) fail(s.line, fmt::format("expected: {}", usage));
+        InstanceGrid grid;
+        uint32_t* counts[3] = {&grid.columns, &grid.rows, &grid.layers};
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::string& word = s.words[k + 1];
+            auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), *counts[k]);
+            if (ec != std::errc() || end != word.data() + word.size() || *counts[k] == 0 || *counts[k] > 100000)
+                fail(s.line, fmt::format("repeat count '{}' is not a whole number in [1, 100000]", word));
+        }
+        for (std::size_t i = 4; i < s.words.size(); i += 2) {
+            const std::string& key = s.words[i];
+            if (key != "gap" && key != "jitter") fail(s.line, fmt::format("unknown repeat setting '{}' (gap, jitter)", key));
+            if (i + 1 >= s.words.size()) fail(s.line, fmt::format("repeat setting '{}' needs a value", key));
+            const float value = number(s, i + 1, key.c_str());
+            if (key == "gap") {
+                if (value < 0.0f) fail(s.line, "gap must be 0 or more");
+                grid.gap = value;
+            } else {
+                if (value < 0.0f || value > 180.0f) fail(s.line, "jitter must be between 0 and 180 degrees");
+                grid.yaw_jitter_degrees = value;
+            }
+        }
+        repeat_ = grid;
     }
 
     void camera(const Statement& s) {
@@ -233,6 +267,8 @@ private:
             }
         }
     }
+
+    std::optional<InstanceGrid> repeat_;
 
     enum class Kind { none, mesh, polygon };
 
