@@ -167,6 +167,10 @@ void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remov
         std::fprintf(stderr, "  %-28s %10.2f (max %u, over %llu covered pixels)\n", "depth complexity",
                      depth_complexity->mean_over_covered(), depth_complexity->max,
                      static_cast<unsigned long long>(depth_complexity->covered_pixels));
+        const uint64_t written = frame.counter("pixels-written");
+        if (depth_complexity->covered_pixels > 0 && written > 0)
+            std::fprintf(stderr, "  %-28s %10.3f\n", "overdraw (writes / pixel)",
+                         double(written) / double(depth_complexity->covered_pixels));
         const uint64_t tested = frame.counter("pixels-depth-tested");
         if (depth_complexity->fragments > 0)
             std::fprintf(stderr, "  %-28s %10.3f\n", "depth tests / fragments",
