@@ -3,6 +3,7 @@
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/plugin_registry.hpp"
+#include "hsr/scene.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
@@ -15,19 +16,23 @@ namespace {
 
 using Settings = std::vector<hsr::Setting>;
 
-// An indexed triangle mesh owning every array hsr_scene points to.
-struct TestScene {
-    std::vector<float> positions, face_normals, corner_normals, face_colors;
-    std::vector<uint32_t> indices, face_object;
-    std::vector<int32_t> edge_neighbors;
-
+// A scene built triangle by triangle; SceneData owns the arrays hsr_scene points to.
+struct TestScene : hsr::SceneData {
     // Corners CCW seen from the front; corner normals default to the face normal.
     void add_triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 color,
                       std::vector<glm::vec3> normals = {}) {
         const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
         if (normals.empty()) normals = {n, n, n};
         const auto base = static_cast<uint32_t>(positions.size() / 3);
-        for (glm::vec3 p : {a, b, c}) positions.insert(positions.end(), {p.x, p.y, p.z});
+        if (base == 0) {
+            bounds_min = bounds_max = a;
+            object_names = {"test"};
+        }
+        for (glm::vec3 p : {a, b, c}) {
+            positions.insert(positions.end(), {p.x, p.y, p.z});
+            bounds_min = glm::min(bounds_min, p);
+            bounds_max = glm::max(bounds_max, p);
+        }
         indices.insert(indices.end(), {base, base + 1, base + 2});
         face_normals.insert(face_normals.end(), {n.x, n.y, n.z});
         for (glm::vec3 cn : normals) corner_normals.insert(corner_normals.end(), {cn.x, cn.y, cn.z});
@@ -43,28 +48,7 @@ struct TestScene {
         const float* n = &corner_normals[9 * t + 3 * k];
         return {n[0], n[1], n[2]};
     }
-    hsr_scene raw() const {
-        hsr_scene s{};
-        s.struct_size = sizeof(hsr_scene);
-        s.vertex_count = static_cast<uint32_t>(positions.size() / 3);
-        s.triangle_count = static_cast<uint32_t>(indices.size() / 3);
-        s.object_count = 1;
-        s.positions = positions.data();
-        s.indices = indices.data();
-        s.face_normals = face_normals.data();
-        s.corner_normals = corner_normals.data();
-        s.face_colors = face_colors.data();
-        s.edge_neighbors = edge_neighbors.data();
-        s.face_object = face_object.data();
-        for (int axis = 0; axis < 3; ++axis) {
-            s.bounds_min[axis] = s.bounds_max[axis] = positions[axis];
-            for (size_t i = axis; i < positions.size(); i += 3) {
-                s.bounds_min[axis] = std::min(s.bounds_min[axis], positions[i]);
-                s.bounds_max[axis] = std::max(s.bounds_max[axis], positions[i]);
-            }
-        }
-        return s;
-    }
+    hsr_scene raw() const { return view(); }
 };
 
 struct Fragment {

@@ -4,6 +4,7 @@
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/plugin_registry.hpp"
+#include "hsr/scene.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
@@ -27,14 +28,12 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // ---------------------------------------------------------------------------------------------- //
 // Scene, camera, buffer and counters built by hand
 
-// An indexed triangle mesh owning every array hsr_scene points to.
+// An indexed triangle mesh; raw() fills in flat normals and the rest of the arrays (in a SceneData,
+// which owns what hsr_scene points to).
 struct TestMesh {
     std::vector<float> positions;
     std::vector<uint32_t> indices;
-    // Filled by raw():
-    mutable std::vector<float> face_normals, corner_normals, face_colors;
-    mutable std::vector<int32_t> edge_neighbors;
-    mutable std::vector<uint32_t> face_object;
+    mutable hsr::SceneData data;  // filled by raw()
 
     uint32_t add_vertex(glm::dvec3 p) {
         positions.insert(positions.end(), {float(p.x), float(p.y), float(p.z)});
@@ -60,42 +59,31 @@ struct TestMesh {
 
     hsr_scene raw() const {
         const uint32_t n = triangle_count();
-        face_normals.assign(3 * n, 0.0f);
-        corner_normals.assign(9 * n, 0.0f);
-        face_colors.assign(3 * n, 0.5f);
-        edge_neighbors.assign(3 * n, HSR_NO_NEIGHBOR);
-        face_object.assign(n, 0);
+        data.positions = positions;
+        data.indices = indices;
+        data.face_normals.assign(3 * n, 0.0f);
+        data.corner_normals.assign(9 * n, 0.0f);
+        data.face_colors.assign(3 * n, 0.5f);
+        data.edge_neighbors.assign(3 * n, HSR_NO_NEIGHBOR);
+        data.face_object.assign(n, 0);
+        data.object_names = {"test"};
         for (uint32_t t = 0; t < n; ++t) {
             glm::dvec3 normal = glm::cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0));
             const double length = glm::length(normal);
             normal = length > 0 && std::isfinite(length) ? normal / length : glm::dvec3(0, 0, 1);
             for (int k = 0; k < 3; ++k) {
-                face_normals[3 * t + k] = float(normal[k]);
-                for (int c = 0; c < 3; ++c) corner_normals[9 * t + 3 * c + k] = float(normal[k]);
+                data.face_normals[3 * t + k] = float(normal[k]);
+                for (int c = 0; c < 3; ++c) data.corner_normals[9 * t + 3 * c + k] = float(normal[k]);
             }
         }
-        hsr_scene s{};
-        s.struct_size = sizeof(hsr_scene);
-        s.vertex_count = uint32_t(positions.size() / 3);
-        s.triangle_count = n;
-        s.object_count = 1;
-        s.positions = positions.data();
-        s.indices = indices.data();
-        s.face_normals = face_normals.data();
-        s.corner_normals = corner_normals.data();
-        s.face_colors = face_colors.data();
-        s.edge_neighbors = edge_neighbors.data();
-        s.face_object = face_object.data();
-        for (int axis = 0; axis < 3; ++axis) {
-            s.bounds_min[axis] = kInfinity;
-            s.bounds_max[axis] = -kInfinity;
+        data.bounds_min = glm::vec3(kInfinity);
+        data.bounds_max = glm::vec3(-kInfinity);
+        for (size_t v = 0; v < positions.size() / 3; ++v) {
+            const glm::vec3 p(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+            data.bounds_min = glm::min(data.bounds_min, p);
+            data.bounds_max = glm::max(data.bounds_max, p);
         }
-        for (size_t v = 0; v < positions.size() / 3; ++v)
-            for (int axis = 0; axis < 3; ++axis) {
-                s.bounds_min[axis] = std::min(s.bounds_min[axis], positions[3 * v + axis]);
-                s.bounds_max[axis] = std::max(s.bounds_max[axis], positions[3 * v + axis]);
-            }
-        return s;
+        return data.view();
     }
 };
 
