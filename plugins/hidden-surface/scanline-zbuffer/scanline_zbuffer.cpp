@@ -1,0 +1,613 @@
+// scanline-zbuffer: the scanline z-buffer (Wylie, Romney, Evans & Erdahl, "Half-tone Perspective
+// Drawings by Computer", FJCC 1967; Watkins, "A Real Time Visible Surface Algorithm", Utah 1970; as
+// taught in Foley, van Dam, Feiner & Hughes, "Computer Graphics" 2nd ed. §15.4, and Rogers,
+// "Procedural Elements for Computer Graphics" §4). The image is built one scanline at a time:
+// polygons are bucketed by their top scanline (the y-sorted polygon table); an active list holds
+// the polygons crossing the current scanline with their left/right edge pair (boundary x, x step
+// per scanline, the scanline where the edge ends); depth is stepped along each span (dz/dx = -A/C)
+// and from one scanline to the next (dz/dy = -B/C). The depth buffer is ONE row long, reused for
+// every scanline; the winners of a row are copied into the visibility buffer when the row is done.
+//
+// Transform, clipping, culling and triangle setup are raster::GeometryStage's, as in zbuffer; the
+// edges step with exact integer DDAs derived from the setup's edge functions, so every scanline
+// covers exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
+// docs/algorithms/scanline-zbuffer.md describes the steps, the data structures and the counters.
+#include "hsr/raster.hpp"
+#include "hsr/sdk.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace {
+
+namespace raster = hsr::raster;
+using hsr::sdk::ParamSpec;
+
+constexpr int32_t kScale = raster::kSubpixelScale;
+constexpr int kBits = raster::kSubpixelBits;
+constexpr uint64_t kEmpty = ~uint64_t(0);  // an empty row-buffer entry: above every key
+constexpr uint32_t kPiece = ~uint32_t(0);   // TableEntry::placement of a piece of a clipped triangle
+
+// floor(a / b) and a - b * floor(a / b) for b > 0 and |a| < 2^50, given inverse = 1.0 / b: the
+// product is within 1/64 of a / b, so its truncation is at most one away from the floor, and the
+// remainder tells which way, exactly. (One division per edge instead of two integer divisions.)
+struct DivMod {
+    int64_t q, r;
+};
+inline DivMod floor_divmod(int64_t a, int64_t b, double inverse) {
+    int64_t q = static_cast<int64_t>(double(a) * inverse);
+    int64_t r = a - q * b;
+    const int64_t under = -int64_t(r < 0);  // masks, not branches: either way is as likely
+    q += under;
+    r += b & under;
+    const int64_t over = -int64_t(r >= b);
+    q -= over;
+    r -= b & over;
+    return {q, r};
+}
+
+// One edge of an active edge pair: an integer DDA (Bresenham style) over the edge function. `x` is
+// the boundary pixel on the current scanline, the first covered pixel of a left edge or the last of
+// a right edge; `error` is the edge function there (in units of 1/256 pixel, floored), kept in
+// [0, den). One scanline down adds dx to it: `step` whole pixels plus a carry from `rem / den`.
+struct EdgeWalk {
+    int32_t x;
+    int32_t error;
+    int32_t den;   // |dy| of the edge on the subpixel grid: edge-function change per pixel in x
+    int32_t rem;   // dx mod den
+    int32_t step;  // floor(dx / den), negated for a left edge
+};
+
+// An entry of the active polygon list: the edge pair on the current scanline, and the depth.
+struct ActivePolygon {
+    EdgeWalk left, right;
+    int16_t last_row;       // its last scanline
+    int16_t switch_row;     // where the lower short edge takes over (-1: it does not)
+    uint32_t slot;          // its attributes and lower edge, which stay put while the list is reordered
+    double z_row;           // depth at the centre of pixel (0, this scanline), on the polygon's plane
+    double dzdx, dzdy;      // -A/C and -B/C of the plane Ax + By + Cz + D = 0
+};
+
+// The lower short edge of an active polygon (used once, at the middle corner), by slot.
+struct LowerEdge {
+    EdgeWalk walk;          // started on switch_row
+    int32_t left;           // 1: it replaces the left edge, 0: the right one
+};
+
+// The rest of an active polygon, needed only at the end of a row for the pixels it won, by slot.
+struct ActiveAttributes {
+    uint32_t id;            // drawing order, for depth ties
+    uint32_t face;
+    uint32_t instance;
+    int32_t min_x, min_y;   // the planes are relative to pixel (min_x, min_y), as in the setup
+    raster::Plane inv_w, b1_over_w, b2_over_w;
+};
+
+// A piece of a clipped triangle, kept whole in a side table (clipping is not repeated).
+struct Piece {
+    int32_t y[3];           // snapped corners' y, in the setup's corner order
+    uint32_t face, instance;
+    raster::TriangleSetup setup;
+};
+
+// A window vertex of a placement that is not the geometry stage's current one (which it
+// overwrites): what raster::Viewport::to_window made of it, b1 and b2 aside (0 there).
+struct CachedVertex {
+    int32_t x, y;
+    double exact_x, exact_y, depth, inv_w;
+};
+
+// The polygon table keeps, per polygon in drawing order, only where its setup comes from: triangle
+// `triangle` of placement `placement` (set up when it becomes active: with one placement, culled,
+// clipped and set up only then; with several, set up again, bit for bit, from the window vertices
+// kept for its placement), or, for the pieces of a clipped triangle, entry `triangle` of the piece
+// table. Setups are not stored: 8 bytes a polygon, where a setup would take some 200, and writing
+// fresh memory costs more than setting a triangle up again.
+struct TableEntry {
+    uint32_t triangle;
+    uint32_t placement;
+};
+
+// Perspective-correct (b1, b2) at pixel (min_x + i, min_y + j): raster::barycentrics_at, the same
+// arithmetic, on the planes of the active polygon.
+inline void barycentrics(const ActiveAttributes& a, double i, double j, float* out) {
+    const double inv_w = a.inv_w.at(i, j);
+    if (!(inv_w > 0.0)) {
+        out[0] = out[1] = 0.0f;
+        return;
+    }
+    const double w = 1.0 / inv_w;
+    double b1 = std::max(a.b1_over_w.at(i, j) * w, 0.0);
+    double b2 = std::max(a.b2_over_w.at(i, j) * w, 0.0);
+    const double sum = b1 + b2;
+    if (sum > 1.0) {
+        b1 /= sum;
+        b2 /= sum;
+    }
+    out[0] = float(b1);
+    out[1] = float(b2);
+}
+
+class ScanlineZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
+public:
+    static constexpr hsr::sdk::PluginInfo info{
+        "scanline-zbuffer", "1.0.0",
+        "scanline z-buffer (Wylie et al. 1967, Watkins 1970): y-sorted polygon table, active edge pairs, "
+        "one-row depth buffer"};
+    static inline const ParamSpec params[] = {
+        ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+    };
+
+    explicit ScanlineZBuffer(const hsr::sdk::Params& p) : cull_backfaces_(p.boolean("cull-backfaces")) {}
+
+    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                hsr::sdk::Counters& counters) override {
+        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+        geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
+        width_ = camera.width;
+        height_ = camera.height;
+        indices_ = scene.raw().indices;
+
+        // 1. Geometry, and the polygon table in drawing order, counted per first scanline.
+        uint64_t drawn = 0;
+        for (uint32_t k = 0; k < scene.placement_count(); ++k) drawn += scene.placement(k).triangle_count;
+        table_.clear();
+        first_row_.clear();
+        pieces_.clear();
+        table_.reserve(drawn);
+        first_row_.reserve(drawn);
+        bucket_start_.assign(size_t(height_) + 1, 0);
+        placement_instance_.resize(scene.placement_count());
+        placement_cache_base_.resize(scene.placement_count());
+        vertex_cache_.clear();
+        last_placement_ = scene.placement_count() - 1;
+        set_up_on_activation_ = scene.placement_count() == 1;
+        if (set_up_on_activation_) {
+            // One placement: its window vertices stay in the geometry stage for the whole frame, so
+            // a triangle is culled, clipped and set up only when its first scanline comes. Here it
+            // is only bucketed, by the first scanline its snapped corners reach.
+            const hsr::sdk::Placement placement = scene.placement(0);
+            geometry_.place(placement);
+            placement_instance_[0] = placement.instance;
+            placement_cache_base_[0] = 0;
+            bucket_triangles(placement);
+        }
+        for (uint32_t k = 0; k < scene.placement_count() && !set_up_on_activation_; ++k) {
+            const hsr::sdk::Placement placement = scene.placement(k);
+            geometry_.place(placement);
+            placement_instance_[k] = placement.instance;
+            const size_t drawn_before = table_.size();
+            process_triangles(placement, k);
+            // The next placement overwrites the geometry stage's window vertices: keep a copy of
+            // this one's if it drew anything (the last placement's stay in the geometry stage).
+            placement_cache_base_[k] = int64_t(vertex_cache_.size()) - placement.first_vertex;
+            if (k != last_placement_ && table_.size() != drawn_before) {
+                for (uint32_t v = placement.first_vertex; v < placement.first_vertex + placement.vertex_count; ++v) {
+                    const raster::WindowVertex& w = geometry_.window_vertex(v);
+                    vertex_cache_.push_back({w.x, w.y, w.exact_x, w.exact_y, w.depth, w.inv_w});
+                }
+            }
+        }
+
+        // 2. The y-sorted polygon table: a counting sort of the ids by first scanline, stable, so
+        //    each bucket keeps the drawing order.
+        uint32_t largest_bucket = 0;
+        for (int32_t y = 0; y < height_; ++y) {
+            largest_bucket = std::max(largest_bucket, bucket_start_[y + 1]);
+            bucket_start_[y + 1] += bucket_start_[y];
+        }
+        order_.resize(table_.size());
+        for (uint32_t id = 0; id < uint32_t(table_.size()); ++id) order_[bucket_start_[first_row_[id]]++] = id;
+        for (int32_t y = height_ - 1; y > 0; --y) bucket_start_[y] = bucket_start_[y - 1];  // back to starts
+        bucket_start_[0] = 0;
+        if (staged_.size() < largest_bucket) staged_.resize(largest_bucket);
+
+        // 3. The scanlines, top to bottom.
+        Stats stats;
+        if (target.depth_tests() == nullptr)
+            scan<false>(target, stats);
+        else
+            scan<true>(target, stats);
+
+        geometry_.stats().report(counters);
+        counters.set("pixels-depth-tested", stats.depth_tested);
+        counters.set("pixels-written", stats.written);
+        counters.set("polygons-in-table", table_.size());
+        counters.set("scanlines", stats.scanlines);
+        counters.set("edge-pairs-processed", stats.edge_pairs);
+        counters.set("active-polygons-max", stats.active_max);
+        counters.set("active-edges-max", 2 * stats.active_max);
+    }
+
+private:
+    struct Stats {
+        uint64_t depth_tested = 0;
+        uint64_t written = 0;
+        uint64_t scanlines = 0;   // scanlines with at least one active polygon
+        uint64_t edge_pairs = 0;  // (polygon, scanline) pairs: spans computed
+        uint64_t active_max = 0;
+    };
+
+    // The one placement's triangles into the polygon table, bucketed by first scanline, in drawing
+    // order. A triangle that needs clipping is processed now (its pieces are kept whole), as is one
+    // that the geometry stage will reject at once (outside one frustum plane, facing away with
+    // cull-backfaces, non-finite) or that cannot reach the image: it draws nothing, but is counted.
+    [[gnu::flatten]] void bucket_triangles(const hsr::sdk::Placement& placement) {
+        const uint32_t end = placement.first_triangle + placement.triangle_count;
+        for (uint32_t t = placement.first_triangle; t < end; ++t) {
+            const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
+            const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
+                           c2 = geometry_.vertex_outcode(i2);
+            const uint32_t codes = c0 | c1 | c2;
+            const bool rejected = (c0 & c1 & c2 & raster::kOutsideFrustum) ||
+                                  (cull_backfaces_ && !raster::is_front_facing(geometry_.clip_vertex(i0),
+                                                                               geometry_.clip_vertex(i1),
+                                                                               geometry_.clip_vertex(i2)));
+            if (!rejected && !(codes & (raster::kNeedsClipping | raster::kNonFinite))) {
+                // The first pixel-centre row at or below the top corner, as setup_triangle finds it.
+                const int32_t top = std::min({geometry_.window_vertex(i0).y, geometry_.window_vertex(i1).y,
+                                              geometry_.window_vertex(i2).y});
+                const int32_t first = std::max((top - raster::kHalfPixel + kScale - 1) >> kBits, 0);
+                if (first < height_) {
+                    add_entry({t, 0}, first);
+                    continue;
+                }
+            }
+            geometry_.process(t, [&](const raster::TriangleSetup& s) { add_piece(s, t, placement.instance); });
+        }
+    }
+
+    void add_entry(TableEntry e, int32_t first_row) {
+        if (table_.size() >= std::numeric_limits<uint32_t>::max())
+            throw hsr::sdk::Unsupported("scanline-zbuffer: more than 2^32 - 1 polygons in one frame");
+        table_.push_back(e);
+        first_row_.push_back(uint16_t(first_row));
+        ++bucket_start_[size_t(first_row) + 1];
+    }
+
+    // Culls, clips and sets up the triangles of placement k (flattened: setup_triangle inlined).
+    [[gnu::flatten]] void process_triangles(const hsr::sdk::Placement& placement, uint32_t k) {
+        const uint32_t end = placement.first_triangle + placement.triangle_count;
+        for (uint32_t t = placement.first_triangle; t < end; ++t)
+            geometry_.process(t, [&](const raster::TriangleSetup& s) { add_polygon(s, t, k, placement.instance); });
+    }
+
+    // One emitted setup: a table entry naming where it comes from, and its first scanline.
+    void add_polygon(const raster::TriangleSetup& s, uint32_t t, uint32_t placement, uint32_t instance) {
+        const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
+        const uint32_t codes = geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2);
+        if (codes & raster::kNeedsClipping)
+            add_piece(s, t, instance);
+        else
+            add_entry({t, placement}, s.min_y);
+    }
+
+    // A piece of a clipped triangle, kept whole: clipping is not repeated.
+    void add_piece(const raster::TriangleSetup& s, uint32_t t, uint32_t instance) {
+        if (pieces_.size() >= kPiece) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
+        Piece& piece = pieces_.emplace_back();
+        recover_corners_y(s, piece);
+        piece.face = t;
+        piece.instance = instance;
+        piece.setup = s;
+        add_entry({uint32_t(pieces_.size() - 1), kPiece}, s.min_y);
+    }
+
+    // The corners' y of a setup from its edge functions. Edge k runs from corner k+1 to corner k+2 with
+    // vector d_k; the unbiased edge functions E_k at the origin O (the centre of pixel (min_x, min_y))
+    // are the barycentric weights of O times the doubled area 2A = E_0 + E_1 + E_2, so
+    // 2A (O - v0) = E_1 d_2 - E_2 d_1 (an exact division), v1 = v0 + d_2 and v2 = v0 - d_1.
+    static void recover_corners_y(const raster::TriangleSetup& s, Piece& p) {
+        __extension__ using int128 = __int128;
+        int64_t dx[3], dy[3], e[3];
+        for (int k = 0; k < 3; ++k) {
+            dx[k] = s.edge_dy[k] / kScale;
+            dy[k] = -s.edge_dx[k] / kScale;
+            e[k] = s.edge_origin[k] + (raster::is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
+        }
+        const int128 area2 = int128(e[0]) + e[1] + e[2];
+        const int64_t oy = int64_t(s.min_y) * kScale + raster::kHalfPixel;
+        const int64_t y0 = oy - int64_t((int128(e[1]) * dy[2] - int128(e[2]) * dy[1]) / area2);
+        p.y[0] = int32_t(y0);
+        p.y[1] = int32_t(y0 + dy[2]);
+        p.y[2] = int32_t(y0 - dy[1]);
+    }
+
+    // Window vertex v of placement p, as GeometryStage::place made it.
+    raster::WindowVertex window_vertex(uint32_t v, uint32_t p) const {
+        if (p == last_placement_) return geometry_.window_vertex(v);
+        const CachedVertex& c = vertex_cache_[size_t(placement_cache_base_[p] + v)];
+        return {c.x, c.y, c.exact_x, c.exact_y, c.depth, c.inv_w, 0.0, 0.0};
+    }
+    const void* window_vertex_address(uint32_t v, uint32_t p) const {
+        if (p == last_placement_) return &geometry_.window_vertex(v);
+        return &vertex_cache_[size_t(placement_cache_base_[p] + v)];
+    }
+
+    // Makes polygon `id` active on its first scanline: its setup (GeometryStage::process now, with
+    // one placement; made again, bit for bit the one process emitted, with several; or a stored
+    // piece), then its edge pair.
+    [[gnu::flatten]] void activate(TableEntry e, uint32_t id, int32_t first) {
+        if (e.placement == kPiece) {
+            const Piece& piece = pieces_[e.triangle];
+            const int64_t y[3] = {piece.y[0], piece.y[1], piece.y[2]};
+            start_polygon(y, piece.setup, id, piece.face, piece.instance, first);
+            return;
+        }
+        const uint32_t t = e.triangle;
+        if (set_up_on_activation_) {  // culled, clipped (never: see bucket_triangles) and set up now
+            geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                const raster::WindowVertex& v0 = geometry_.window_vertex(indices_[3 * t]);
+                const raster::WindowVertex& v1 = geometry_.window_vertex(indices_[3 * t + 1]);
+                const raster::WindowVertex& v2 = geometry_.window_vertex(indices_[3 * t + 2]);
+                // setup_triangle swapped corners 1 and 2 of a front-facing (clockwise) triangle.
+                const int64_t y[3] = {v0.y, s.front_facing ? v2.y : v1.y, s.front_facing ? v1.y : v2.y};
+                start_polygon(y, s, id, t, placement_instance_[0], first);
+            });
+            return;
+        }
+        raster::WindowVertex v0 = window_vertex(indices_[3 * t], e.placement);
+        raster::WindowVertex v1 = window_vertex(indices_[3 * t + 1], e.placement);
+        raster::WindowVertex v2 = window_vertex(indices_[3 * t + 2], e.placement);
+        v1.b1 = 1.0;
+        v2.b2 = 1.0;
+        raster::TriangleSetup s;
+        if (raster::setup_triangle(v0, v1, v2, width_, height_, s) != raster::SetupResult::kOk) return;
+        // setup_triangle swapped corners 1 and 2 of a front-facing (clockwise) triangle.
+        const int64_t y[3] = {v0.y, s.front_facing ? v2.y : v1.y, s.front_facing ? v1.y : v2.y};
+        start_polygon(y, s, id, t, placement_instance_[e.placement], first);
+    }
+
+    // Orders the corners (y on the subpixel grid, in the setup's corner order) by y, takes the long
+    // edge (top to bottom corner) for one side and the upper short edge for the other, and starts
+    // each as an integer DDA on scanline `first`; the lower short edge is started on the scanline
+    // where it takes over. Adds the polygon to the active list unless no scanline is left (the only
+    // one lay on a horizontal bottom edge).
+    void start_polygon(const int64_t (&vy)[3], const raster::TriangleSetup& s, uint32_t id, uint32_t face,
+                       uint32_t instance, int32_t first) {
+        // Edge k runs from corner k+1 to corner k+2, the interior on its positive side; its edge
+        // function changes by edge_dx = -dy * 256 per pixel and edge_dy = dx * 256 per row.
+        int64_t dx[3], dy[3];
+        for (int k = 0; k < 3; ++k) {
+            dx[k] = s.edge_dy[k] >> kBits;
+            dy[k] = -(s.edge_dx[k] >> kBits);
+        }
+        int top = 0, bottom = 0;
+        for (int k = 1; k < 3; ++k) {
+            top = vy[k] < vy[top] ? k : top;
+            bottom = vy[k] >= vy[bottom] ? k : bottom;
+        }
+        const int mid = 3 - top - bottom;
+
+        // Last scanline: the last pixel centre at or above the bottom corner, except on a horizontal
+        // bottom edge (not top-left: a centre exactly on it is not covered). The first is min_y (a
+        // centre exactly on a horizontal top edge is covered).
+        int64_t last = (vy[bottom] - raster::kHalfPixel) >> kBits;
+        if (vy[mid] == vy[bottom] && ((vy[bottom] - raster::kHalfPixel) & (kScale - 1)) == 0) --last;
+        last = std::min<int64_t>(last, height_ - 1);
+        if (first > last) return;
+
+        // Edge k's DDA on scanline `row`. The edge function E_k steps by multiples of 256 between
+        // pixel centres, so E_k >= 0 exactly when floor(E_k / 256) >= 0, which steps by -dy per
+        // pixel and by dx per scanline: one division finds the boundary pixel and the step.
+        auto start = [&](int k, int64_t row) {
+            // The (fill-rule biased) edge function at the centre of pixel (0, row).
+            const int64_t edge = s.edge_origin[k] - s.edge_dx[k] * s.min_x + s.edge_dy[k] * (row - s.min_y);
+            const int64_t den = std::max<int64_t>(dy[k] < 0 ? -dy[k] : dy[k], 1);  // never horizontal
+            const double inverse = 1.0 / double(den);
+            const DivMod boundary = floor_divmod(edge >> kBits, den, inverse);
+            const DivMod step = floor_divmod(dx[k], den, inverse);
+            const bool left = dy[k] < 0;  // a left edge (E grows with x): its first pixel with E >= 0
+            EdgeWalk w;
+            w.x = int32_t(left ? -boundary.q : boundary.q);
+            w.error = int32_t(boundary.r);
+            w.den = int32_t(den);
+            w.rem = int32_t(step.r);
+            w.step = int32_t(left ? -step.q : step.q);
+            return w;
+        };
+
+        // Edge k is opposite corner k: the long edge is opposite the middle corner, the upper short
+        // edge (top to middle) opposite the bottom corner, the lower one opposite the top corner.
+        // The lower one takes over on the first scanline whose centres are at or below the middle
+        // corner (on the middle corner's own scanline both give the same boundary, and a horizontal
+        // upper edge is never used).
+        const int long_edge = mid, upper = bottom, lower = top;
+        const int64_t switch_row = (vy[mid] - raster::kHalfPixel + kScale - 1) >> kBits;
+        const bool long_is_left = dy[long_edge] < 0;
+        const EdgeWalk long_walk = start(long_edge, first);
+        const EdgeWalk short_walk = start(switch_row <= first ? lower : upper, first);
+        const bool switches = switch_row > first && switch_row <= last;
+
+        uint32_t slot;
+        if (free_slots_.empty()) {
+            slot = uint32_t(attributes_.size());
+            attributes_.emplace_back();
+            lower_edges_.emplace_back();
+        } else {
+            slot = free_slots_.back();
+            free_slots_.pop_back();
+        }
+        if (switches) lower_edges_[slot] = {start(lower, switch_row), long_is_left ? 0 : 1};
+        ActiveAttributes& attributes = attributes_[slot];
+        attributes.id = id;
+        attributes.face = face;
+        attributes.instance = instance;
+        attributes.min_x = s.min_x;
+        attributes.min_y = s.min_y;
+        attributes.inv_w = s.inv_w;
+        attributes.b1_over_w = s.b1_over_w;
+        attributes.b2_over_w = s.b2_over_w;
+
+        ActivePolygon& a = active_.emplace_back();
+        a.left = long_is_left ? long_walk : short_walk;
+        a.right = long_is_left ? short_walk : long_walk;
+        a.last_row = int16_t(last);
+        a.switch_row = switches ? int16_t(switch_row) : int16_t(-1);
+        a.slot = slot;
+        a.dzdx = s.depth.dx;
+        a.dzdy = s.depth.dy;
+        a.z_row = (s.depth.origin + s.depth.dy * double(first - s.min_y)) - s.depth.dx * double(s.min_x);
+    }
+
+    template <bool kCountTests>
+    void scan(hsr::sdk::VisibilityBuffer& target, Stats& stats) {
+        const int32_t width = int32_t(width_);
+        float* const depth_out = target.depth();
+        uint32_t* const face_out = target.face();
+        float* const bary_out = target.bary();
+        uint32_t* const instance_out = target.instance();
+        uint32_t* const tests_out = target.depth_tests();
+        row_.assign(size_t(width), kEmpty);  // the one-row depth buffer
+        uint64_t* const row = row_.data();
+        active_.clear();
+        attributes_.clear();
+        lower_edges_.clear();
+        free_slots_.clear();
+        released_.clear();
+        uint64_t tested = 0, written = 0, edge_pairs = 0, scanlines = 0;
+        size_t active_max = 0;
+
+        for (int32_t y = 0; y < height_; ++y) {
+            // Polygons whose first scanline this is join the active list. Their table entries, corner
+            // indices and window vertices lie scattered in memory: the entries are fetched first, in
+            // a tight loop whose loads overlap, and the rest is prefetched a few polygons ahead.
+            const uint32_t begin = bucket_start_[y], count = bucket_start_[y + 1] - begin;
+            if (count != 0) {
+                TableEntry* const staged = staged_.data();
+                for (uint32_t k = 0; k < count; ++k) staged[k] = table_[order_[begin + k]];
+                constexpr uint32_t kAhead = 4;
+                for (uint32_t k = 0; k < count; ++k) {
+                    if (k + 2 * kAhead < count && staged[k + 2 * kAhead].placement != kPiece)
+                        __builtin_prefetch(indices_ + 3 * size_t(staged[k + 2 * kAhead].triangle));
+                    if (k + kAhead < count && staged[k + kAhead].placement != kPiece) {
+                        const TableEntry e = staged[k + kAhead];
+                        const uint32_t* const corner = indices_ + 3 * size_t(e.triangle);
+                        __builtin_prefetch(window_vertex_address(corner[0], e.placement));
+                        __builtin_prefetch(window_vertex_address(corner[1], e.placement));
+                        __builtin_prefetch(window_vertex_address(corner[2], e.placement));
+                    }
+                    activate(staged[k], order_[begin + k], y);
+                }
+            }
+            if (active_.empty()) continue;
+            ++scanlines;
+            edge_pairs += active_.size();
+            active_max = std::max(active_max, active_.size());
+
+            const size_t row_start = size_t(y) * size_t(width);
+            uint32_t* const tests_row = kCountTests ? tests_out + row_start : nullptr;
+            int32_t lo = width, hi = -1;  // pixels of the row buffer touched
+            ActivePolygon* const list = active_.data();
+            const ActiveAttributes* const attributes = attributes_.data();
+            size_t n = active_.size();
+            for (size_t i = 0; i < n;) {
+                ActivePolygon& p = list[i];
+                const int32_t x0 = std::max(p.left.x, 0);
+                const int32_t x1 = std::min(p.right.x, width - 1);
+                if (x0 <= x1) {
+                    lo = std::min(lo, x0);
+                    hi = std::max(hi, x1);
+                    tested += uint64_t(x1 - x0 + 1);
+                    // A row-buffer entry is (depth bits << 32 | attribute slot). Depth is never
+                    // negative, so its float bits order like its value, and one integer comparison
+                    // is the depth test; equal depths keep the polygon drawn first (the lower id),
+                    // as in zbuffer.
+                    const uint64_t slot = p.slot;
+                    const double dzdx = p.dzdx;
+                    double z = p.z_row + dzdx * double(x0);
+                    uint64_t span_written = 0;
+                    for (int32_t x = x0; x <= x1; ++x, z += dzdx) {
+                        const uint32_t bits = std::bit_cast<uint32_t>(float(std::max(0.0, std::min(z, 1.0))));
+                        const uint64_t key = (uint64_t(bits) << 32) | slot;
+                        const uint64_t old = row[x];
+                        uint64_t nearer = key < old ? 1 : 0;
+                        if (uint32_t(old >> 32) == bits) [[unlikely]]
+                            nearer = attributes[slot].id < attributes[uint32_t(old)].id ? 1 : 0;
+                        // Selected with a mask: as a branch, the depth test's outcome would be
+                        // mispredicted about as often as not.
+                        row[x] = old ^ ((old ^ key) & (0 - nearer));
+                        span_written += nearer;
+                        if constexpr (kCountTests) ++tests_row[x];
+                    }
+                    written += span_written;
+                }
+                if (p.last_row == y) {  // done: swap-remove (its attributes stay for this row)
+                    released_.push_back(p.slot);
+                    p = list[--n];
+                    continue;
+                }
+                // Next scanline: both edges step, depth steps by dz/dy. The carries come as masks
+                // (0 or -1): a branch on them would be mispredicted about as often as taken.
+                EdgeWalk& l = p.left;
+                l.error += l.rem;
+                const int32_t left_carry = -int32_t(l.error >= l.den);
+                l.error -= l.den & left_carry;
+                l.x += l.step + left_carry;
+                EdgeWalk& r = p.right;
+                r.error += r.rem;
+                const int32_t right_carry = -int32_t(r.error >= r.den);
+                r.error -= r.den & right_carry;
+                r.x += r.step - right_carry;
+                p.z_row += p.dzdy;
+                if (p.switch_row == y + 1) {
+                    const LowerEdge& lower = lower_edges_[p.slot];
+                    (lower.left ? p.left : p.right) = lower.walk;
+                }
+                ++i;
+            }
+            active_.resize(n);
+
+            // The row is done: copy the winners into the visibility buffer, clear the row buffer.
+            const double j_base = double(y);
+            for (int32_t x = lo; x <= hi; ++x) {
+                const uint64_t key = row[x];
+                if (key == kEmpty) continue;
+                row[x] = kEmpty;
+                const size_t pixel = row_start + size_t(x);
+                const ActiveAttributes& w = attributes[uint32_t(key)];
+                depth_out[pixel] = std::bit_cast<float>(uint32_t(key >> 32));
+                face_out[pixel] = w.face;
+                if (instance_out != nullptr) instance_out[pixel] = w.instance;
+                barycentrics(w, double(x - w.min_x), j_base - double(w.min_y), bary_out + 2 * pixel);
+            }
+            free_slots_.insert(free_slots_.end(), released_.begin(), released_.end());
+            released_.clear();
+        }
+        stats.depth_tested = tested;
+        stats.written = written;
+        stats.edge_pairs = edge_pairs;
+        stats.scanlines = scanlines;
+        stats.active_max = active_max;
+    }
+
+    bool cull_backfaces_;
+    uint32_t width_ = 0;
+    int32_t height_ = 0;
+    raster::GeometryStage geometry_;                 // keeps its vertex buffers between frames
+    const uint32_t* indices_ = nullptr;
+    std::vector<uint32_t> placement_instance_;
+    uint32_t last_placement_ = 0;                    // whose window vertices the geometry stage holds
+    bool set_up_on_activation_ = false;              // one placement: process() triangles on activation
+    std::vector<CachedVertex> vertex_cache_;         // the window vertices of the others
+    std::vector<int64_t> placement_cache_base_;      // vertex v of placement k: cache[base[k] + v]
+    std::vector<TableEntry> table_;                  // the polygon table, in drawing order
+    std::vector<Piece> pieces_;                      // pieces of clipped triangles
+    std::vector<uint16_t> first_row_;                // per table entry: its bucket
+    std::vector<uint32_t> bucket_start_;             // bucket y is order_[start[y], start[y + 1])
+    std::vector<uint32_t> order_;                    // table ids sorted by first scanline
+    std::vector<TableEntry> staged_;                 // one bucket's entries, fetched together
+    std::vector<ActivePolygon> active_;              // the active polygon list (edge pairs)
+    std::vector<ActiveAttributes> attributes_;       // of the active polygons, by slot
+    std::vector<LowerEdge> lower_edges_;             // of the active polygons, by slot
+    std::vector<uint32_t> free_slots_, released_;    // released: free once the row is resolved
+    std::vector<uint64_t> row_;                      // the one-row depth buffer
+};
+
+}  // namespace
+
+HSR_EXPORT_PLUGIN(ScanlineZBuffer)
