@@ -1,0 +1,452 @@
+// hierarchical-zbuffer: the z-pyramid half of Ned Greene, Michael Kass and Gavin Miller,
+// "Hierarchical Z-Buffer Visibility", SIGGRAPH 1993 (section 4; the object-space octree half is the
+// octree-zbuffer plugin). Triangles are drawn in scene order as by the plain z-buffer, but before a
+// triangle is set up its screen bounding box and the nearest depth its samples can have are tested
+// against a z-pyramid (hsr/zpyramid.hpp: the farthest depth of each 2^k x 2^k block, for k from 3
+// up to one cell), and the triangle is rejected when everything under that box is already nearer.
+// A triangle larger than a tile (32 x 32 by default) is rasterized tile by tile, each tile tested
+// first, in O(1), against the pyramid cells that cover it. Written pixels mark the pyramid's cells
+// for a deferred update. In a scene with instances (ABI 1.1) instances are drawn nearest first, and
+// a whole instance whose projected world box is hidden is skipped before its vertices are
+// transformed. While the test rarely culls (a front-faces-only mesh, the nearest objects of a
+// scene) only every 8th triangle is tested, which keeps the cost of a useless test small.
+//
+// Coverage, depth and barycentrics are those of the zbuffer plugin bit for bit (hsr/raster.hpp's
+// GeometryStage, integer edge functions with the top-left rule, raster::depth_at): the pyramid only
+// removes work whose outcome would have been "not nearer". docs/algorithms/hierarchical-zbuffer.md
+// describes the steps, the counters and measured times.
+#include "hsr/raster.hpp"
+#include "hsr/sdk.hpp"
+#include "hsr/zpyramid.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace {
+
+namespace raster = hsr::raster;
+using hsr::sdk::ParamSpec;
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// A float that is strictly below every float a sample of depth >= x (a double) can store: x held to
+// [0, 1] as raster::depth_at holds it, rounded, then one float step down (so rounding differences in
+// the double plane evaluation of nearby samples cannot make one of them nearer).
+inline float depth_lower_bound(double x) {
+    x -= 1e-9;  // room for rounding in the double plane evaluation where float steps are tiny (near 0)
+    const float f = float(std::max(0.0, std::min(x, 1.0)));  // NaN becomes 0
+    if (!(f > 0.0f)) return -1.0f;                              // nothing stored is below 0
+    return std::bit_cast<float>(std::bit_cast<uint32_t>(f) - 1u);  // the next float down (f in (0, 1])
+}
+
+// The smallest value of an affine plane over the pixel centres of the rectangle [i0, i1] x [j0, j1]
+// (relative to the setup's origin pixel): reached at a corner.
+inline double plane_min(const raster::Plane& p, double i0, double j0, double i1, double j1) {
+    const double a = p.at(i0, j0), b = p.at(i1, j0), c = p.at(i0, j1), d = p.at(i1, j1);
+    return std::min(std::min(a, b), std::min(c, d));
+}
+
+class HierarchicalZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
+public:
+    static constexpr hsr::sdk::PluginInfo info{
+        "hierarchical-zbuffer", "1.0.0",
+        "hierarchical z-buffer (Greene, Kass & Miller 1993): triangles, tiles and instances culled against a z-pyramid"};
+    static inline const ParamSpec params[] = {
+        ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+        ParamSpec::integer("tile-size", "32", 4, 64,
+                           "side in pixels of the tiles a large triangle is rasterized in, each tested against the "
+                           "pyramid first; triangles whose box fits in a tile are drawn whole"),
+        ParamSpec::boolean("front-to-back", true,
+                           "draw instances nearest first (by the nearest corner of their world box), so that "
+                           "the pyramid hides the ones behind"),
+        ParamSpec::boolean("cull-instances", true,
+                           "skip a whole instance whose projected world box is hidden, before transforming it"),
+    };
+
+    explicit HierarchicalZBuffer(const hsr::sdk::Params& p)
+        : cull_backfaces_(p.boolean("cull-backfaces")),
+          tile_size_(int32_t(p.integer("tile-size"))),
+          front_to_back_(p.boolean("front-to-back")),
+          cull_instances_(p.boolean("cull-instances")) {}
+
+    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                hsr::sdk::Counters& counters) override {
+        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+        geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
+        width_ = int32_t(target.width());
+        height_ = int32_t(target.height());
+        pyramid_.reset(target.width(), target.height());
+        pyramid_.reset_counters();
+
+        Stats stats;
+        prepare_placements(scene, camera);
+        if (target.depth_tests() == nullptr)
+            draw<false>(scene, target, stats);
+        else
+            draw<true>(scene, target, stats);
+
+        raster::TriangleStats triangles = geometry_.stats();
+        // The geometry stage never saw these: culled whole, or in skipped instances.
+        triangles.in += stats.triangles_culled + stats.instance_triangles_skipped;
+        triangles.report(counters);
+        counters.set("pixels-depth-tested", stats.depth_tested);
+        counters.set("pixels-written", stats.written);
+        counters.set("triangles-culled-by-pyramid", stats.triangles_culled);
+        counters.set("clipped-pieces-culled-by-pyramid", stats.pieces_culled);
+        counters.set("triangles-untested", stats.triangles_untested);
+        counters.set("tiles-tested", stats.tiles_tested);
+        counters.set("tiles-culled", stats.tiles_culled);
+        counters.set("instances-culled", stats.instances_culled);
+        counters.set("instances-outside", stats.instances_outside);
+        counters.set("triangles-in-skipped-instances", stats.instance_triangles_skipped);
+        counters.set("pyramid-cells-visited", pyramid_.cells_visited());
+        counters.set("pyramid-cells-updated", pyramid_.cells_updated());
+    }
+
+private:
+    struct Stats {
+        uint64_t depth_tested = 0;
+        uint64_t written = 0;
+        uint64_t triangles_culled = 0;  // before setup: not in the geometry stage's counts
+        uint64_t pieces_culled = 0;
+        uint64_t triangles_untested = 0;  // drawn without a pyramid test (sampling, see draw())     // clipped pieces, after setup (their triangle counts as rasterized)
+        uint64_t tiles_tested = 0;
+        uint64_t tiles_culled = 0;
+        uint64_t instances_culled = 0;
+        uint64_t instances_outside = 0;
+        uint64_t instance_triangles_skipped = 0;  // triangles of culled or outside instances
+    };
+
+    // A placement's world box seen by the camera: the screen rectangle and nearest depth of its 8
+    // corners, when they are all in front of the eye.
+    struct PlacementBox {
+        int32_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+        float nearest = -kInfinity;
+        bool projectable = false;  // every corner has w > 0: the rectangle and depth bound hold
+        bool outside = false;      // projectable, and the rectangle misses the image
+    };
+
+    // The buffers the pixel loop writes, as plain locals (see the zbuffer plugin: a store to face[]
+    // could otherwise alias anything reached through `this`).
+    struct Buffers {
+        float* depth;
+        uint32_t* face;
+        float* bary;
+        uint32_t* instance;
+        uint32_t* tests;
+        size_t width;
+    };
+
+    void prepare_placements(const hsr::sdk::Scene& scene, const hsr_camera& camera) {
+        const uint32_t n = scene.placement_count();
+        order_.resize(n);
+        boxes_.resize(n);
+        for (uint32_t k = 0; k < n; ++k) order_[k] = k;
+        if (scene.instance_count() == 0) {
+            boxes_[0] = PlacementBox{};  // one placement, drawn into an empty buffer: nothing to cull
+            return;
+        }
+        const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
+        const double half_w = 0.5 * camera.width, half_h = 0.5 * camera.height;
+        for (uint32_t k = 0; k < n; ++k) {
+            const hsr_instance& instance = scene.instance(k);
+            glm::dvec3 lo(instance.bounds_min[0], instance.bounds_min[1], instance.bounds_min[2]);
+            glm::dvec3 hi(instance.bounds_max[0], instance.bounds_max[1], instance.bounds_max[2]);
+            // The bounds were computed in float; widen them a little so that every transformed vertex
+            // (computed in double by the geometry stage) is surely inside.
+            const glm::dvec3 extent = hi - lo;
+            const double size = std::max({extent.x, extent.y, extent.z, std::abs(lo.x), std::abs(lo.y),
+                                          std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+            lo -= glm::dvec3(1e-5 * size);
+            hi += glm::dvec3(1e-5 * size);
+            PlacementBox box;
+            double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x, min_y = min_x, max_y = -min_x;
+            double nearest = min_x;
+            bool ok = true;
+            for (int c = 0; c < 8 && ok; ++c) {
+                const glm::dvec4 clip = view_projection * glm::dvec4((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y,
+                                                                     (c & 4) ? hi.z : lo.z, 1.0);
+                if (!(clip.w > 1e-12) || !std::isfinite(clip.x) || !std::isfinite(clip.y) || !std::isfinite(clip.z)) {
+                    ok = false;  // a corner at or behind the eye: the projection does not bound the box
+                    break;
+                }
+                const double inv_w = 1.0 / clip.w;
+                const double x = (clip.x * inv_w + 1.0) * half_w, y = (1.0 - clip.y * inv_w) * half_h;
+                min_x = std::min(min_x, x);
+                max_x = std::max(max_x, x);
+                min_y = std::min(min_y, y);
+                max_y = std::max(max_y, y);
+                nearest = std::min(nearest, (clip.z * inv_w + 1.0) * 0.5);
+            }
+            if (ok) {
+                // Pixel centres px + 0.5 within [min_x, max_x], with a pixel to spare for snapping.
+                constexpr double limit = 1e9;
+                box.x0 = int32_t(std::floor(std::clamp(min_x - 1.5, -limit, limit)));
+                box.x1 = int32_t(std::ceil(std::clamp(max_x + 0.5, -limit, limit)));
+                box.y0 = int32_t(std::floor(std::clamp(min_y - 1.5, -limit, limit)));
+                box.y1 = int32_t(std::ceil(std::clamp(max_y + 0.5, -limit, limit)));
+                // Samples may lie a fraction of a subpixel outside a triangle's exact footprint, where
+                // its depth plane reaches a little beyond the box: keep a small depth margin.
+                box.nearest = depth_lower_bound(nearest - 1e-6);
+                box.projectable = true;
+                box.outside = box.x1 < 0 || box.y1 < 0 || box.x0 >= int32_t(camera.width) ||
+                              box.y0 >= int32_t(camera.height);
+            }
+            boxes_[k] = box;
+        }
+        if (front_to_back_) {
+            // Nearest first; boxes reaching behind the eye (nearest -infinity) come first of all.
+            std::stable_sort(order_.begin(), order_.end(),
+                             [&](uint32_t a, uint32_t b) { return boxes_[a].nearest < boxes_[b].nearest; });
+        }
+    }
+
+    template <bool kCountTests>
+    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, Stats& stats) {
+        const Buffers buffers{target.depth(),    target.face(),        target.bary(),
+                              target.instance(), target.depth_tests(), target.width()};
+        for (const uint32_t k : order_) {
+            const PlacementBox& box = boxes_[k];
+            if (box.projectable) {
+                if (box.outside) {
+                    ++stats.instances_outside;
+                    stats.instance_triangles_skipped += scene.instance(k).triangle_count;
+                    continue;
+                }
+                if (cull_instances_ && pyramid_.is_hidden(box.x0, box.y0, box.x1, box.y1, box.nearest)) {
+                    ++stats.instances_culled;
+                    stats.instance_triangles_skipped += scene.instance(k).triangle_count;
+                    continue;
+                }
+            }
+            const hsr::sdk::Placement placement = scene.placement(k);
+            geometry_.place(placement);
+            const uint32_t end = placement.first_triangle + placement.triangle_count;
+            const uint32_t* const indices = scene.raw().indices;
+            // Test feedback, per placement: while the pyramid rarely culls (the near parts of a scene,
+            // a front-faces-only mesh) only every stride-th triangle is tested.
+            constexpr uint32_t kWindow = 64, kStride = 8;
+            uint32_t stride = 1, countdown = 1, window_tests = 0, window_culls = 0;
+            for (uint32_t t = placement.first_triangle; t < end; ++t) {
+                const uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
+                const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
+                               c2 = geometry_.vertex_outcode(i2);
+                if (!((c0 | c1 | c2) & (raster::kNeedsClipping | raster::kNonFinite))) {
+                    // Greene's triangle-level test, before triangle setup. Triangles the geometry
+                    // stage rejects anyway (outside, back-facing, no pixel centre) go straight to it,
+                    // to be counted; it decides, so they still get the drawing callback.
+                    auto draw_whole = [&](const raster::TriangleSetup& s) {
+                        draw_piece<kCountTests>(s, t, placement.instance, -std::numeric_limits<double>::infinity(),
+                                                true, buffers, stats);
+                    };
+                    if (c0 & c1 & c2 & raster::kOutsideFrustum) {
+                        geometry_.process(t, draw_whole);
+                        continue;
+                    }
+                    const raster::WindowVertex& a = geometry_.window_vertex(i0);
+                    const raster::WindowVertex& b = geometry_.window_vertex(i1);
+                    const raster::WindowVertex& c = geometry_.window_vertex(i2);
+                    // Clockwise in window coordinates (y down) is front-facing; the geometry stage's
+                    // clip-space test is the one that counts, this only saves work.
+                    const double cross = (b.exact_x - a.exact_x) * (c.exact_y - a.exact_y) -
+                                         (c.exact_x - a.exact_x) * (b.exact_y - a.exact_y);
+                    if (cull_backfaces_ && !(cross < 0.0)) {
+                        geometry_.process(t, draw_whole);
+                        continue;
+                    }
+                    if (--countdown > 0) {  // sampling: this one is drawn untested
+                        ++stats.triangles_untested;
+                        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                            draw_piece<kCountTests>(s, t, placement.instance,
+                                                    -std::numeric_limits<double>::infinity(), false, buffers, stats);
+                        });
+                        continue;
+                    }
+                    countdown = stride;
+                    // The pixel centres the snapped triangle can cover, exactly as setup_triangle
+                    // bounds them, against the nearest depth its samples can have.
+                    const int32_t lo_x = std::min({a.x, b.x, c.x}), hi_x = std::max({a.x, b.x, c.x});
+                    const int32_t lo_y = std::min({a.y, b.y, c.y}), hi_y = std::max({a.y, b.y, c.y});
+                    constexpr int32_t half = raster::kHalfPixel, one = raster::kSubpixelScale;
+                    const int32_t x0 = std::max((lo_x - half + one - 1) >> raster::kSubpixelBits, 0);
+                    const int32_t x1 = std::min((hi_x - half) >> raster::kSubpixelBits, width_ - 1);
+                    const int32_t y0 = std::max((lo_y - half + one - 1) >> raster::kSubpixelBits, 0);
+                    const int32_t y1 = std::min((hi_y - half) >> raster::kSubpixelBits, height_ - 1);
+                    if (x0 > x1 || y0 > y1) {  // no pixel centre in the image: degenerate or outside
+                        geometry_.process(t, draw_whole);
+                        continue;
+                    }
+                    const double lower = triangle_lower_depth(a, b, c, std::abs(cross));
+                    const bool hidden = pyramid_.is_hidden(x0, y0, x1, y1, depth_lower_bound(lower));
+                    window_culls += hidden ? 1 : 0;
+                    if (++window_tests == kWindow) {
+                        // Fewer than 1 in 16 tests culled: test only every kStride-th triangle for a while.
+                        stride = window_culls * 16 < window_tests ? kStride : 1;
+                        window_tests = window_culls = 0;
+                    }
+                    if (hidden) {
+                        ++stats.triangles_culled;
+                        continue;
+                    }
+                    geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                        draw_piece<kCountTests>(s, t, placement.instance, lower, false, buffers, stats);
+                    });
+                } else {
+                    // Clipped (or non-finite): the geometry stage makes the pieces, each tested whole.
+                    geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                        draw_piece<kCountTests>(s, t, placement.instance, -std::numeric_limits<double>::infinity(),
+                                                true, buffers, stats);
+                    });
+                }
+            }
+        }
+    }
+
+    // A lower bound of the window depth of every sample the triangle (not clipped) covers: its
+    // smallest vertex depth, less how far the depth plane can fall over the 1/512 pixel by which a
+    // covered sample may lie outside the unsnapped triangle. The plane's gradient is at most
+    // (depth range) * (longest edge) / |twice the area| in each direction (the longest edge bounded
+    // by its |dx| + |dy|); a sliver gets no useful bound.
+    static double triangle_lower_depth(const raster::WindowVertex& a, const raster::WindowVertex& b,
+                                       const raster::WindowVertex& c, double abs_cross) {
+        const double d_min = std::min({a.depth, b.depth, c.depth});
+        const double d_range = std::max({a.depth, b.depth, c.depth}) - d_min;
+        const double lu = std::abs(b.exact_x - a.exact_x) + std::abs(b.exact_y - a.exact_y);
+        const double lv = std::abs(c.exact_x - a.exact_x) + std::abs(c.exact_y - a.exact_y);
+        const double lw = std::abs(c.exact_x - b.exact_x) + std::abs(c.exact_y - b.exact_y);
+        if (!(abs_cross > 1e-6)) return -std::numeric_limits<double>::infinity();
+        // Gradient bound times a distance of 1/128 pixel (more than twice the largest snapping offset).
+        return d_min - 2.0 * d_range * std::max({lu, lv, lw}) / abs_cross * (1.0 / 128.0);
+    }
+
+    // One triangle (or clipped piece): reject it whole, draw it whole, or draw it tile by tile.
+    template <bool kCountTests>
+    void draw_piece(const raster::TriangleSetup& setup, uint32_t id, uint32_t instance_id, double vertex_lower,
+                    bool test_whole, const Buffers& buffers, Stats& stats) {
+        // A local copy: stores to face[] (uint32_t) may alias the caller's int32_t fields, which would
+        // force the pixel loop to reload them after every write; a local whose address never escapes
+        // cannot alias.
+        const raster::TriangleSetup s = setup;
+        const int32_t tile = tile_size_;
+        const bool small = s.max_x - s.min_x < tile && s.max_y - s.min_y < tile;
+        double lower = vertex_lower;
+        if (test_whole || !small) {
+            lower = std::max(lower, plane_min(s.depth, 0.0, 0.0, double(s.max_x - s.min_x), double(s.max_y - s.min_y)));
+            if (test_whole && pyramid_.is_hidden(s.min_x, s.min_y, s.max_x, s.max_y, depth_lower_bound(lower))) {
+                ++stats.pieces_culled;
+                return;
+            }
+        }
+
+        // Everything the pixel loop touches is a local (see Buffers).
+        uint64_t tested = 0, written = 0;
+        float* const depth_out = buffers.depth;
+        uint32_t* const face_out = buffers.face;
+        float* const bary_out = buffers.bary;
+        uint32_t* const tests_out = buffers.tests;
+        uint32_t* const instance_out = buffers.instance;
+        const size_t stride = buffers.width;
+        auto visit = [&](int32_t x, int32_t y, double i, double j) {
+            ++tested;
+            const size_t p = size_t(y) * stride + size_t(x);
+            if constexpr (kCountTests) ++tests_out[p];
+            const float z = raster::depth_at(s, i, j);
+            if (!(z < depth_out[p])) return;
+            ++written;
+            depth_out[p] = z;
+            face_out[p] = id;
+            if (instance_out != nullptr) instance_out[p] = instance_id;
+            const glm::vec2 b = raster::barycentrics_at(s, i, j);
+            bary_out[2 * p] = b.x;
+            bary_out[2 * p + 1] = b.y;
+        };
+
+        if (small) {
+            raster::for_each_covered_pixel(s, visit);
+            stats.depth_tested += tested;
+            stats.written += written;
+            if (written > 0) note_written(depth_out, s.min_x, s.min_y, s.max_x, s.max_y);
+            return;
+        }
+
+        // Tile by tile, on a grid aligned with the image.
+        const int32_t first_tx = (s.min_x / tile) * tile, first_ty = (s.min_y / tile) * tile;
+        for (int32_t ty = first_ty; ty <= s.max_y; ty += tile) {
+            const int32_t y0 = std::max(ty, s.min_y), y1 = std::min(ty + tile - 1, s.max_y);
+            for (int32_t tx = first_tx; tx <= s.max_x; tx += tile) {
+                const int32_t x0 = std::max(tx, s.min_x), x1 = std::min(tx + tile - 1, s.max_x);
+                const int64_t i0 = x0 - s.min_x, j0 = y0 - s.min_y, di = x1 - x0, dj = y1 - y0;
+                // Edge functions at the tile's first pixel; a tile outside one edge at all four corners
+                // holds no covered sample.
+                int64_t e[3];
+                bool empty = false;
+                for (int k = 0; k < 3; ++k) {
+                    e[k] = s.edge_origin[k] + s.edge_dx[k] * i0 + s.edge_dy[k] * j0;
+                    const int64_t step_x = s.edge_dx[k] * di, step_y = s.edge_dy[k] * dj;
+                    if (e[k] + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0) < 0) empty = true;
+                }
+                if (empty) continue;
+                ++stats.tiles_tested;
+                const double tile_lower =
+                    std::max(lower, plane_min(s.depth, double(i0), double(j0), double(i0 + di), double(j0 + dj)));
+                // O(1): the pyramid cells covering the tile, not refined (refining a tile that turns
+                // out visible measured slower than drawing it).
+                if (pyramid_.farthest(x0, y0, x1, y1) < depth_lower_bound(tile_lower)) {
+                    ++stats.tiles_culled;
+                    continue;
+                }
+                const uint64_t written_before = written;
+                int64_t row0 = e[0], row1 = e[1], row2 = e[2];
+                double j = double(j0);
+                for (int32_t y = y0; y <= y1; ++y, j += 1.0) {
+                    int64_t e0 = row0, e1 = row1, e2 = row2;
+                    bool entered = false;
+                    double i = double(i0);
+                    for (int32_t x = x0; x <= x1; ++x, i += 1.0) {
+                        if ((e0 | e1 | e2) >= 0) {
+                            entered = true;
+                            visit(x, y, i, j);
+                        } else if (entered) {
+                            break;
+                        }
+                        e0 += s.edge_dx[0];
+                        e1 += s.edge_dx[1];
+                        e2 += s.edge_dx[2];
+                    }
+                    row0 += s.edge_dy[0];
+                    row1 += s.edge_dy[1];
+                    row2 += s.edge_dy[2];
+                }
+                if (written != written_before) note_written(depth_out, x0, y0, x1, y1);
+            }
+        }
+        stats.depth_tested += tested;
+        stats.written += written;
+    }
+
+    // Deferred: the pyramid's cells over the rectangle are recomputed at the next large query
+    // (hsr/zpyramid.hpp); valid because this plugin's depths only ever decrease.
+    void note_written(const float* depth, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+        pyramid_.mark_dirty(depth, x0, y0, x1, y1);
+    }
+    int32_t width_ = 0, height_ = 0;
+    bool cull_backfaces_;
+    int32_t tile_size_;
+    bool front_to_back_;
+    bool cull_instances_;
+    raster::GeometryStage geometry_;  // keeps its vertex buffers between frames
+    raster::ZPyramid pyramid_;        // likewise its levels
+    std::vector<uint32_t> order_;     // placements in drawing order
+    std::vector<PlacementBox> boxes_;
+};
+
+}  // namespace
+
+HSR_EXPORT_PLUGIN(HierarchicalZBuffer)
