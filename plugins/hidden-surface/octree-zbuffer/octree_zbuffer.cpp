@@ -1,0 +1,696 @@
+// octree-zbuffer: the hierarchical z-buffer with an object-space octree, after Ned Greene, Michael
+// Kass and Gavin Miller, "Hierarchical Z-Buffer Visibility", SIGGRAPH 1993.
+//
+// The scene's triangles sit in octrees (one per object, in object space, built once and reused while
+// the scene stays the same), under a bounding-volume hierarchy over the placed instances. Both are
+// traversed front to back from the eye. A node whose box, projected to the screen, lies behind what
+// is already drawn (a z-pyramid query: the bounding rectangle of its projected corners against the
+// nearest corner depth) is culled with everything it holds, its vertices never transformed. The
+// triangles of visible leaves are tested against the pyramid (Greene's triangle-level rejection,
+// before triangle setup), go through the plain z-buffer's geometry stage (hsr/raster.hpp: the same
+// clipping, snapping, coverage and depth as the zbuffer plugin, bit for bit), larger ones are
+// rejected 8x8 tile by tile, and the rest is the z-buffer's own per-pixel depth test. After each
+// leaf the pyramid (pyramid.hpp) is brought up to date. Exact depth ties go to the surface the plain
+// z-buffer draws first, so the picture is the zbuffer plugin's, pixel for pixel.
+//
+// Where a triangle goes and how the octree is laid out: octree.hpp. What it costs and when it
+// pays: docs/algorithms/octree-zbuffer.md.
+#include "octree.hpp"
+#include "pyramid.hpp"
+
+#include "hsr/raster.hpp"
+#include "hsr/sdk.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <vector>
+
+namespace {
+
+namespace raster = hsr::raster;
+using hsr::sdk::ParamSpec;
+using namespace octree_zbuffer;
+
+// ---------------------------------------------------------------------------------------------- //
+// Recognising the same scene again
+
+uint64_t mix(uint64_t h, uint64_t v) {
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    return h * 0xff51afd7ed558ccdull;
+}
+
+// Up to ~4096 evenly spaced 32-bit words of an array, plus its last word: cheap, and enough to notice
+// that a different mesh now sits at the same address with the same size.
+uint64_t sampled_hash(const void* data, size_t bytes) {
+    uint64_t h = bytes;
+    const size_t words = bytes / 4;
+    if (data == nullptr || words == 0) return h;
+    const auto* bytes_in = static_cast<const unsigned char*>(data);
+    const size_t step = std::max<size_t>(1, words / 4096);
+    uint32_t w;
+    for (size_t k = 0; k < words; k += step) {
+        std::memcpy(&w, bytes_in + 4 * k, 4);
+        h = mix(h, w);
+    }
+    std::memcpy(&w, bytes_in + 4 * (words - 1), 4);
+    return mix(h, w);
+}
+
+struct SceneKey {
+    const float* positions = nullptr;
+    const uint32_t* indices = nullptr;
+    uint32_t vertex_count = 0, triangle_count = 0;
+    uint64_t geometry_hash = 0;
+    bool operator==(const SceneKey&) const = default;
+};
+
+struct InstanceKey {
+    const hsr_instance* instances = nullptr;
+    uint32_t instance_count = 0;
+    uint64_t hash = 0;  // every instance's ranges and transform
+    bool operator==(const InstanceKey&) const = default;
+};
+
+InstanceKey instance_key(const hsr::sdk::Scene& scene) {
+    InstanceKey key;
+    key.instance_count = scene.instance_count();
+    if (key.instance_count == 0) return key;
+    key.instances = scene.raw().instances;
+    // Four independent lanes keep the multiplies from waiting on each other.
+    uint64_t lane[4] = {1, 2, 3, 4};
+    for (uint32_t k = 0; k < key.instance_count; ++k) {
+        const hsr_instance& i = scene.instance(k);
+        uint32_t words[20];
+        words[0] = i.first_triangle;
+        words[1] = i.triangle_count;
+        words[2] = i.first_vertex;
+        words[3] = i.vertex_count;
+        std::memcpy(words + 4, i.transform, sizeof i.transform);
+        for (int w = 0; w < 20; w += 4)
+            for (int l = 0; l < 4; ++l) lane[l] = (lane[l] ^ words[w + l]) * 0x9e3779b97f4a7c15ull + uint64_t(l);
+    }
+    key.hash = mix(mix(mix(lane[0], lane[1]), lane[2]), lane[3]);
+    return key;
+}
+
+SceneKey scene_key(const hsr::sdk::Scene& scene) {
+    const hsr_scene& s = scene.raw();
+    SceneKey key;
+    key.positions = s.positions;
+    key.indices = s.indices;
+    key.vertex_count = s.vertex_count;
+    key.triangle_count = s.triangle_count;
+    key.geometry_hash = mix(sampled_hash(s.positions, size_t(s.vertex_count) * 12),
+                            sampled_hash(s.indices, size_t(s.triangle_count) * 12));
+    return key;
+}
+
+// ---------------------------------------------------------------------------------------------- //
+
+constexpr int32_t kTile = 8;  // tile-level rejection works on 8x8 tiles aligned to the image
+// A triangle whose pixel bounds hold at most this many pixels is tested once, as a whole.
+constexpr int64_t kSmallTriangle = 2 * kTile * kTile;
+// Node boxes are widened by this much (in pixels) before their pixel-centre rectangle is taken:
+// snapping moves a vertex by up to 1/512 pixel, and the box corners are projected in another order
+// of operations than the vertices.
+constexpr double kBoxPixelMargin = 1.0 / 64.0;
+// ... and their nearest depth brought nearer by this much: rounding of depths to float, and the few
+// covered pixel centres that lie (by at most 1/512 pixel) outside a triangle's unsnapped corners,
+// where its depth plane is extrapolated.
+constexpr double kBoxDepthMargin = 1e-6;
+
+enum class BoxVisibility { kOutside, kHidden, kVisible };
+
+struct Rect {
+    int32_t x0 = std::numeric_limits<int32_t>::max(), y0 = std::numeric_limits<int32_t>::max();
+    int32_t x1 = std::numeric_limits<int32_t>::min(), y1 = std::numeric_limits<int32_t>::min();
+    bool empty() const { return x0 > x1; }
+    void add(int32_t ax0, int32_t ay0, int32_t ax1, int32_t ay1) {
+        x0 = std::min(x0, ax0);
+        y0 = std::min(y0, ay0);
+        x1 = std::max(x1, ax1);
+        y1 = std::max(y1, ay1);
+    }
+};
+
+struct FrameStats {
+    uint64_t nodes_visited = 0, nodes_culled = 0, nodes_outside = 0, leaves_drawn = 0;
+    uint64_t instance_nodes_visited = 0, instance_nodes_culled = 0, instance_nodes_outside = 0;
+    uint64_t placements_visited = 0;
+    uint64_t triangles_in_culled_nodes = 0, triangles_in_outside_nodes = 0;
+    uint64_t triangles_culled_before_setup = 0, triangles_culled_after_setup = 0;
+    uint64_t tiles_tested = 0, tiles_culled = 0;
+    uint64_t pixels_tested = 0, pixels_written = 0;
+    uint64_t vertices_transformed = 0, pyramid_updates = 0;
+};
+
+class OctreeZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
+public:
+    static constexpr hsr::sdk::PluginInfo info{
+        "octree-zbuffer", "1.0.0",
+        "hierarchical z-buffer (Greene, Kass & Miller 1993): object-space octrees culled against a z-pyramid"};
+    static inline const ParamSpec params[] = {
+        ParamSpec::integer("max-depth", "8", 0, 20, "deepest octree level (the root is level 0)"),
+        ParamSpec::integer("leaf-triangles", "64", 1, 65536,
+                           "an octree cell with at most this many triangles is not split further"),
+        ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+    };
+
+    explicit OctreeZBuffer(const hsr::sdk::Params& p) : cull_backfaces_(p.boolean("cull-backfaces")) {
+        build_params_.max_depth = uint32_t(p.integer("max-depth"));
+        build_params_.leaf_triangles = uint32_t(p.integer("leaf-triangles"));
+    }
+
+    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                hsr::sdk::Counters& counters) override {
+        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+
+        const auto build_start = std::chrono::steady_clock::now();
+        const bool built = prepare(scene);
+        const auto build_end = std::chrono::steady_clock::now();
+        // At least 1 on a call that built, so that "built" never reads as "reused".
+        const auto build_us = std::chrono::duration_cast<std::chrono::microseconds>(build_end - build_start).count();
+        counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(build_us)) : 0);
+
+        begin_frame(scene, camera, target);
+        stats_ = FrameStats{};
+        if (!bvh_.empty()) {
+            if (target.depth_tests() == nullptr)
+                draw_instances<false>(0);
+            else
+                draw_instances<true>(0);
+        }
+
+        raster::TriangleStats triangles = geometry_.stats();
+        triangles.in = drawn_triangles_;
+        triangles.outside += stats_.triangles_in_outside_nodes;
+        triangles.degenerate += non_finite_triangles_;
+        triangles.rasterized -= stats_.triangles_culled_after_setup;
+        triangles.report(counters);
+        counters.set("triangles-in-culled-nodes", stats_.triangles_in_culled_nodes);
+        counters.set("triangles-culled-by-pyramid",
+                     stats_.triangles_culled_before_setup + stats_.triangles_culled_after_setup);
+        counters.set("octree-nodes", forest_.nodes.size());
+        counters.set("octree-nodes-visited", stats_.nodes_visited);
+        counters.set("octree-nodes-culled", stats_.nodes_culled);
+        counters.set("octree-nodes-outside", stats_.nodes_outside);
+        counters.set("octree-leaves-drawn", stats_.leaves_drawn);
+        counters.set("instance-nodes", bvh_.size());
+        counters.set("instance-nodes-visited", stats_.instance_nodes_visited);
+        counters.set("instance-nodes-culled", stats_.instance_nodes_culled);
+        counters.set("instance-nodes-outside", stats_.instance_nodes_outside);
+        counters.set("placements-visited", stats_.placements_visited);
+        counters.set("vertices-transformed", stats_.vertices_transformed);
+        counters.set("tiles-tested", stats_.tiles_tested);
+        counters.set("tiles-culled", stats_.tiles_culled);
+        counters.set("pyramid-updates", stats_.pyramid_updates);
+        counters.set("pixels-depth-tested", stats_.pixels_tested);
+        counters.set("pixels-written", stats_.pixels_written);
+    }
+
+private:
+    // ------------------------------------------------------------------------------------------ //
+    // Build (once per scene)
+
+    // Builds what is missing for this scene; true when anything was built.
+    bool prepare(const hsr::sdk::Scene& scene) {
+        const SceneKey skey = scene_key(scene);
+        const InstanceKey ikey = instance_key(scene);
+        if (has_built_ && skey == scene_key_ && ikey == instance_key_) return false;
+        const bool same_geometry = has_built_ && skey == scene_key_;
+        has_built_ = false;  // until everything below is done (it may throw bad_alloc)
+        if (!same_geometry) {  // otherwise only placements changed: keep the objects' octrees
+            forest_.clear();
+            object_of_range_.clear();
+        }
+
+        const uint32_t placements = scene.placement_count();
+        placement_object_.assign(placements, 0);
+        std::vector<InstanceItem> items;
+        items.reserve(placements);
+        drawn_triangles_ = 0;
+        non_finite_triangles_ = 0;
+        for (uint32_t k = 0; k < placements; ++k) {
+            const hsr::sdk::Placement p = scene.placement(k);
+            drawn_triangles_ += p.triangle_count;
+            const std::array<uint32_t, 4> range{p.first_triangle, p.triangle_count, p.first_vertex, p.vertex_count};
+            auto found = object_of_range_.find(range);
+            if (found == object_of_range_.end())
+                found = object_of_range_
+                            .emplace(range, forest_.add_object(scene.raw(), p.first_triangle, p.triangle_count,
+                                                               p.first_vertex, p.vertex_count, build_params_))
+                            .first;
+            placement_object_[k] = found->second;
+            const ObjectTree& object = forest_.objects[found->second];
+            non_finite_triangles_ += object.non_finite;
+            if (!object.has_root) continue;
+            // World box: the object's root box carried by the transform, rounded outward.
+            const OctreeNode& root = forest_.nodes[object.root];
+            const glm::dmat4 m = p.identity ? glm::dmat4(1.0) : glm::dmat4(p.transform);
+            glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+            for (int c = 0; c < 8; ++c) {
+                const glm::dvec4 w = m * glm::dvec4((c & 1) ? root.hi[0] : root.lo[0], (c & 2) ? root.hi[1] : root.lo[1],
+                                                    (c & 4) ? root.hi[2] : root.lo[2], 1.0);
+                lo = glm::min(lo, glm::dvec3(w));
+                hi = glm::max(hi, glm::dvec3(w));
+            }
+            InstanceItem item;
+            for (int a = 0; a < 3; ++a) {
+                item.lo[a] = std::nextafter(float(lo[a]), -std::numeric_limits<float>::infinity());
+                item.hi[a] = std::nextafter(float(hi[a]), std::numeric_limits<float>::infinity());
+                if (!(std::isfinite(item.lo[a]) && std::isfinite(item.hi[a]))) {  // overflow: anywhere
+                    item.lo[a] = -std::numeric_limits<float>::max();
+                    item.hi[a] = std::numeric_limits<float>::max();
+                }
+            }
+            item.placement = k;
+            item.triangles = object.triangle_count - object.non_finite;
+            items.push_back(item);
+        }
+        build_instance_bvh(items, bvh_);
+
+        leaf_scene_ = hsr_scene{};
+        leaf_scene_.struct_size = sizeof(hsr_scene);
+        leaf_scene_.vertex_count = uint32_t(forest_.mesh.positions.size() / 3);
+        leaf_scene_.triangle_count = uint32_t(forest_.mesh.face.size());
+        leaf_scene_.object_count = 1;
+        leaf_scene_.positions = forest_.mesh.positions.data();
+        leaf_scene_.indices = forest_.mesh.indices.data();
+        scene_key_ = skey;
+        instance_key_ = ikey;
+        has_built_ = true;
+        return true;
+    }
+
+    // ------------------------------------------------------------------------------------------ //
+    // Per frame
+
+    void begin_frame(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target) {
+        scene_ = &scene;
+        geometry_.begin_frame(leaf_scene_, camera, cull_backfaces_);
+        pyramid_.reset(camera.width, camera.height);
+        view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
+        perspective_ = camera.projection_type == HSR_PROJECTION_PERSPECTIVE;
+        // The eye and the direction toward the viewer, from the view matrix (world = inverse(view) * eye).
+        const glm::dmat4 view(hsr::sdk::load_matrix(camera.view));
+        const glm::dmat4 inverse_view = glm::inverse(view);
+        eye_ = glm::dvec3(inverse_view[3]) / inverse_view[3][3];
+        toward_viewer_ = glm::dvec3(view[0][2], view[1][2], view[2][2]);
+        width_ = int32_t(camera.width);
+        height_ = int32_t(camera.height);
+        half_width_ = 0.5 * camera.width;
+        half_height_ = 0.5 * camera.height;
+        depth_ = target.depth();
+        face_ = target.face();
+        bary_ = target.bary();
+        instance_ = target.instance();
+        tests_ = target.depth_tests();
+    }
+
+    // Projects the box's corners: outside the view volume (or between pixel centres), hidden behind
+    // the pyramid, or possibly visible. A box reaching in front of the near plane (or behind the eye)
+    // is always possibly visible.
+    BoxVisibility test_box(const glm::dmat4& m, const float* lo, const float* hi) const {
+        const glm::dvec4 base = m * glm::dvec4(lo[0], lo[1], lo[2], 1.0);
+        const glm::dvec4 ex = m[0] * (double(hi[0]) - double(lo[0]));
+        const glm::dvec4 ey = m[1] * (double(hi[1]) - double(lo[1]));
+        const glm::dvec4 ez = m[2] * (double(hi[2]) - double(lo[2]));
+        uint32_t all_outside = 0x3F;
+        bool crosses_near = false;
+        double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x;
+        double min_y = min_x, max_y = -min_x, min_depth = min_x;
+        for (int c = 0; c < 8; ++c) {
+            glm::dvec4 p = base;
+            if (c & 1) p += ex;
+            if (c & 2) p += ey;
+            if (c & 4) p += ez;
+            uint32_t code = 0;
+            if (p.x < -p.w) code |= 1;
+            if (p.x > p.w) code |= 2;
+            if (p.y < -p.w) code |= 4;
+            if (p.y > p.w) code |= 8;
+            if (p.z < -p.w) code |= 16;
+            if (p.z > p.w) code |= 32;
+            all_outside &= code;
+            if (!(p.w > 0.0) || p.z < -p.w) {
+                crosses_near = true;
+                continue;
+            }
+            const double inv_w = 1.0 / p.w;
+            const double x = (p.x * inv_w + 1.0) * half_width_;
+            const double y = (1.0 - p.y * inv_w) * half_height_;
+            const double depth = (p.z * inv_w + 1.0) * 0.5;
+            min_x = std::min(min_x, x);
+            max_x = std::max(max_x, x);
+            min_y = std::min(min_y, y);
+            max_y = std::max(max_y, y);
+            min_depth = std::min(min_depth, depth);
+        }
+        if (all_outside != 0) return BoxVisibility::kOutside;
+        if (crosses_near) return BoxVisibility::kVisible;
+        if (!(min_x <= max_x && min_y <= max_y)) return BoxVisibility::kVisible;  // NaN: play safe
+        // Pixel centres px + 0.5 inside [min_x, max_x] (widened), clamped to the image.
+        const double lo_x = std::clamp(min_x - kBoxPixelMargin, -2.0, double(width_) + 2.0);
+        const double hi_x = std::clamp(max_x + kBoxPixelMargin, -2.0, double(width_) + 2.0);
+        const double lo_y = std::clamp(min_y - kBoxPixelMargin, -2.0, double(height_) + 2.0);
+        const double hi_y = std::clamp(max_y + kBoxPixelMargin, -2.0, double(height_) + 2.0);
+        const int32_t x0 = std::max(int32_t(std::ceil(lo_x - 0.5)), 0);
+        const int32_t x1 = std::min(int32_t(std::floor(hi_x - 0.5)), width_ - 1);
+        const int32_t y0 = std::max(int32_t(std::ceil(lo_y - 0.5)), 0);
+        const int32_t y1 = std::min(int32_t(std::floor(hi_y - 0.5)), height_ - 1);
+        if (x0 > x1 || y0 > y1) return BoxVisibility::kOutside;
+        const float nearest = float(min_depth - kBoxDepthMargin);
+        return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? BoxVisibility::kHidden : BoxVisibility::kVisible;
+    }
+
+    // The top level: placements, nearest first.
+    template <bool kCountTests>
+    void draw_instances(uint32_t index) {
+        const InstanceNode& node = bvh_[index];
+        if (node.is_leaf()) {
+            draw_placement<kCountTests>(node.first);
+            return;
+        }
+        ++stats_.instance_nodes_visited;
+        switch (test_box(view_projection_, node.lo, node.hi)) {
+            case BoxVisibility::kOutside:
+                ++stats_.instance_nodes_outside;
+                stats_.triangles_in_outside_nodes += node.triangles;
+                return;
+            case BoxVisibility::kHidden:
+                ++stats_.instance_nodes_culled;
+                stats_.triangles_in_culled_nodes += node.triangles;
+                return;
+            case BoxVisibility::kVisible: break;
+        }
+        const double toward = perspective_ ? double(node.split) - eye_[node.axis] : -toward_viewer_[node.axis];
+        // toward >= 0: the eye is on the low side of the split (or looks from -axis): left first.
+        const uint32_t first = toward >= 0.0 ? node.first : node.first + 1;
+        draw_instances<kCountTests>(first);
+        draw_instances<kCountTests>(first == node.first ? node.first + 1 : node.first);
+    }
+
+    struct PlacementFrame {
+        hsr::sdk::Placement placement;  // first_vertex/vertex_count are set per leaf
+        glm::dmat4 clip_from_object;
+        glm::dvec3 eye;            // object space (perspective)
+        glm::dvec3 toward_viewer;  // object space (orthographic)
+    };
+
+    template <bool kCountTests>
+    void draw_placement(uint32_t k) {
+        ++stats_.placements_visited;
+        const ObjectTree& object = forest_.objects[placement_object_[k]];
+        if (!object.has_root) return;
+        PlacementFrame frame;
+        frame.placement = scene_->placement(k);
+        if (frame.placement.identity) {
+            frame.clip_from_object = view_projection_;
+            frame.eye = eye_;
+            frame.toward_viewer = toward_viewer_;
+        } else {
+            const glm::dmat4 transform(frame.placement.transform);
+            frame.clip_from_object = view_projection_ * transform;
+            const glm::dmat4 inverse = glm::inverse(transform);
+            const glm::dvec4 e = inverse * glm::dvec4(eye_, 1.0);
+            frame.eye = glm::dvec3(e) / e.w;
+            frame.toward_viewer = glm::transpose(glm::dmat3(transform)) * toward_viewer_;
+        }
+        draw_node<kCountTests>(frame, object.root);
+    }
+
+    template <bool kCountTests>
+    void draw_node(PlacementFrame& frame, uint32_t index) {
+        const OctreeNode& node = forest_.nodes[index];
+        ++stats_.nodes_visited;
+        switch (test_box(frame.clip_from_object, node.lo, node.hi)) {
+            case BoxVisibility::kOutside:
+                ++stats_.nodes_outside;
+                stats_.triangles_in_outside_nodes += node.triangle_count;
+                return;
+            case BoxVisibility::kHidden:
+                ++stats_.nodes_culled;
+                stats_.triangles_in_culled_nodes += node.triangle_count;
+                return;
+            case BoxVisibility::kVisible: break;
+        }
+        if (node.is_leaf()) {
+            draw_leaf<kCountTests>(frame, node);
+            return;
+        }
+        // Greene's order: the child octant holding the eye first, then those across one splitting
+        // plane from it, ...; octant (eye ^ k) for k = 0..7 never draws a cell before one that lies
+        // between it and the eye.
+        int eye_octant;
+        if (perspective_)
+            eye_octant = (frame.eye.x > node.split[0] ? 1 : 0) | (frame.eye.y > node.split[1] ? 2 : 0) |
+                         (frame.eye.z > node.split[2] ? 4 : 0);
+        else
+            eye_octant = (frame.toward_viewer.x > 0.0 ? 1 : 0) | (frame.toward_viewer.y > 0.0 ? 2 : 0) |
+                         (frame.toward_viewer.z > 0.0 ? 4 : 0);
+        const uint32_t mask = node.child_mask, first_child = node.first_child;
+        for (int k = 0; k < 8; ++k) {
+            const int octant = eye_octant ^ k;
+            if (!(mask & (1u << octant))) continue;
+            draw_node<kCountTests>(frame, first_child + uint32_t(std::popcount(mask & ((1u << octant) - 1u))));
+        }
+    }
+
+    template <bool kCountTests>
+    void draw_leaf(PlacementFrame& frame, const OctreeNode& node) {
+        ++stats_.leaves_drawn;
+        frame.placement.first_vertex = node.first_vertex;
+        frame.placement.vertex_count = node.vertex_count;
+        geometry_.place(frame.placement);  // this leaf's own vertex copies only
+        stats_.vertices_transformed += node.vertex_count;
+
+        Rect written;
+        const uint32_t instance_id = frame.placement.instance;
+        const uint32_t end = node.first_triangle + node.triangle_count;
+        const uint32_t* const faces = forest_.mesh.face.data();
+        const uint32_t* const indices = forest_.mesh.indices.data();
+        for (uint32_t t = node.first_triangle; t < end; ++t) {
+            const uint32_t id = faces[t];
+            bool tested = false;
+            switch (test_triangle(indices + 3 * size_t(t))) {
+                case TriangleVisibility::kHidden:
+                    ++stats_.triangles_culled_before_setup;
+                    continue;
+                case TriangleVisibility::kVisible: tested = true; break;
+                case TriangleVisibility::kUntested: break;
+            }
+            uint32_t pieces = 0, culled = 0;
+            geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                ++pieces;
+                if (!draw_triangle<kCountTests>(s, id, instance_id, tested, written)) ++culled;
+            });
+            if (pieces > 0 && culled == pieces) ++stats_.triangles_culled_after_setup;
+        }
+        if (!written.empty()) {
+            pyramid_.update(depth_, written.x0, written.y0, written.x1, written.y1);
+            ++stats_.pyramid_updates;
+        }
+    }
+
+    // Window depth held to [0, 1] over the pixel-centre rectangle [x0,x1]x[y0,y1] of a setup: its
+    // smallest value over the rectangle is at a corner (depth_at is monotone in i and in j, rounding
+    // included), so this is exactly the nearest depth any covered pixel there can get.
+    static float nearest_depth(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+        const double i0 = x0 - s.min_x, i1 = x1 - s.min_x, j0 = y0 - s.min_y, j1 = y1 - s.min_y;
+        return std::min(std::min(raster::depth_at(s, i0, j0), raster::depth_at(s, i1, j0)),
+                        std::min(raster::depth_at(s, i0, j1), raster::depth_at(s, i1, j1)));
+    }
+
+    // Greene's triangle-level rejection before triangle setup, for a triangle that needs no
+    // clipping and that GeometryStage::process would set up (finite, not trivially outside, not
+    // culled as a back face, non-zero area, pixel centres inside the image): its pixel bounds are
+    // those setup_triangle will find, and its nearest depth a bound no covered pixel goes below.
+    // The depth plane is set up through the unsnapped corners, and covered pixel centres lie in the
+    // triangle of the snapped ones (each corner moved by at most 1/512 pixel in x and y), so the
+    // depth there is at least the smallest corner depth minus (|dz/dx| + |dz/dy|) / 512; rounded
+    // down to float, a covered pixel's float depth cannot be smaller.
+    enum class TriangleVisibility { kUntested, kHidden, kVisible };
+    TriangleVisibility test_triangle(const uint32_t* corner) const {
+        const uint32_t i0 = corner[0], i1 = corner[1], i2 = corner[2];
+        const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
+                       c2 = geometry_.vertex_outcode(i2);
+        if (((c0 | c1 | c2) & (raster::kNeedsClipping | raster::kNonFinite)) || (c0 & c1 & c2 & raster::kOutsideFrustum))
+            return TriangleVisibility::kUntested;
+        if (cull_backfaces_ && !raster::is_front_facing(geometry_.clip_vertex(i0), geometry_.clip_vertex(i1),
+                                                        geometry_.clip_vertex(i2)))
+            return TriangleVisibility::kUntested;
+        const raster::WindowVertex& v0 = geometry_.window_vertex(i0);
+        const raster::WindowVertex& v1 = geometry_.window_vertex(i1);
+        const raster::WindowVertex& v2 = geometry_.window_vertex(i2);
+        if (int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y) == 0)
+            return TriangleVisibility::kUntested;
+        using raster::kHalfPixel, raster::kSubpixelBits, raster::kSubpixelScale;
+        const int32_t lo_x = std::min({v0.x, v1.x, v2.x}), hi_x = std::max({v0.x, v1.x, v2.x});
+        const int32_t lo_y = std::min({v0.y, v1.y, v2.y}), hi_y = std::max({v0.y, v1.y, v2.y});
+        const int32_t x0 = std::max((lo_x - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits, 0);
+        const int32_t x1 = std::min((hi_x - kHalfPixel) >> kSubpixelBits, width_ - 1);
+        const int32_t y0 = std::max((lo_y - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits, 0);
+        const int32_t y1 = std::min((hi_y - kHalfPixel) >> kSubpixelBits, height_ - 1);
+        if (x0 > x1 || y0 > y1) return TriangleVisibility::kUntested;
+        // The depth gradient of the unsnapped triangle.
+        const double ax = v1.exact_x - v0.exact_x, ay = v1.exact_y - v0.exact_y;
+        const double bx = v2.exact_x - v0.exact_x, by = v2.exact_y - v0.exact_y;
+        const double da = v1.depth - v0.depth, db = v2.depth - v0.depth;
+        const double area = ax * by - bx * ay;
+        const double slope = (std::abs(da * by - db * ay) + std::abs(db * ax - da * bx)) / std::abs(area);
+        // (the last term covers rounding in the setup's plane equations, far below float precision)
+        const double bound = std::min({v0.depth, v1.depth, v2.depth}) - slope * (1.0 / 512.0) -
+                             (1e-9 + 1e-12 * slope * double(raster::kMaxImageSize));
+        if (!(bound > 0.0)) return TriangleVisibility::kVisible;  // also NaN (a sliver): cannot tell
+        float nearest = float(std::min(bound, 1.0));
+        if (double(nearest) > bound)  // rounded up: take the next float down (nearest > bound > 0)
+            nearest = std::bit_cast<float>(std::bit_cast<uint32_t>(nearest) - 1u);
+        return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? TriangleVisibility::kHidden : TriangleVisibility::kVisible;
+    }
+
+    // Greene's triangle-level (unless done before setup) and tile-level rejection, then the pixel
+    // loop. False when the whole piece was rejected by the pyramid.
+    template <bool kCountTests>
+    bool draw_triangle(const raster::TriangleSetup& s, uint32_t id, uint32_t instance_id, bool tested, Rect& written) {
+        if (!tested &&
+            pyramid_.is_hidden(s.min_x, s.min_y, s.max_x, s.max_y, nearest_depth(s, s.min_x, s.min_y, s.max_x, s.max_y)))
+            return false;
+        const int64_t area = int64_t(s.max_x - s.min_x + 1) * (s.max_y - s.min_y + 1);
+        if (area <= kSmallTriangle) {
+            if (fill<kCountTests>(s, s.min_x, s.min_y, s.max_x, s.max_y, id, instance_id) > 0)
+                written.add(s.min_x, s.min_y, s.max_x, s.max_y);
+            return true;
+        }
+        for (int32_t ty = s.min_y & ~(kTile - 1); ty <= s.max_y; ty += kTile) {
+            const int32_t y0 = std::max(ty, s.min_y), y1 = std::min(ty + kTile - 1, s.max_y);
+            for (int32_t tx = s.min_x & ~(kTile - 1); tx <= s.max_x; tx += kTile) {
+                const int32_t x0 = std::max(tx, s.min_x), x1 = std::min(tx + kTile - 1, s.max_x);
+                // The tile misses the triangle when one edge function is negative at all its corners.
+                bool misses = false;
+                for (int k = 0; k < 3 && !misses; ++k) {
+                    const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
+                    const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
+                    const int64_t best = e00 + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0);
+                    misses = best < 0;
+                }
+                if (misses) continue;
+                ++stats_.tiles_tested;
+                if (pyramid_.is_hidden(x0, y0, x1, y1, nearest_depth(s, x0, y0, x1, y1))) {
+                    ++stats_.tiles_culled;
+                    continue;
+                }
+                if (fill<kCountTests>(s, x0, y0, x1, y1, id, instance_id) > 0) written.add(x0, y0, x1, y1);
+            }
+        }
+        return true;
+    }
+
+    // The plain z-buffer's pixel loop (zbuffer.cpp) over [x0,x1]x[y0,y1] of the setup's bounds: the
+    // same integer edge functions and the same depth and barycentrics at every sample. Returns the
+    // number of pixels written.
+    template <bool kCountTests>
+    uint64_t fill(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1, uint32_t id,
+                  uint32_t instance_id) {
+        // Locals only, so that stores to the buffers cannot alias what the loop reads.
+        float* const depth_out = depth_;
+        uint32_t* const face_out = face_;
+        float* const bary_out = bary_;
+        uint32_t* const instance_out = instance_;
+        uint32_t* const tests_out = tests_;
+        const size_t stride = size_t(width_);
+        uint64_t tested = 0, written = 0;
+        const int64_t di = x0 - s.min_x, dj = y0 - s.min_y;
+        int64_t row0 = s.edge_origin[0] + s.edge_dx[0] * di + s.edge_dy[0] * dj;
+        int64_t row1 = s.edge_origin[1] + s.edge_dx[1] * di + s.edge_dy[1] * dj;
+        int64_t row2 = s.edge_origin[2] + s.edge_dx[2] * di + s.edge_dy[2] * dj;
+        const int64_t dx0 = s.edge_dx[0], dx1 = s.edge_dx[1], dx2 = s.edge_dx[2];
+        double j = double(dj);
+        for (int32_t y = y0; y <= y1; ++y, j += 1.0) {
+            int64_t e0 = row0, e1 = row1, e2 = row2;
+            bool entered = false;
+            double i = double(di);
+            const size_t row = size_t(y) * stride;
+            for (int32_t x = x0; x <= x1; ++x, i += 1.0) {
+                if ((e0 | e1 | e2) >= 0) {
+                    entered = true;
+                    ++tested;
+                    const size_t p = row + size_t(x);
+                    if constexpr (kCountTests) ++tests_out[p];
+                    const float z = raster::depth_at(s, i, j);
+                    const float stored = depth_out[p];
+                    // An exact tie goes to the surface the plain z-buffer draws first (lower
+                    // instance, then lower face), so the traversal order never shows.
+                    if (z < stored ||
+                        (z == stored && (instance_out != nullptr && instance_out[p] != instance_id
+                                             ? instance_id < instance_out[p]
+                                             : id < face_out[p]))) {
+                        ++written;
+                        depth_out[p] = z;
+                        face_out[p] = id;
+                        if (instance_out != nullptr) instance_out[p] = instance_id;
+                        const glm::vec2 b = raster::barycentrics_at(s, i, j);
+                        bary_out[2 * p] = b.x;
+                        bary_out[2 * p + 1] = b.y;
+                    }
+                } else if (entered) {
+                    break;
+                }
+                e0 += dx0;
+                e1 += dx1;
+                e2 += dx2;
+            }
+            row0 += s.edge_dy[0];
+            row1 += s.edge_dy[1];
+            row2 += s.edge_dy[2];
+        }
+        stats_.pixels_tested += tested;
+        stats_.pixels_written += written;
+        return written;
+    }
+
+    // Parameters
+    bool cull_backfaces_;
+    BuildParams build_params_;
+
+    // Built once per scene
+    bool has_built_ = false;
+    SceneKey scene_key_;
+    InstanceKey instance_key_;
+    OctreeForest forest_;
+    std::map<std::array<uint32_t, 4>, uint32_t> object_of_range_;
+    std::vector<uint32_t> placement_object_;  // per placement: index into forest_.objects
+    std::vector<InstanceNode> bvh_;
+    hsr_scene leaf_scene_{};  // forest_.mesh seen as a scene, for the geometry stage
+    uint64_t drawn_triangles_ = 0;
+    uint64_t non_finite_triangles_ = 0;
+
+    // Per frame
+    raster::GeometryStage geometry_;  // keeps its buffers between frames
+    ZPyramid pyramid_;  // octree_zbuffer::ZPyramid (pyramid.hpp); same interface as hsr/zpyramid.hpp
+    FrameStats stats_;
+    const hsr::sdk::Scene* scene_ = nullptr;
+    glm::dmat4 view_projection_{1.0};
+    glm::dvec3 eye_{0.0}, toward_viewer_{0.0, 0.0, 1.0};
+    bool perspective_ = true;
+    int32_t width_ = 0, height_ = 0;
+    double half_width_ = 0.0, half_height_ = 0.0;
+    float* depth_ = nullptr;
+    uint32_t* face_ = nullptr;
+    float* bary_ = nullptr;
+    uint32_t* instance_ = nullptr;
+    uint32_t* tests_ = nullptr;
+};
+
+}  // namespace
+
+HSR_EXPORT_PLUGIN(OctreeZBuffer)

@@ -1,0 +1,410 @@
+// The octree-zbuffer plugin (hierarchical z-buffer with object-space octrees, Greene, Kass & Miller
+// 1993) against the plain zbuffer plugin, both loaded through the real ABI: the same face (and
+// instance), bit for bit the same depth and barycentrics, at every pixel except exact depth ties, on
+// real models, hand-made views with the eye inside the octree, and a deep instanced scene where it
+// must cull. The octree itself is checked directly (its build code is compiled into this test).
+#include "hsr/abi.h"
+#include "hsr/camera.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/plugin_registry.hpp"
+#include "hsr/scene.hpp"
+
+#include "../plugins/hidden-surface/octree-zbuffer/octree.cpp"
+
+#include <catch2/catch.hpp>
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Settings = std::vector<hsr::Setting>;
+
+const hsr::Plugin& plugin(const std::string& name) {
+    static std::vector<std::vector<hsr::Plugin>> loaded;
+    for (const auto& plugins : loaded)
+        if (plugins.at(0).descriptor.name == name) return plugins.at(0);
+    loaded.push_back(hsr::load_plugin_library(std::string(HSR_PLUGIN_DIR) + "/hsr-" + name + ".so"));
+    return loaded.back().at(0);
+}
+
+hsr::Frame render(hsr::HiddenSurfaceRemover& remover, const hsr_scene& scene, const hsr_camera& camera,
+                  bool count_tests = false) {
+    hsr::Frame frame;
+    hsr::resolve_visibility(scene, camera, remover, frame, count_tests);
+    return frame;
+}
+
+hsr::Frame render(const std::string& name, const hsr_scene& scene, const hsr_camera& camera,
+                  const Settings& settings = {}, bool count_tests = false) {
+    hsr::HiddenSurfaceRemover remover(plugin(name), settings);
+    return render(remover, scene, camera, count_tests);
+}
+
+const hsr::SceneData& model(const std::string& file) {
+    static std::vector<std::pair<std::string, hsr::SceneData>> cache;
+    for (const auto& [name, data] : cache)
+        if (name == file) return data;
+    const std::string path = std::string(HSR_MODELS_DIR) + "/" + file;
+    cache.emplace_back(file, file.ends_with(".scene") ? hsr::load_scene_file(path).scene : hsr::load_model(path));
+    return cache.back().second;
+}
+
+hsr_camera orbit(const hsr::SceneData& scene, float yaw, float pitch, float zoom, bool ortho, uint32_t size) {
+    hsr::CameraSettings s;
+    s.yaw_degrees = yaw;
+    s.pitch_degrees = pitch;
+    s.zoom = zoom;
+    s.orthographic = ortho;
+    s.width = s.height = size;
+    return hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, s);
+}
+
+// A perspective camera at `eye` looking at `center`, with a near plane close to the eye.
+hsr_camera look(glm::vec3 eye, glm::vec3 center, float near, float far, uint32_t width, uint32_t height,
+                float fovy_degrees = 70.0f) {
+    const glm::mat4 view = glm::lookAt(eye, center, glm::vec3(0, 1, 0));
+    const glm::mat4 projection = glm::perspective(glm::radians(fovy_degrees), float(width) / height, near, far);
+    const glm::mat4 view_projection = projection * view;
+    hsr_camera c{};
+    c.struct_size = sizeof(hsr_camera);
+    c.width = width;
+    c.height = height;
+    c.projection_type = HSR_PROJECTION_PERSPECTIVE;
+    std::memcpy(c.view, glm::value_ptr(view), sizeof c.view);
+    std::memcpy(c.projection, glm::value_ptr(projection), sizeof c.projection);
+    std::memcpy(c.view_projection, glm::value_ptr(view_projection), sizeof c.view_projection);
+    const glm::vec3 direction = glm::normalize(center - eye);
+    for (int k = 0; k < 3; ++k) {
+        c.eye[k] = eye[k];
+        c.view_direction[k] = direction[k];
+    }
+    c.near_plane = near;
+    c.far_plane = far;
+    return c;
+}
+
+struct Comparison {
+    uint64_t covered = 0;     // pixels the reference covers
+    uint64_t same = 0;        // same face and instance, bit-identical depth and barycentrics
+    uint64_t ties = 0;        // another face at the same depth (up to float rounding)
+    uint64_t different = 0;   // anything else
+    std::string first_difference;
+};
+
+// Compares an octree-zbuffer frame with the reference zbuffer frame.
+Comparison compare(const hsr::Frame& octree, const hsr::Frame& reference) {
+    Comparison c;
+    REQUIRE(octree.face.size() == reference.face.size());
+    REQUIRE(octree.instance.size() == reference.instance.size());
+    for (size_t p = 0; p < reference.face.size(); ++p) {
+        if (reference.face[p] != HSR_NO_FACE) ++c.covered;
+        const bool same_surface = octree.face[p] == reference.face[p] &&
+                                  (reference.instance.empty() || octree.instance[p] == reference.instance[p]);
+        if (same_surface && octree.depth[p] == reference.depth[p] && octree.bary[2 * p] == reference.bary[2 * p] &&
+            octree.bary[2 * p + 1] == reference.bary[2 * p + 1]) {
+            ++c.same;
+            continue;
+        }
+        const bool both_covered = octree.face[p] != HSR_NO_FACE && reference.face[p] != HSR_NO_FACE;
+        // A tie: equal depths up to float rounding. (Not a fixed tolerance: with a near plane close to
+        // the eye, window depths of surfaces far apart differ by less than 1e-6.)
+        const float a = octree.depth[p], b = reference.depth[p];
+        if (!same_surface && both_covered && std::abs(a - b) <= 2.0f * std::numeric_limits<float>::epsilon() * std::max(a, b)) {
+            ++c.ties;
+            continue;
+        }
+        if (++c.different == 1)
+            c.first_difference = "pixel " + std::to_string(p % reference.width) + "," + std::to_string(p / reference.width) +
+                                 ": octree face " + std::to_string(octree.face[p]) + " depth " +
+                                 std::to_string(octree.depth[p]) + ", zbuffer face " + std::to_string(reference.face[p]) +
+                                 " depth " + std::to_string(reference.depth[p]);
+    }
+    return c;
+}
+
+// Octree and zbuffer agree at every pixel but ties (fewer than 0.1 % of the covered pixels).
+void check_same_picture(const hsr_scene& scene, const hsr_camera& camera, const Settings& octree_settings = {},
+                        const Settings& zbuffer_settings = {}) {
+    const hsr::Frame reference = render("zbuffer", scene, camera, zbuffer_settings);
+    const hsr::Frame octree = render("octree-zbuffer", scene, camera, octree_settings);
+    const Comparison c = compare(octree, reference);
+    INFO(c.first_difference);
+    CHECK(c.covered > 0);
+    CHECK(c.different == 0);
+    CHECK(double(c.ties) < 0.001 * double(c.covered));
+}
+
+uint64_t counter(const hsr::Frame& frame, const std::string& name) {
+    for (const auto& [n, v] : frame.counters)
+        if (n == name) return v;
+    FAIL("no counter " << name);
+    return 0;
+}
+
+// Every triangle the scene draws is accounted for exactly once.
+void check_triangle_accounting(const hsr::Frame& frame) {
+    CHECK(counter(frame, "triangles-in") ==
+          counter(frame, "triangles-backface-culled") + counter(frame, "triangles-outside") +
+              counter(frame, "triangles-degenerate") + counter(frame, "triangles-rasterized") +
+              counter(frame, "triangles-culled-by-pyramid") + counter(frame, "triangles-in-culled-nodes"));
+}
+
+}  // namespace
+
+TEST_CASE("octree-zbuffer: the bunny from several views matches zbuffer", "[octree-zbuffer]") {
+    const hsr::SceneData& bunny = model("bunny.obj");
+    const hsr_scene scene = bunny.view();
+    check_same_picture(scene, orbit(bunny, 0, 0, 1, false, 384));
+    check_same_picture(scene, orbit(bunny, 120, 35, 1.3f, false, 320));
+    check_same_picture(scene, orbit(bunny, -60, -20, 1, true, 320));
+    check_same_picture(scene, orbit(bunny, 200, 10, 4, false, 256));  // zoomed in: much off screen
+    check_same_picture(scene, orbit(bunny, 30, 20, 1, false, 320), {{"cull-backfaces", "true"}},
+                       {{"cull-backfaces", "true"}});
+}
+
+TEST_CASE("octree-zbuffer: the eye inside the octree's bounds", "[octree-zbuffer]") {
+    // Boxes behind the eye and boxes crossing the near plane must be drawn (clipped), not culled.
+    for (const char* file : {"bunny.obj", "monkey.obj"}) {
+        const hsr::SceneData& data = model(file);
+        const hsr_scene scene = data.view();
+        const glm::vec3 lo = data.bounds_min, hi = data.bounds_max, centre = 0.5f * (lo + hi);
+        const float size = glm::length(hi - lo);
+        INFO(file);
+        // At the centre (inside the mesh), looking out in several directions.
+        check_same_picture(scene, look(centre, centre + glm::vec3(0, 0, 1), 1e-3f * size, 4 * size, 256, 256));
+        check_same_picture(scene, look(centre, centre + glm::vec3(1, 0.3f, -0.5f), 1e-3f * size, 4 * size, 256, 256));
+        // Just inside a corner of the bounds, looking across the model.
+        const glm::vec3 corner = lo + 0.15f * (hi - lo);
+        check_same_picture(scene, look(corner, centre, 1e-3f * size, 4 * size, 256, 192, 90.0f));
+        const glm::vec3 upper = hi - glm::vec3(0.1f, 0.05f, 0.3f) * (hi - lo);
+        check_same_picture(scene, look(upper, lo, 1e-2f * size, 4 * size, 200, 256, 60.0f));
+    }
+}
+
+TEST_CASE("octree-zbuffer: a box reaching behind the eye is judged by all of it", "[octree-zbuffer]") {
+    // A floor running from behind the eye far ahead, and a wall across it further on, drawn first
+    // (it is nearer along the axis the placements are ordered by). The part of the floor's box in
+    // front of the eye projects behind the wall, but the floor near the eye is in plain view.
+    hsr::SceneBuilder builder;
+    const glm::vec3 floor[] = {{-10, -1, 5}, {10, -1, 5}, {10, -1, -50}, {-10, -1, -50}};
+    const glm::vec3 wall[] = {{-10, -1, -20}, {10, -1, -20}, {10, 0, -20}, {-10, 0, -20}};
+    builder.add_polygon(floor, {0.5f, 0.5f, 0.5f}, "floor");
+    builder.add_polygon(wall, {0.8f, 0.2f, 0.2f}, "wall");
+    hsr::SceneData scene = builder.build();
+    const hsr_camera camera = look({0, 0, 0}, {0, -0.2f, -1}, 0.05f, 100.0f, 256, 256, 60.0f);
+    check_same_picture(scene.view(), camera, {{"leaf-triangles", "1"}});
+    // The same two objects as instances (each its own octree, under the placement hierarchy).
+    for (uint32_t object = 0; object < 2; ++object) {
+        uint32_t first = scene.triangle_count(), last = 0, lo_v = scene.vertex_count(), hi_v = 0;
+        glm::vec3 lo(1e30f), hi(-1e30f);
+        for (uint32_t t = 0; t < scene.triangle_count(); ++t) {
+            if (scene.face_object[t] != object) continue;
+            first = std::min(first, t);
+            last = std::max(last, t);
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t v = scene.indices[3 * t + k];
+                lo_v = std::min(lo_v, v);
+                hi_v = std::max(hi_v, v);
+                const glm::vec3 p(scene.positions[3 * v], scene.positions[3 * v + 1], scene.positions[3 * v + 2]);
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+        }
+        scene.instances.push_back(hsr::make_instance(first, last - first + 1, lo_v, hi_v - lo_v + 1, glm::mat3(1.0f),
+                                                     1.0f, glm::vec3(0.0f), lo, hi));
+    }
+    check_same_picture(scene.view(), camera);
+    const hsr::Frame frame = render("octree-zbuffer", scene.view(), camera);
+    CHECK(counter(frame, "triangles-in-culled-nodes") == 0);
+}
+
+TEST_CASE("octree-zbuffer: the monkey and the intersecting boxes match zbuffer", "[octree-zbuffer]") {
+    const hsr::SceneData& monkey = model("monkey.obj");
+    check_same_picture(monkey.view(), orbit(monkey, 0, 0, 1, false, 320));
+    check_same_picture(monkey.view(), orbit(monkey, 145, -30, 1.5f, true, 256));
+
+    const hsr::SceneData& boxes = model("boxes.scene");
+    check_same_picture(boxes.view(), orbit(boxes, 35, 25, 1, false, 320));
+    check_same_picture(boxes.view(), orbit(boxes, -80, 60, 2.5f, false, 256));
+    // Small octree cells: each box's 12 triangles end up in several leaves.
+    check_same_picture(boxes.view(), orbit(boxes, 35, 25, 1, true, 256), {{"leaf-triangles", "1"}});
+    const glm::vec3 centre = 0.5f * (boxes.bounds_min + boxes.bounds_max);
+    check_same_picture(boxes.view(), look(centre + glm::vec3(0.1f, 0.05f, 0.02f), centre + glm::vec3(1, 0.2f, 0.4f),
+                                          1e-3f, 20.0f, 256, 256),
+                       {{"leaf-triangles", "2"}});
+}
+
+TEST_CASE("octree-zbuffer: build parameters shape the octree, not the picture", "[octree-zbuffer]") {
+    const hsr::SceneData& bunny = model("bunny.obj");
+    const hsr_scene scene = bunny.view();
+    const hsr_camera camera = orbit(bunny, 20, 10, 1, false, 256);
+    const hsr::Frame reference = render("zbuffer", scene, camera);
+    uint64_t previous_nodes = 0;
+    for (const char* leaf : {"4096", "256", "16"}) {
+        const hsr::Frame frame = render("octree-zbuffer", scene, camera, {{"leaf-triangles", leaf}});
+        const Comparison c = compare(frame, reference);
+        INFO("leaf-triangles=" << leaf << " " << c.first_difference);
+        CHECK(c.different == 0);
+        const uint64_t nodes = counter(frame, "octree-nodes");
+        CHECK(nodes > previous_nodes);  // smaller leaves, more nodes
+        previous_nodes = nodes;
+        check_triangle_accounting(frame);
+    }
+    const hsr::Frame flat = render("octree-zbuffer", scene, camera, {{"max-depth", "0"}});
+    CHECK(counter(flat, "octree-nodes") == 1);
+    CHECK(compare(flat, reference).different == 0);
+    const hsr::Frame shallow = render("octree-zbuffer", scene, camera, {{"max-depth", "2"}, {"leaf-triangles", "1"}});
+    CHECK(counter(shallow, "octree-nodes") <= 1 + 8 + 64);
+    CHECK(compare(shallow, reference).different == 0);
+}
+
+TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves hold exact vertex copies", "[octree-zbuffer]") {
+    using namespace octree_zbuffer;
+    for (const char* file : {"bunny.obj", "boxes.scene"}) {
+        const hsr::SceneData& data = model(file);
+        const hsr_scene scene = data.view();
+        for (const BuildParams params : {BuildParams{8, 64}, BuildParams{3, 1}, BuildParams{12, 7}}) {
+            INFO(file << " max-depth " << params.max_depth << " leaf-triangles " << params.leaf_triangles);
+            OctreeForest forest;
+            const uint32_t index = forest.add_object(scene, 0, scene.triangle_count, 0, scene.vertex_count, params);
+            const ObjectTree& object = forest.objects.at(index);
+            REQUIRE(object.has_root);
+            CHECK(object.non_finite == 0);
+            CHECK(object.depth <= params.max_depth);
+            std::vector<int> seen(scene.triangle_count, 0);
+            uint64_t problems = 0;
+            // Walk from the root: children's triangle ranges partition their parent's, boxes nest.
+            std::vector<uint32_t> stack{object.root};
+            while (!stack.empty()) {
+                const OctreeNode& node = forest.nodes.at(stack.back());
+                stack.pop_back();
+                if (node.is_leaf()) {
+                    if (node.triangle_count > params.leaf_triangles && node.depth < params.max_depth) ++problems;
+                    for (uint32_t t = node.first_triangle; t < node.first_triangle + node.triangle_count; ++t) {
+                        const uint32_t face = forest.mesh.face.at(t);
+                        ++seen.at(face);
+                        for (int k = 0; k < 3; ++k) {
+                            const uint32_t copy = forest.mesh.indices.at(3 * t + k);
+                            const uint32_t original = scene.indices[3 * face + k];
+                            if (copy < node.first_vertex || copy >= node.first_vertex + node.vertex_count) ++problems;
+                            for (int a = 0; a < 3; ++a) {
+                                const float v = forest.mesh.positions.at(3 * copy + a);
+                                if (std::memcmp(&v, &scene.positions[3 * original + a], sizeof v) != 0) ++problems;
+                                if (!(v >= node.lo[a] && v <= node.hi[a])) ++problems;
+                            }
+                        }
+                    }
+                    continue;
+                }
+                uint32_t next = node.first_triangle;
+                const int children = std::popcount(node.child_mask);
+                if (children < 2) ++problems;  // levels that split nothing are skipped
+                for (int c = 0; c < children; ++c) {
+                    const OctreeNode& child = forest.nodes.at(node.first_child + c);
+                    if (child.first_triangle != next || child.depth <= node.depth) ++problems;
+                    for (int a = 0; a < 3; ++a)
+                        if (child.lo[a] < node.lo[a] || child.hi[a] > node.hi[a]) ++problems;
+                    next += child.triangle_count;
+                    stack.push_back(node.first_child + c);
+                }
+                if (next != node.first_triangle + node.triangle_count) ++problems;
+            }
+            CHECK(problems == 0);
+            CHECK(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }));
+            CHECK(forest.mesh.face.size() == scene.triangle_count);
+        }
+    }
+}
+
+TEST_CASE("octree-zbuffer: built once, reused, rebuilt for another scene", "[octree-zbuffer]") {
+    const hsr::SceneData& bunny = model("bunny.obj");
+    const hsr::SceneData& monkey = model("monkey.obj");
+    hsr::HiddenSurfaceRemover octree(plugin("octree-zbuffer"), {});
+    const hsr_camera camera = orbit(bunny, 10, 10, 1, false, 200);
+    const hsr::Frame first = render(octree, bunny.view(), camera, true);
+    const hsr::Frame second = render(octree, bunny.view(), camera, true);
+    CHECK(counter(first, "build-time-us") > 0);
+    CHECK(counter(second, "build-time-us") == 0);
+    CHECK(second.face == first.face);
+    CHECK(second.depth == first.depth);
+    // depth_tests counts every comparison the counter reports.
+    uint64_t sum = 0;
+    for (uint32_t n : second.depth_tests) sum += n;
+    CHECK(sum == counter(second, "pixels-depth-tested"));
+    check_triangle_accounting(second);
+
+    // Another scene through the same instance: rebuilt, and right.
+    const hsr_camera monkey_camera = orbit(monkey, -30, 15, 1, false, 200);
+    const hsr::Frame other = render(octree, monkey.view(), monkey_camera);
+    CHECK(counter(other, "build-time-us") > 0);
+    CHECK(compare(other, render("zbuffer", monkey.view(), monkey_camera)).different == 0);
+    // A copy of the bunny at another address is recognised as another scene, too.
+    const hsr::SceneData copy = bunny;
+    const hsr::Frame again = render(octree, copy.view(), camera);
+    CHECK(counter(again, "octree-nodes") == counter(first, "octree-nodes"));
+    CHECK(again.face == first.face);
+}
+
+TEST_CASE("octree-zbuffer: instances, including one moved between frames", "[octree-zbuffer]") {
+    // A small grid where instances overlap on screen, jittered so that their octrees turn.
+    hsr::SceneData grid = hsr::make_instance_grid(model("monkey.obj"), {3, 2, 4, 0.0f, 40.0f});
+    const hsr_camera camera = orbit(grid, 25, 15, 1, false, 256);
+    check_same_picture(grid.view(), camera);
+    check_same_picture(grid.view(), orbit(grid, 0, 0, 1, true, 256));
+
+    check_same_picture(grid.view(), camera, {{"cull-backfaces", "true"}, {"leaf-triangles", "16"}},
+                       {{"cull-backfaces", "true"}});
+    // The eye among the instances: boxes of the placement hierarchy and of the octrees reach
+    // behind it and through the near plane.
+    const glm::vec3 lo = grid.bounds_min, hi = grid.bounds_max, middle = 0.5f * (lo + hi);
+    const float size = glm::length(hi - lo);
+    check_same_picture(grid.view(), look(middle, middle - glm::vec3(0.2f, 0.1f, 1.0f), 1e-3f * size, 2 * size, 256, 256));
+    check_same_picture(grid.view(), look(glm::vec3(middle.x, middle.y, hi.z - 0.05f * (hi.z - lo.z)),
+                                         glm::vec3(lo.x, lo.y, lo.z), 1e-2f * size, 2 * size, 240, 200, 100.0f));
+
+    hsr::HiddenSurfaceRemover octree(plugin("octree-zbuffer"), {});
+    (void)render(octree, grid.view(), camera);
+    // Move one instance in place (same arrays, same counts): the plugin must notice.
+    hsr_instance& moved = grid.instances.at(5);
+    moved.transform[12] += 0.7f;
+    moved.transform[13] += 0.3f;
+    for (int a = 0; a < 2; ++a) {
+        moved.bounds_min[a] += a == 0 ? 0.7f : 0.3f;
+        moved.bounds_max[a] += a == 0 ? 0.7f : 0.3f;
+    }
+    const hsr::Frame after = render(octree, grid.view(), camera);
+    CHECK(counter(after, "build-time-us") > 0);
+    const Comparison c = compare(after, render("zbuffer", grid.view(), camera));
+    INFO(c.first_difference);
+    CHECK(c.different == 0);
+}
+
+TEST_CASE("octree-zbuffer: a deep scene is culled, not drawn", "[octree-zbuffer][deep]") {
+    // As models/deep-monkeys.scene: 6 x 4 x 20 monkeys receding from the camera.
+    const hsr::SceneData deep = hsr::make_instance_grid(model("monkey.obj"), {6, 4, 20, 0.05f, 25.0f});
+    REQUIRE(deep.instances.size() == 480);
+    const hsr_scene scene = deep.view();
+    const hsr_camera camera = orbit(deep, 0, 0, 3.2f, false, 512);
+    const hsr::Frame reference = render("zbuffer", scene, camera);
+    const hsr::Frame octree = render("octree-zbuffer", scene, camera);
+    const Comparison c = compare(octree, reference);
+    INFO(c.first_difference);
+    CHECK(c.different == 0);
+    CHECK(double(c.ties) < 0.001 * double(c.covered));
+    check_triangle_accounting(octree);
+
+    CHECK(counter(octree, "octree-nodes-culled") + counter(octree, "instance-nodes-culled") > 0);
+    CHECK(counter(octree, "triangles-in-culled-nodes") > counter(octree, "triangles-in") / 2);
+    const uint64_t octree_tests = counter(octree, "pixels-depth-tested");
+    const uint64_t zbuffer_tests = counter(reference, "pixels-depth-tested");
+    INFO("depth tests: octree " << octree_tests << ", zbuffer " << zbuffer_tests);
+    CHECK(octree_tests * 4 < zbuffer_tests);
+}
