@@ -1,4 +1,326 @@
-// hsr bench (being written).
+// hsr bench: the command line around hsr/bench.hpp. Times hidden-surface plugins on models and deep
+// scenes at several resolutions, prints the table, writes CSV and an SVG plot.
 #include "commands.hpp"
 
-int hsr::host::run_bench(const std::vector<std::string>&) { throw hsr::Error("bench: not built yet"); }
+#include "hsr/bench.hpp"
+#include "hsr/camera.hpp"
+#include "hsr/error.hpp"
+#include "hsr/params.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/plugin_registry.hpp"
+#include "hsr/scene.hpp"
+
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/program_options.hpp>
+#include <fmt/format.h>
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+using hsr::host::UsageError;
+
+constexpr const char* default_light = "dir:-0.5,0.6,1";
+
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> items;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        std::size_t comma = text.find(',', start);
+        if (comma == std::string::npos) comma = text.size();
+        std::string item = text.substr(start, comma - start);
+        while (!item.empty() && item.front() == ' ') item.erase(item.begin());
+        while (!item.empty() && item.back() == ' ') item.pop_back();
+        if (!item.empty()) items.push_back(item);
+        start = comma + 1;
+    }
+    return items;
+}
+
+// "1024" (square) or "800x600".
+std::pair<uint32_t, uint32_t> parse_size(const std::string& text) {
+    unsigned long long w = 0, h = 0;
+    char x = 0, extra = 0;
+    const int n = std::sscanf(text.c_str(), "%llu%c%llu%c", &w, &x, &h, &extra);
+    if (n == 1 && text.find_first_not_of("0123456789") == std::string::npos) h = w;
+    else if (!(n == 3 && x == 'x' && text.find_first_not_of("0123456789x") == std::string::npos))
+        throw UsageError("--sizes: '{}' is not a size (512 or 800x600)", text);
+    if (w == 0 || h == 0 || w > hsr::max_image_side || h > hsr::max_image_side)
+        throw UsageError("--sizes: {}: each side must be between 1 and {}", text, hsr::max_image_side);
+    return {uint32_t(w), uint32_t(h)};
+}
+
+// The folder that holds cube.obj, monkey.obj, bunny.obj: --models-dir, else ./models, else the
+// source tree's models/ beside the build folder, else the installed share/hsr/models.
+fs::path find_models_dir(const std::string& given) {
+    if (!given.empty()) {
+        if (!fs::is_directory(given)) throw UsageError("--models-dir: '{}' is not a folder", given);
+        return given;
+    }
+    const fs::path exe_dir(boost::dll::program_location().parent_path().string());
+    for (const fs::path& candidate : {fs::path("models"), exe_dir / ".." / "models", exe_dir / ".." / ".." / "models",
+                                      exe_dir / ".." / "share" / "hsr" / "models"}) {
+        std::error_code ec;
+        if (fs::is_regular_file(candidate / "cube.obj", ec)) return candidate.lexically_normal();
+    }
+    return "models";
+}
+
+// Hidden-surface plugins in the order of the classic study, then any others as found.
+std::vector<std::string> all_algorithms(const hsr::PluginRegistry& registry) {
+    static const std::vector<std::string> order = {"zbuffer", "scanline-zbuffer", "hierarchical-zbuffer",
+                                                   "octree-zbuffer"};
+    std::vector<std::string> found;
+    for (const hsr::Plugin& p : registry.plugins())
+        if (p.descriptor.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER) found.push_back(p.descriptor.name);
+    std::stable_sort(found.begin(), found.end(), [&](const std::string& a, const std::string& b) {
+        auto rank = [&](const std::string& n) {
+            return std::size_t(std::find(order.begin(), order.end(), n) - order.begin());
+        };
+        return rank(a) < rank(b);
+    });
+    return found;
+}
+
+// Progress on stderr: a bar redrawn in place on a terminal, else one plain line per step.
+class Progress {
+public:
+    Progress(std::size_t total_calls) : total_(total_calls), tty_(isatty(STDERR_FILENO) == 1) {}
+
+    void loading(const std::string& model) {
+        if (tty_) draw(fmt::format("loading {}", model));
+        else std::fprintf(stderr, "hsr bench: loading %s\n", model.c_str());
+    }
+    void measuring(const std::string& what) {
+        if (tty_) draw(what);
+        else std::fprintf(stderr, "hsr bench: %s\n", what.c_str());
+    }
+    void show(const std::string& what) {  // what runs now
+        if (tty_) draw(what);
+    }
+    void advance() { ++done_; }
+    void row(const std::string& line) {
+        ++rows_;
+        if (!tty_) std::fprintf(stderr, "hsr bench: %s\n", line.c_str());
+    }
+    void message(const std::string& line) {  // a warning: keeps the bar below it
+        clear();
+        std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    void finish() {
+        clear();
+        const double s = std::chrono::duration<double>(Clock::now() - start_).count();
+        std::fprintf(stderr, "hsr bench: %zu measurement%s in %.1f s\n", rows_, rows_ == 1 ? "" : "s", s);
+    }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    void clear() {
+        if (tty_) std::fputs("\r\033[K", stderr);
+    }
+    void draw(const std::string& what) {
+        constexpr int bar = 28;
+        const double f = total_ ? double(done_) / double(total_) : 1.0;
+        const int filled = int(f * bar + 0.5);
+        const double s = std::chrono::duration<double>(Clock::now() - start_).count();
+        std::string line = fmt::format("[{}{}] {:3d}% {:5.0f}s  {}", std::string(filled, '#'),
+                                       std::string(bar - filled, '.'), int(f * 100 + 0.5), s, what);
+        winsize size{};
+        const std::size_t columns = ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0 ? size.ws_col : 80;
+        if (line.size() >= columns) line.resize(columns - 1);  // a wrapped line could not be redrawn in place
+        std::fprintf(stderr, "\r\033[K%s", line.c_str());
+        std::fflush(stderr);
+    }
+    std::size_t total_, done_ = 0, rows_ = 0;
+    bool tty_;
+    Clock::time_point start_ = Clock::now();
+};
+
+std::string ms(double v) { return fmt::format("{:.{}f}", v, v < 10 ? 2 : 1); }
+
+}  // namespace
+
+int hsr::host::run_bench(const std::vector<std::string>& args) {
+    std::string algorithms_list, models_list, sizes_list = "1024", lighting_text = "blinn-phong";
+    std::vector<std::string> algorithm_specs, plugin_dirs;
+    std::string csv_path, svg_path, models_dir_text;
+    int64_t repetitions = 5, warmup = 1, threads = 0;
+    bool quick = false;
+
+    po::options_description options(
+        "hsr bench [options]: time hidden-surface plugins on models and deep scenes\n"
+        "(render time = the hidden-surface plugin's visibility call, without loading, camera setup,\n"
+        "image writing, or the acceleration-structure build a plugin reports; medians over repetitions)");
+    options.add_options()
+        ("help,h", "show this help")
+        ("algorithms", po::value(&algorithms_list),
+         "hidden-surface plugins, comma-separated (default: every one found)")
+        ("algorithm,a", po::value(&algorithm_specs)->composing(),
+         "one more, with parameters: NAME[:key=value,...] (repeatable)")
+        ("models", po::value(&models_list),
+         "comma-separated: cube, monkey, bunny, NAME-loop (Loop-subdivided), deep-N[:NAME] (N layers of "
+         "NAME, default monkey), or file paths (default: cube,monkey,bunny,bunny-loop,deep-5,deep-20,deep-50)")
+        ("sizes", po::value(&sizes_list)->default_value("1024"), "image sizes, comma-separated: 512,1024 or 800x600")
+        ("repetitions,r", po::value(&repetitions)->default_value(5), "timed runs of each measurement")
+        ("warmup,w", po::value(&warmup)->default_value(1), "untimed runs first (caches, acceleration structures)")
+        ("lighting,l", po::value(&lighting_text)->default_value("blinn-phong"), "lighting plugin: NAME[:key=value,...]")
+        ("csv", po::value(&csv_path), "write every number to this CSV file")
+        ("svg", po::value(&svg_path), "plot render time against face count to this SVG file")
+        ("quick", po::bool_switch(&quick),
+         "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
+        ("threads", po::value(&threads)->default_value(0), "shading threads (0 = one per core)")
+        ("models-dir", po::value(&models_dir_text), "folder of the named models (default: ./models or the source tree's)")
+        ("plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
+    po::variables_map vm;
+    po::store(po::command_line_parser(args).options(options).run(), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+        std::cout << options;
+        return 0;
+    }
+    auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
+    if (quick) {
+        if (!given("sizes")) sizes_list = "128";
+        if (!given("repetitions")) repetitions = 3;
+    }
+    if (repetitions < 1 || repetitions > 100000) throw UsageError("--repetitions must be between 1 and 100000");
+    if (warmup < 0 || warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
+    if (threads < 0 || threads > 1024) throw UsageError("--threads must be between 0 and 1024");
+    std::vector<std::pair<uint32_t, uint32_t>> sizes;
+    for (const std::string& s : split_list(sizes_list)) sizes.push_back(parse_size(s));
+    if (sizes.empty()) throw UsageError("--sizes: no size given");
+
+    // Plugins, then models: every name is checked before anything large is loaded.
+    hsr::PluginRegistry registry = scan_plugins(plugin_dirs);
+    std::vector<hsr::PluginSpec> algorithms;
+    std::vector<std::string> labels;  // as shown: the name, with its parameters when given
+    for (const std::string& name : split_list(algorithms_list)) labels.push_back(name);
+    for (const std::string& spec : algorithm_specs) labels.push_back(spec);
+    if (labels.empty()) labels = all_algorithms(registry);
+    if (labels.empty()) throw hsr::Error("no hidden-surface plugins found (see hsr plugins)");
+    for (const std::string& label : labels) {
+        if (std::count(labels.begin(), labels.end(), label) > 1)
+            throw UsageError("algorithm '{}' is named twice", label);
+        algorithms.push_back(hsr::parse_plugin_spec(label));
+        // Unknown names and bad parameters fail here, before any model is loaded.
+        hsr::HiddenSurfaceRemover check(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms.back().name),
+                                        algorithms.back().settings);
+    }
+    const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(lighting_text);
+    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+
+    std::vector<std::string> model_names = split_list(models_list);
+    if (model_names.empty()) model_names = quick ? hsr::bench::quick_models() : hsr::bench::default_models();
+    const fs::path models_dir = find_models_dir(models_dir_text);
+    std::vector<hsr::bench::ModelSpec> models;
+    for (const std::string& name : model_names) {
+        for (const auto& m : models)
+            if (m.name == name) throw UsageError("model '{}' is named twice", name);
+        models.push_back(hsr::bench::parse_model_spec(name, models_dir));
+    }
+
+    // Open the outputs now, so that a bad path fails before a long run rather than after it.
+    std::ofstream csv, svg;
+    if (!csv_path.empty()) {
+        csv.open(csv_path);
+        if (!csv) throw hsr::Error("cannot write {}", csv_path);
+    }
+    if (!svg_path.empty()) {
+        svg.open(svg_path);
+        if (!svg) throw hsr::Error("cannot write {}", svg_path);
+    }
+
+    hsr::bench::TimingSettings timing_settings;
+    timing_settings.warmup = unsigned(warmup);
+    timing_settings.repetitions = unsigned(repetitions);
+    timing_settings.frame.threads = unsigned(threads);
+    const std::size_t rows = models.size() * sizes.size() * algorithms.size();
+    Progress progress(rows * (timing_settings.warmup + timing_settings.repetitions));
+    std::vector<hsr::bench::Result> results;
+    std::size_t row = 0, scene_index = 0;
+    const std::size_t scenes = models.size() * sizes.size();
+
+    for (const hsr::bench::ModelSpec& spec : models) {
+        progress.loading(spec.name);
+        const hsr::bench::BenchScene bench_scene = hsr::bench::load_bench_scene(spec);
+        for (const std::string& w : bench_scene.scene.warnings) progress.message("hsr: warning: " + w);
+        const hsr_scene view = bench_scene.scene.view();
+        for (const auto& [width, height] : sizes) {
+            hsr::CameraSettings camera_settings = bench_scene.camera;
+            camera_settings.width = width;
+            camera_settings.height = height;
+            const hsr_camera camera =
+                hsr::make_orbit_camera(bench_scene.scene.bounds_min, bench_scene.scene.bounds_max, camera_settings);
+            const std::vector<hsr_light> lights = {hsr::resolve_light(hsr::parse_light_spec(default_light), camera)};
+            const hsr_shading_context context = hsr::make_shading_context(camera, lights);
+            progress.measuring(fmt::format("depth complexity of {} at {}x{}", spec.name, width, height));
+            const std::optional<hsr::DepthComplexity> depth_complexity = hsr::measure_depth_complexity(view, camera);
+
+            // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
+            // algorithm makes all its calls in a row, warm-up first, as an application rendering frame
+            // after frame would, with the processor caches its own.
+            std::vector<hsr::bench::Timing> timings;
+            ++scene_index;
+            for (std::size_t a = 0; a < algorithms.size(); ++a) {
+                hsr::HiddenSurfaceRemover remover(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms[a].name),
+                                                  algorithms[a].settings);
+                hsr::bench::FrameTimer timer(view, camera, remover, lighting, context, timing_settings);
+                const unsigned calls = timing_settings.warmup + timing_settings.repetitions;
+                for (unsigned i = 0; i < calls; ++i) {
+                    const bool warm = i < timing_settings.warmup;
+                    progress.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index, scenes, spec.name, width,
+                                              height, labels[a], warm ? "warm-up" : "run",
+                                              warm ? i + 1 : i + 1 - timing_settings.warmup,
+                                              warm ? timing_settings.warmup : timing_settings.repetitions));
+                    timer.call();
+                    progress.advance();
+                }
+                timings.push_back(timer.timing());
+            }
+
+            for (std::size_t a = 0; a < algorithms.size(); ++a) {
+                ++row;
+                hsr::bench::Result result = hsr::bench::make_result(labels[a], spec.name, view, camera, timings[a],
+                                                                    timing_settings.warmup, depth_complexity);
+                result.layers = bench_scene.layers;
+                result.zoom = camera_settings.zoom;
+                progress.row(fmt::format("[{}/{}] {} on {} {}x{}: {} ms [{}-{}]{}", row, rows, labels[a], spec.name, width,
+                                         height, ms(result.visibility.median), ms(result.visibility.min),
+                                         ms(result.visibility.max),
+                                         result.build_ms > 0 ? fmt::format(" + {} ms build", ms(result.build_ms)) : ""));
+                results.push_back(std::move(result));
+            }
+        }
+    }
+    progress.finish();
+
+    std::cout << hsr::bench::format_table(results);
+    std::cout.flush();
+    if (csv.is_open()) {
+        hsr::bench::write_csv(csv, results);
+        csv.close();
+        if (!csv) throw hsr::Error("could not finish writing {}", csv_path);
+        std::fprintf(stderr, "wrote %s\n", csv_path.c_str());
+    }
+    if (svg.is_open()) {
+        hsr::bench::write_svg(svg, hsr::bench::plot_results(results));
+        svg.close();
+        if (!svg) throw hsr::Error("could not finish writing {}", svg_path);
+        std::fprintf(stderr, "wrote %s\n", svg_path.c_str());
+    }
+    return 0;
+}

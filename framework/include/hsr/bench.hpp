@@ -1,0 +1,221 @@
+// Benchmarking hidden-surface plugins (`hsr bench`): the benchmark scenes, the timing loop, the
+// statistics, and the reports (a text table, CSV, an SVG plot of render time against face count).
+// The host's bench command is only the command line around these.
+#pragma once
+
+#include "hsr/camera.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/plugin_registry.hpp"
+#include "hsr/scene.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hsr::bench {
+
+using Counters = std::vector<std::pair<std::string, uint64_t>>;
+
+// ---------------------------------------------------------------------------------------------
+// Statistics
+
+// Median and spread of a set of samples. Quartiles interpolate linearly between order statistics
+// (Hyndman & Fan type 7, what R and NumPy do by default), so q1 and q3 of {1, 2, 3, 4} are 1.75 and
+// 3.25, and the median of an even count is the mean of the two middle samples.
+struct Summary {
+    std::size_t count = 0;
+    double median = 0, min = 0, max = 0, q1 = 0, q3 = 0;
+    double iqr() const { return q3 - q1; }
+};
+// Throws hsr::Error for no samples or a sample that is not a finite number.
+Summary summarize(std::vector<double> samples);
+// The p-quantile (0 <= p <= 1) of samples sorted ascending, type 7 as above.
+double quantile(const std::vector<double>& sorted, double p);
+
+// ---------------------------------------------------------------------------------------------
+// Scenes
+
+// The models `hsr bench` runs by default, mirroring the classic course study: three meshes of
+// increasing size, the bunny made 4x finer by Loop subdivision, and deep scenes of 5, 20 and 50
+// layers of monkeys (measured depth complexity about 6, 17 and 40: docs/benchmarks.md).
+const std::vector<std::string>& default_models();
+// A small, fast set for smoke tests; only uses models committed to the repository.
+const std::vector<std::string>& quick_models();
+
+// A model as `hsr bench --models` names it:
+//   NAME            models/NAME.obj (or .off, .ply, .stl) in the models folder: cube, monkey, bunny, ...
+//   NAME-loop[K]    that model with K levels of Loop subdivision (default 1): bunny-loop
+//   deep-N[:NAME]   NAME (default monkey) placed on a DeepGrid with N layers: deep-20
+//   a file path     anything with a '/' or an extension: a mesh file or a .scene file
+struct ModelSpec {
+    std::string name;              // as given; shown in tables and plots
+    std::filesystem::path file;    // the mesh or .scene file
+    int loop_levels = 0;
+    uint32_t layers = 0;           // 0: the model alone; else a deep scene of that many layers
+};
+// Throws hsr::Error for an unknown name or a file that does not exist.
+ModelSpec parse_model_spec(const std::string& text, const std::filesystem::path& models_dir);
+
+// The grid behind deep-N: the model columns x rows across and N layers deep, each copy turned a
+// little so that the layers do not line up exactly (as in models/deep-monkeys.scene).
+struct DeepGrid {
+    uint32_t columns = 0;  // 0: as many as make each layer about as wide as it is tall
+    uint32_t rows = 4;
+    float gap = 0.05f;
+    float yaw_jitter_degrees = 25.0f;
+};
+
+struct BenchScene {
+    std::string name;
+    SceneData scene;
+    CameraSettings camera;  // width and height are set per run
+    uint32_t layers = 0;    // deep scenes: the layer count
+};
+BenchScene load_bench_scene(const ModelSpec& spec, const DeepGrid& grid = {});
+
+// The deep scene of `layers` layers, and the zoom at which its front layer fills the view (the
+// nearest copies touch the image border; farther ones recede toward the centre).
+SceneData make_deep_scene(const SceneData& model, uint32_t layers, const DeepGrid& grid = {});
+float front_layer_zoom(const SceneData& deep, CameraSettings settings);
+
+// ---------------------------------------------------------------------------------------------
+// Timing
+
+struct TimingSettings {
+    unsigned warmup = 1;       // untimed calls first (a plugin typically builds its caches here)
+    unsigned repetitions = 5;  // timed calls, at least 1
+    FrameSettings frame;
+};
+
+// One call: visibility (hidden-surface plugin, build time included as measured), the build time
+// the plugin reported (counter build-time-us), and shading.
+struct CallTiming {
+    unsigned index = 0;  // 0-based, warm-up calls first
+    bool warmup = false;
+    double visibility_ms = 0, build_ms = 0, shading_ms = 0;
+    double render_ms() const { return visibility_ms - build_ms; }
+};
+
+struct Timing {
+    std::vector<CallTiming> calls;  // every call, warm-up included
+    std::vector<double> render_ms;  // timed calls: visibility minus that call's build time
+    std::vector<double> shading_ms;
+    std::vector<double> total_ms;   // render + shading
+    double build_ms = 0;            // largest build time any call reported, warm-up included
+    unsigned build_calls = 0;       // how many calls reported one (1 when caches persist)
+    Counters counters;              // the last call's counters, without build-time-us
+};
+
+// Times one remover on one scene, one frame per call: resolve_visibility + shade_frame with the
+// same remover and lighting instances (so a plugin's caches persist between calls), each into a
+// fresh Frame. Only the plugin calls are timed (Frame::visibility_ms, Frame::shading_ms, steady
+// clock): no loading, camera setup or image writing. A remover built before instances (ABI 1.0) is
+// given the scene with its instances copied out, once, in the constructor. The first
+// settings.warmup calls are warm-up calls; the scene, camera, instances and context must outlive
+// the timer.
+class FrameTimer {
+public:
+    FrameTimer(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+               LightingModel& lighting, const hsr_shading_context& context, const TimingSettings& settings);
+    CallTiming call();                  // one frame
+    unsigned calls_made() const { return static_cast<unsigned>(timing_.calls.size()); }
+    const Timing& timing() const { return timing_; }
+
+private:
+    std::optional<SceneData> flat_;
+    hsr_scene scene_;
+    const hsr_camera& camera_;
+    HiddenSurfaceRemover& remover_;
+    LightingModel& lighting_;
+    const hsr_shading_context& context_;
+    TimingSettings settings_;
+    Timing timing_;
+};
+
+// warmup + repetitions calls of one FrameTimer in a row, as hsr bench makes them; after_call runs
+// after every call.
+Timing time_frames(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                   LightingModel& lighting, const hsr_shading_context& context, const TimingSettings& settings,
+                   const std::function<void(const CallTiming&)>& after_call = {});
+
+// ---------------------------------------------------------------------------------------------
+// Results and reports
+
+struct Result {
+    std::string algorithm, model;
+    uint32_t width = 0, height = 0;
+    uint64_t faces = 0;                 // triangles drawn (instances counted)
+    uint32_t stored_faces = 0;          // triangles stored
+    uint32_t instances = 0;
+    uint32_t layers = 0;                // deep scenes
+    float zoom = 1;                     // the orbit camera's (hsr render --zoom shows the same view)
+    std::optional<double> depth_complexity;  // mean over covered pixels, when measured
+    uint32_t depth_complexity_max = 0;
+    unsigned warmup = 0, repetitions = 0;
+    Summary visibility, shading, total; // ms; visibility excludes the build time
+    double build_ms = 0;
+    unsigned build_calls = 0;
+    Counters counters;
+};
+Result make_result(std::string algorithm, std::string model, const hsr_scene& scene, const hsr_camera& camera,
+                   const Timing& timing, unsigned warmup, const std::optional<DepthComplexity>& depth_complexity);
+
+// One row per result: identification, sizes, depth complexity (empty when unknown), median, min,
+// q1, q3 and max of render (visibility minus build), shading and total, the build time, then one
+// column per counter that any result reported (empty where a result does not have it).
+void write_csv(std::ostream& out, const std::vector<Result>& results);
+std::string csv_field(const std::string& text);  // quoted when it holds a comma, quote or newline
+
+// The classic study's table, one block per resolution: algorithms down, models across, each cell
+// "median [min-max]" in ms of visibility time (build excluded); then build times when any plugin
+// reported one, and the shading and total medians.
+std::string format_table(const std::vector<Result>& results);
+
+// A log-log line plot, written as plain SVG.
+struct PlotSeries {
+    std::string label;
+    std::vector<std::pair<double, double>> points;  // (x, y), both > 0; drawn sorted by x
+    std::string dash;                                // SVG stroke-dasharray, empty for solid
+    std::string color;                               // empty: the next colour of the palette
+    bool hollow = false;                             // markers drawn as rings
+    bool in_legend = true;
+};
+struct PlotGuide {  // a labelled vertical line: which model sits at which face count
+    double x = 0;
+    std::string label;
+};
+struct LegendNote {  // a grey legend entry explaining a line style
+    std::string dash;
+    bool hollow = false;
+    std::string label;
+};
+struct LogLogPlot {
+    std::string title, subtitle, x_label, y_label;
+    std::vector<PlotSeries> series;
+    std::vector<PlotGuide> guides;
+    std::vector<LegendNote> notes;
+    bool linear_reference = true;  // a dashed slope-1 line through the first series' last point
+    int width = 900, height = 600;
+};
+// One plot, or several stacked one under the other in one picture.
+void write_svg(std::ostream& out, const LogLogPlot& plot);
+void write_svg(std::ostream& out, const std::vector<LogLogPlot>& plots);
+
+// Render time (median, build excluded) against faces drawn, one plot per resolution: one line per
+// algorithm through the single models, and a dashed one in the same colour through the deep
+// scenes (grids of instances, whose cost an occlusion-culling algorithm need not pay in full); a
+// guide per model.
+std::vector<LogLogPlot> plot_results(const std::vector<Result>& results);
+
+// Axis helpers, exposed for the tests: the powers of ten spanning [lo, hi] (lo rounded down, hi up)
+// and a short tick label for the face axis (0.01, 0.1, 1, 10, 100, 1k, 10k, 100k, 1M, ...; the
+// time axis is labelled in plain numbers).
+std::vector<double> decade_ticks(double lo, double hi);
+std::string tick_label(double value);
+
+}  // namespace hsr::bench
