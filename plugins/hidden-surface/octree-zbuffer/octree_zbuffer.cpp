@@ -10,16 +10,16 @@
 // before triangle setup), go through the plain z-buffer's geometry stage (hsr/raster.hpp: the same
 // clipping, snapping, coverage and depth as the zbuffer plugin, bit for bit), larger ones are
 // rejected 8x8 tile by tile, and the rest is the z-buffer's own per-pixel depth test. After each
-// leaf the pyramid (pyramid.hpp) is brought up to date. Exact depth ties go to the surface the plain
+// leaf the pyramid (hsr/zpyramid.hpp) is marked for a deferred update. Exact depth ties go to the surface the plain
 // z-buffer draws first, so the picture is the zbuffer plugin's, pixel for pixel.
 //
 // Where a triangle goes and how the octree is laid out: octree.hpp. What it costs and when it
 // pays: docs/algorithms/octree-zbuffer.md.
 #include "octree.hpp"
-#include "pyramid.hpp"
 
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
+#include "hsr/zpyramid.hpp"
 
 #include <glm/glm.hpp>
 
@@ -497,7 +497,9 @@ private:
             if (pieces > 0 && culled == pieces) ++stats_.triangles_culled_after_setup;
         }
         if (!written.empty()) {
-            pyramid_.update(depth_, written.x0, written.y0, written.x1, written.y1);
+            // Deferred: the cells over the rectangle are recomputed at the next large query
+            // (hsr/zpyramid.hpp); valid because depths here only ever decrease.
+            pyramid_.mark_dirty(depth_, written.x0, written.y0, written.x1, written.y1);
             ++stats_.pyramid_updates;
         }
     }
@@ -676,7 +678,7 @@ private:
 
     // Per frame
     raster::GeometryStage geometry_;  // keeps its buffers between frames
-    ZPyramid pyramid_;  // octree_zbuffer::ZPyramid (pyramid.hpp); same interface as hsr/zpyramid.hpp
+    raster::ZPyramid pyramid_;
     FrameStats stats_;
     const hsr::sdk::Scene* scene_ = nullptr;
     glm::dmat4 view_projection_{1.0};
