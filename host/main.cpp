@@ -173,7 +173,7 @@ void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remov
                          double(written) / double(depth_complexity->covered_pixels));
         const uint64_t tested = frame.counter("pixels-depth-tested");
         if (depth_complexity->fragments > 0)
-            std::fprintf(stderr, "  %-28s %10.3f\n", "depth tests / fragments",
+            std::fprintf(stderr, "  %-28s %10.3f\n", "depth tests / surface samples",
                          double(tested) / double(depth_complexity->fragments));
     }
 }
