@@ -9,8 +9,8 @@
 // every scanline; the winners of a row are copied into the visibility buffer when the row is done.
 //
 // Transform, clipping, culling and triangle setup are raster::GeometryStage's, as in zbuffer; the
-// edges step with exact integer DDAs derived from the setup's edge functions, so every scanline
-// covers exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
+// edges step with exact integer DDAs derived from the snapped corners, so every scanline covers
+// exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
 // docs/algorithms/scanline-zbuffer.md describes the steps, the data structures and the counters.
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
@@ -29,8 +29,8 @@ using hsr::sdk::ParamSpec;
 
 constexpr int32_t kScale = raster::kSubpixelScale;
 constexpr int kBits = raster::kSubpixelBits;
-constexpr uint64_t kEmpty = ~uint64_t(0);  // an empty row-buffer entry: above every key
-constexpr uint32_t kPiece = ~uint32_t(0);   // TableEntry::placement of a piece of a clipped triangle
+constexpr uint64_t kEmpty = ~uint64_t(0);   // an empty row-buffer entry: above every key
+constexpr uint32_t kNone = ~uint32_t(0);    // no piece / planes already made
 
 // floor(a / b) and a - b * floor(a / b) for b > 0 and |a| < 2^50, given inverse = 1.0 / b: the
 // product is within 1/64 of a / b, so its truncation is at most one away from the floor, and the
@@ -65,56 +65,63 @@ struct EdgeWalk {
 // An entry of the active polygon list: the edge pair on the current scanline, and the depth.
 struct ActivePolygon {
     EdgeWalk left, right;
+    EdgeWalk lower;         // the lower short edge, started on switch_row
     int16_t last_row;       // its last scanline
     int16_t switch_row;     // where the lower short edge takes over (-1: it does not)
-    uint32_t slot;          // its attributes and lower edge, which stay put while the list is reordered
+    uint32_t slot;          // its attributes, which stay put while the list is reordered
+    int32_t lower_left;     // 1: the lower edge replaces the left edge, 0: the right one
     double z_row;           // depth at the centre of pixel (0, this scanline), on the polygon's plane
     double dzdx, dzdy;      // -A/C and -B/C of the plane Ax + By + Cz + D = 0
 };
 
-// The lower short edge of an active polygon (used once, at the middle corner), by slot.
-struct LowerEdge {
-    EdgeWalk walk;          // started on switch_row
-    int32_t left;           // 1: it replaces the left edge, 0: the right one
-};
-
-// The rest of an active polygon, needed only at the end of a row for the pixels it won, by slot.
-struct ActiveAttributes {
+// What an active polygon needs besides its edge pair, by slot: written when it becomes active.
+struct ActiveInfo {
     uint32_t id;            // drawing order, for depth ties
     uint32_t face;
     uint32_t instance;
+    uint32_t placement;     // whose vertices its planes are made from when it first wins a pixel;
+                            // kNone once they are made
+};
+
+// The planes of the barycentrics, by slot: needed only for the pixels a polygon wins.
+struct ActivePlanes {
     int32_t min_x, min_y;   // the planes are relative to pixel (min_x, min_y), as in the setup
     raster::Plane inv_w, b1_over_w, b2_over_w;
 };
 
-// A piece of a clipped triangle, kept whole in a side table (clipping is not repeated).
-struct Piece {
-    int32_t y[3];           // snapped corners' y, in the setup's corner order
-    uint32_t face, instance;
-    raster::TriangleSetup setup;
-};
-
-// A window vertex of a placement that is not the geometry stage's current one (which it
-// overwrites): what raster::Viewport::to_window made of it, b1 and b2 aside (0 there).
-struct CachedVertex {
-    int32_t x, y;
-    double exact_x, exact_y, depth, inv_w;
-};
-
-// The polygon table keeps, per polygon in drawing order, only where its setup comes from: triangle
-// `triangle` of placement `placement` (set up when it becomes active: with one placement, culled,
-// clipped and set up only then; with several, set up again, bit for bit, from the window vertices
-// kept for its placement), or, for the pieces of a clipped triangle, entry `triangle` of the piece
-// table. Setups are not stored: 8 bytes a polygon, where a setup would take some 200, and writing
-// fresh memory costs more than setting a triangle up again.
-struct TableEntry {
-    uint32_t triangle;
+// A polygon of the table whose setup was made in the first pass: every polygon of an instanced
+// scene (the next placement overwrites the geometry stage's vertices), and the pieces of clipped
+// triangles. It holds what its edge pair and its depth start from, in one cache line. The planes
+// of the barycentrics are not kept: most polygons of a deep scene are hidden, and those that win a
+// pixel have them made again, bit for bit, from their placement's vertices.
+struct alignas(64) PolygonRecord {
+    int32_t x[3], y[3];     // snapped corners, in the setup's corner order (interior on the left of
+                            // each edge k, from corner k+1 to corner k+2, seen with y down)
+    double z_row;           // depth at the centre of pixel (0, first scanline)
+    double dzdx, dzdy;
+    uint32_t face;
     uint32_t placement;
+    uint32_t piece;         // kNone, or the setup of a clipped piece in pieces_ (clipping is not repeated)
 };
+
+// With one placement, the table keeps only the triangle (culled, clipped and set up when it becomes
+// active: the geometry stage keeps the window vertices for the whole frame), or a record.
+struct TableEntry {
+    uint32_t index;         // triangle, or record
+    uint32_t is_record;
+};
+
+inline void set_planes(ActivePlanes& p, const raster::TriangleSetup& s) {
+    p.min_x = s.min_x;
+    p.min_y = s.min_y;
+    p.inv_w = s.inv_w;
+    p.b1_over_w = s.b1_over_w;
+    p.b2_over_w = s.b2_over_w;
+}
 
 // Perspective-correct (b1, b2) at pixel (min_x + i, min_y + j): raster::barycentrics_at, the same
 // arithmetic, on the planes of the active polygon.
-inline void barycentrics(const ActiveAttributes& a, double i, double j, float* out) {
+inline void barycentrics(const ActivePlanes& a, double i, double j, float* out) {
     const double inv_w = a.inv_w.at(i, j);
     if (!(inv_w > 0.0)) {
         out[0] = out[1] = 0.0f;
@@ -130,6 +137,11 @@ inline void barycentrics(const ActiveAttributes& a, double i, double j, float* o
     }
     out[0] = float(b1);
     out[1] = float(b2);
+}
+
+// Depth at the centre of pixel (0, min_y) on the setup's depth plane.
+inline double depth_at_row_start(const raster::TriangleSetup& s) {
+    return s.depth.origin - s.depth.dx * double(s.min_x);
 }
 
 class ScanlineZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
@@ -151,45 +163,42 @@ public:
         width_ = camera.width;
         height_ = camera.height;
         indices_ = scene.raw().indices;
+        positions_ = scene.raw().positions;
+        viewport_ = raster::Viewport(width_, height_);
 
         // 1. Geometry, and the polygon table in drawing order, counted per first scanline.
         uint64_t drawn = 0;
         for (uint32_t k = 0; k < scene.placement_count(); ++k) drawn += scene.placement(k).triangle_count;
         table_.clear();
+        records_.clear();
         first_row_.clear();
         pieces_.clear();
-        table_.reserve(drawn);
         first_row_.reserve(drawn);
         bucket_start_.assign(size_t(height_) + 1, 0);
         placement_instance_.resize(scene.placement_count());
-        placement_cache_base_.resize(scene.placement_count());
-        vertex_cache_.clear();
-        last_placement_ = scene.placement_count() - 1;
-        set_up_on_activation_ = scene.placement_count() == 1;
-        if (set_up_on_activation_) {
+        placement_matrix_.resize(scene.placement_count());
+        records_only_ = scene.placement_count() > 1;
+        if (!records_only_) {
             // One placement: its window vertices stay in the geometry stage for the whole frame, so
             // a triangle is culled, clipped and set up only when its first scanline comes. Here it
             // is only bucketed, by the first scanline its snapped corners reach.
             const hsr::sdk::Placement placement = scene.placement(0);
+            table_.reserve(drawn);
             geometry_.place(placement);
             placement_instance_[0] = placement.instance;
-            placement_cache_base_[0] = 0;
             bucket_triangles(placement);
-        }
-        for (uint32_t k = 0; k < scene.placement_count() && !set_up_on_activation_; ++k) {
-            const hsr::sdk::Placement placement = scene.placement(k);
-            geometry_.place(placement);
-            placement_instance_[k] = placement.instance;
-            const size_t drawn_before = table_.size();
-            process_triangles(placement, k);
-            // The next placement overwrites the geometry stage's window vertices: keep a copy of
-            // this one's if it drew anything (the last placement's stay in the geometry stage).
-            placement_cache_base_[k] = int64_t(vertex_cache_.size()) - placement.first_vertex;
-            if (k != last_placement_ && table_.size() != drawn_before) {
-                for (uint32_t v = placement.first_vertex; v < placement.first_vertex + placement.vertex_count; ++v) {
-                    const raster::WindowVertex& w = geometry_.window_vertex(v);
-                    vertex_cache_.push_back({w.x, w.y, w.exact_x, w.exact_y, w.depth, w.inv_w});
-                }
+        } else {
+            // Several placements: each is set up now, while its vertices are at hand, into records.
+            records_.reserve(drawn);
+            const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
+            for (uint32_t k = 0; k < scene.placement_count(); ++k) {
+                const hsr::sdk::Placement placement = scene.placement(k);
+                geometry_.place(placement);
+                placement_instance_[k] = placement.instance;
+                // As GeometryStage::place makes it, to transform a winner's corners again.
+                placement_matrix_[k] =
+                    placement.identity ? view_projection : view_projection * glm::dmat4(placement.transform);
+                record_triangles(placement, k);
             }
         }
 
@@ -200,8 +209,8 @@ public:
             largest_bucket = std::max(largest_bucket, bucket_start_[y + 1]);
             bucket_start_[y + 1] += bucket_start_[y];
         }
-        order_.resize(table_.size());
-        for (uint32_t id = 0; id < uint32_t(table_.size()); ++id) order_[bucket_start_[first_row_[id]]++] = id;
+        order_.resize(first_row_.size());
+        for (uint32_t id = 0; id < uint32_t(first_row_.size()); ++id) order_[bucket_start_[first_row_[id]]++] = id;
         for (int32_t y = height_ - 1; y > 0; --y) bucket_start_[y] = bucket_start_[y - 1];  // back to starts
         bucket_start_[0] = 0;
         if (staged_.size() < largest_bucket) staged_.resize(largest_bucket);
@@ -216,7 +225,7 @@ public:
         geometry_.stats().report(counters);
         counters.set("pixels-depth-tested", stats.depth_tested);
         counters.set("pixels-written", stats.written);
-        counters.set("polygons-in-table", table_.size());
+        counters.set("polygons-in-table", first_row_.size());
         counters.set("scanlines", stats.scanlines);
         counters.set("edge-pairs-processed", stats.edge_pairs);
         counters.set("active-polygons-max", stats.active_max);
@@ -233,8 +242,8 @@ private:
     };
 
     // The one placement's triangles into the polygon table, bucketed by first scanline, in drawing
-    // order. A triangle that needs clipping is processed now (its pieces are kept whole), as is one
-    // that the geometry stage will reject at once (outside one frustum plane, facing away with
+    // order. A triangle that needs clipping is processed now (its pieces are kept as records), as is
+    // one that the geometry stage will reject at once (outside one frustum plane, facing away with
     // cull-backfaces, non-finite) or that cannot reach the image: it draws nothing, but is counted.
     [[gnu::flatten]] void bucket_triangles(const hsr::sdk::Placement& placement) {
         const uint32_t end = placement.first_triangle + placement.triangle_count;
@@ -253,55 +262,78 @@ private:
                                               geometry_.window_vertex(i2).y});
                 const int32_t first = std::max((top - raster::kHalfPixel + kScale - 1) >> kBits, 0);
                 if (first < height_) {
-                    add_entry({t, 0}, first);
+                    add_to_table({t, 0}, first);
                     continue;
                 }
             }
-            geometry_.process(t, [&](const raster::TriangleSetup& s) { add_piece(s, t, placement.instance); });
+            geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                add_to_table({uint32_t(records_.size()), 1}, s.min_y);
+                add_record(s, t, 0);
+            });
         }
     }
 
-    void add_entry(TableEntry e, int32_t first_row) {
-        if (table_.size() >= std::numeric_limits<uint32_t>::max())
-            throw hsr::sdk::Unsupported("scanline-zbuffer: more than 2^32 - 1 polygons in one frame");
+    void add_to_table(TableEntry e, int32_t first_row) {
         table_.push_back(e);
+        count_polygon(first_row);
+    }
+
+    void count_polygon(int32_t first_row) {
+        if (first_row_.size() >= std::numeric_limits<uint32_t>::max())
+            throw hsr::sdk::Unsupported("scanline-zbuffer: more than 2^32 - 1 polygons in one frame");
         first_row_.push_back(uint16_t(first_row));
         ++bucket_start_[size_t(first_row) + 1];
     }
 
-    // Culls, clips and sets up the triangles of placement k (flattened: setup_triangle inlined).
-    [[gnu::flatten]] void process_triangles(const hsr::sdk::Placement& placement, uint32_t k) {
+    // Culls, clips and sets up the triangles of placement k into records (flattened: setup_triangle
+    // is inlined, and what it computes for the planes the records do not keep is left out).
+    [[gnu::flatten]] void record_triangles(const hsr::sdk::Placement& placement, uint32_t k) {
         const uint32_t end = placement.first_triangle + placement.triangle_count;
         for (uint32_t t = placement.first_triangle; t < end; ++t)
-            geometry_.process(t, [&](const raster::TriangleSetup& s) { add_polygon(s, t, k, placement.instance); });
+            geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                count_polygon(s.min_y);
+                add_record(s, t, k);
+            });
     }
 
-    // One emitted setup: a table entry naming where it comes from, and its first scanline.
-    void add_polygon(const raster::TriangleSetup& s, uint32_t t, uint32_t placement, uint32_t instance) {
+    // One emitted setup of triangle t of placement k as a record. The corners come from the
+    // geometry stage's window vertices, or, for a piece of a clipped triangle, from the setup.
+    void add_record(const raster::TriangleSetup& s, uint32_t t, uint32_t k) {
+        PolygonRecord& r = records_.emplace_back();
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t codes = geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2);
-        if (codes & raster::kNeedsClipping)
-            add_piece(s, t, instance);
-        else
-            add_entry({t, placement}, s.min_y);
+        if (codes & raster::kNeedsClipping) {
+            if (pieces_.size() >= kNone) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
+            recover_corners(s, r);
+            r.piece = uint32_t(pieces_.size());
+            pieces_.push_back(s);
+        } else {
+            corners_of(s, i0, i1, i2, r.x, r.y);
+            r.piece = kNone;
+        }
+        r.z_row = depth_at_row_start(s);
+        r.dzdx = s.depth.dx;
+        r.dzdy = s.depth.dy;
+        r.face = t;
+        r.placement = k;
     }
 
-    // A piece of a clipped triangle, kept whole: clipping is not repeated.
-    void add_piece(const raster::TriangleSetup& s, uint32_t t, uint32_t instance) {
-        if (pieces_.size() >= kPiece) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
-        Piece& piece = pieces_.emplace_back();
-        recover_corners_y(s, piece);
-        piece.face = t;
-        piece.instance = instance;
-        piece.setup = s;
-        add_entry({uint32_t(pieces_.size() - 1), kPiece}, s.min_y);
+    // The snapped corners of an unclipped triangle in the setup's order: setup_triangle swapped
+    // corners 1 and 2 of a front-facing (clockwise) triangle.
+    void corners_of(const raster::TriangleSetup& s, uint32_t i0, uint32_t i1, uint32_t i2, int32_t (&x)[3],
+                    int32_t (&y)[3]) const {
+        const raster::WindowVertex& v0 = geometry_.window_vertex(i0);
+        const raster::WindowVertex& v1 = geometry_.window_vertex(s.front_facing ? i2 : i1);
+        const raster::WindowVertex& v2 = geometry_.window_vertex(s.front_facing ? i1 : i2);
+        x[0] = v0.x, x[1] = v1.x, x[2] = v2.x;
+        y[0] = v0.y, y[1] = v1.y, y[2] = v2.y;
     }
 
-    // The corners' y of a setup from its edge functions. Edge k runs from corner k+1 to corner k+2 with
+    // The corners of a setup from its edge functions. Edge k runs from corner k+1 to corner k+2 with
     // vector d_k; the unbiased edge functions E_k at the origin O (the centre of pixel (min_x, min_y))
     // are the barycentric weights of O times the doubled area 2A = E_0 + E_1 + E_2, so
     // 2A (O - v0) = E_1 d_2 - E_2 d_1 (an exact division), v1 = v0 + d_2 and v2 = v0 - d_1.
-    static void recover_corners_y(const raster::TriangleSetup& s, Piece& p) {
+    static void recover_corners(const raster::TriangleSetup& s, PolygonRecord& r) {
         __extension__ using int128 = __int128;
         int64_t dx[3], dy[3], e[3];
         for (int k = 0; k < 3; ++k) {
@@ -310,71 +342,84 @@ private:
             e[k] = s.edge_origin[k] + (raster::is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
         }
         const int128 area2 = int128(e[0]) + e[1] + e[2];
+        const int64_t ox = int64_t(s.min_x) * kScale + raster::kHalfPixel;
         const int64_t oy = int64_t(s.min_y) * kScale + raster::kHalfPixel;
+        const int64_t x0 = ox - int64_t((int128(e[1]) * dx[2] - int128(e[2]) * dx[1]) / area2);
         const int64_t y0 = oy - int64_t((int128(e[1]) * dy[2] - int128(e[2]) * dy[1]) / area2);
-        p.y[0] = int32_t(y0);
-        p.y[1] = int32_t(y0 + dy[2]);
-        p.y[2] = int32_t(y0 - dy[1]);
+        r.x[0] = int32_t(x0);
+        r.x[1] = int32_t(x0 + dx[2]);
+        r.x[2] = int32_t(x0 - dx[1]);
+        r.y[0] = int32_t(y0);
+        r.y[1] = int32_t(y0 + dy[2]);
+        r.y[2] = int32_t(y0 - dy[1]);
     }
 
-    // Window vertex v of placement p, as GeometryStage::place made it.
-    raster::WindowVertex window_vertex(uint32_t v, uint32_t p) const {
-        if (p == last_placement_) return geometry_.window_vertex(v);
-        const CachedVertex& c = vertex_cache_[size_t(placement_cache_base_[p] + v)];
-        return {c.x, c.y, c.exact_x, c.exact_y, c.depth, c.inv_w, 0.0, 0.0};
-    }
-    const void* window_vertex_address(uint32_t v, uint32_t p) const {
-        if (p == last_placement_) return &geometry_.window_vertex(v);
-        return &vertex_cache_[size_t(placement_cache_base_[p] + v)];
+    // Makes triangle t active on its first scanline (one placement): culled, clipped (never: see
+    // bucket_triangles) and set up now, with its planes.
+    [[gnu::flatten]] void activate_triangle(uint32_t t, uint32_t id, int32_t first) {
+        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+            int32_t x[3], y[3];
+            corners_of(s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], x, y);
+            const uint32_t slot = start_polygon(x, y, depth_at_row_start(s), s.depth.dx, s.depth.dy, first);
+            if (slot == kNone) return;
+            set_info(slot, id, t, placement_instance_[0], kNone);
+            set_planes(planes_[slot], s);
+        });
     }
 
-    // Makes polygon `id` active on its first scanline: its setup (GeometryStage::process now, with
-    // one placement; made again, bit for bit the one process emitted, with several; or a stored
-    // piece), then its edge pair.
-    [[gnu::flatten]] void activate(TableEntry e, uint32_t id, int32_t first) {
-        if (e.placement == kPiece) {
-            const Piece& piece = pieces_[e.triangle];
-            const int64_t y[3] = {piece.y[0], piece.y[1], piece.y[2]};
-            start_polygon(y, piece.setup, id, piece.face, piece.instance, first);
-            return;
+    // Makes a record active on its first scanline. A piece's planes come from its setup; those of a
+    // triangle are made when it first wins a pixel (make_planes).
+    void activate_record(const PolygonRecord& r, uint32_t id, int32_t first) {
+        const uint32_t slot = start_polygon(r.x, r.y, r.z_row, r.dzdx, r.dzdy, first);
+        if (slot == kNone) return;
+        if (r.piece != kNone) {
+            set_info(slot, id, r.face, placement_instance_[r.placement], kNone);
+            set_planes(planes_[slot], pieces_[r.piece]);
+        } else {
+            set_info(slot, id, r.face, placement_instance_[r.placement], r.placement);
         }
-        const uint32_t t = e.triangle;
-        if (set_up_on_activation_) {  // culled, clipped (never: see bucket_triangles) and set up now
-            geometry_.process(t, [&](const raster::TriangleSetup& s) {
-                const raster::WindowVertex& v0 = geometry_.window_vertex(indices_[3 * t]);
-                const raster::WindowVertex& v1 = geometry_.window_vertex(indices_[3 * t + 1]);
-                const raster::WindowVertex& v2 = geometry_.window_vertex(indices_[3 * t + 2]);
-                // setup_triangle swapped corners 1 and 2 of a front-facing (clockwise) triangle.
-                const int64_t y[3] = {v0.y, s.front_facing ? v2.y : v1.y, s.front_facing ? v1.y : v2.y};
-                start_polygon(y, s, id, t, placement_instance_[0], first);
-            });
-            return;
-        }
-        raster::WindowVertex v0 = window_vertex(indices_[3 * t], e.placement);
-        raster::WindowVertex v1 = window_vertex(indices_[3 * t + 1], e.placement);
-        raster::WindowVertex v2 = window_vertex(indices_[3 * t + 2], e.placement);
-        v1.b1 = 1.0;
-        v2.b2 = 1.0;
-        raster::TriangleSetup s;
-        if (raster::setup_triangle(v0, v1, v2, width_, height_, s) != raster::SetupResult::kOk) return;
-        // setup_triangle swapped corners 1 and 2 of a front-facing (clockwise) triangle.
-        const int64_t y[3] = {v0.y, s.front_facing ? v2.y : v1.y, s.front_facing ? v1.y : v2.y};
-        start_polygon(y, s, id, t, placement_instance_[e.placement], first);
     }
 
-    // Orders the corners (y on the subpixel grid, in the setup's corner order) by y, takes the long
+    void set_info(uint32_t slot, uint32_t id, uint32_t face, uint32_t instance, uint32_t placement) {
+        ActiveInfo& info = infos_[slot];
+        info.id = id;
+        info.face = face;
+        info.instance = instance;
+        info.placement = placement;
+    }
+
+    // The planes of an active triangle of an instanced scene: its corners transformed again and set
+    // up again, as GeometryStage::place and process did in the first pass, so bit for bit the same.
+    [[gnu::noinline, gnu::flatten]] void make_planes(uint32_t slot) {
+        ActiveInfo& info = infos_[slot];
+        const glm::dmat4& m = placement_matrix_[info.placement];
+        raster::WindowVertex v[3];
+        for (int c = 0; c < 3; ++c) {
+            const size_t k = indices_[3 * size_t(info.face) + c];
+            const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
+            viewport_.to_window(raster::to_clip(m, p), 0.0, 0.0, v[c]);  // succeeded in the first pass
+        }
+        v[1].b1 = 1.0;
+        v[2].b2 = 1.0;
+        raster::TriangleSetup s{};
+        raster::setup_triangle(v[0], v[1], v[2], width_, height_, s);  // kOk, as in the first pass
+        set_planes(planes_[slot], s);
+        info.placement = kNone;
+    }
+
+    // Orders the corners (on the subpixel grid, in the setup's corner order) by y, takes the long
     // edge (top to bottom corner) for one side and the upper short edge for the other, and starts
     // each as an integer DDA on scanline `first`; the lower short edge is started on the scanline
-    // where it takes over. Adds the polygon to the active list unless no scanline is left (the only
-    // one lay on a horizontal bottom edge).
-    void start_polygon(const int64_t (&vy)[3], const raster::TriangleSetup& s, uint32_t id, uint32_t face,
-                       uint32_t instance, int32_t first) {
-        // Edge k runs from corner k+1 to corner k+2, the interior on its positive side; its edge
-        // function changes by edge_dx = -dy * 256 per pixel and edge_dy = dx * 256 per row.
+    // where it takes over. Adds the polygon to the active list and returns its slot, unless no
+    // scanline is left (the only one lay on a horizontal bottom edge): then kNone.
+    uint32_t start_polygon(const int32_t (&vx)[3], const int32_t (&vy)[3], double z_row, double dzdx, double dzdy,
+                           int32_t first) {
+        // Edge k runs from corner k+1 to corner k+2, the interior on its positive side.
         int64_t dx[3], dy[3];
         for (int k = 0; k < 3; ++k) {
-            dx[k] = s.edge_dy[k] >> kBits;
-            dy[k] = -(s.edge_dx[k] >> kBits);
+            const int a = (k + 1) % 3, b = (k + 2) % 3;
+            dx[k] = int64_t(vx[b]) - vx[a];
+            dy[k] = int64_t(vy[b]) - vy[a];
         }
         int top = 0, bottom = 0;
         for (int k = 1; k < 3; ++k) {
@@ -386,17 +431,19 @@ private:
         // Last scanline: the last pixel centre at or above the bottom corner, except on a horizontal
         // bottom edge (not top-left: a centre exactly on it is not covered). The first is min_y (a
         // centre exactly on a horizontal top edge is covered).
-        int64_t last = (vy[bottom] - raster::kHalfPixel) >> kBits;
+        int64_t last = (int64_t(vy[bottom]) - raster::kHalfPixel) >> kBits;
         if (vy[mid] == vy[bottom] && ((vy[bottom] - raster::kHalfPixel) & (kScale - 1)) == 0) --last;
         last = std::min<int64_t>(last, height_ - 1);
-        if (first > last) return;
+        if (first > last) return kNone;
 
-        // Edge k's DDA on scanline `row`. The edge function E_k steps by multiples of 256 between
-        // pixel centres, so E_k >= 0 exactly when floor(E_k / 256) >= 0, which steps by -dy per
-        // pixel and by dx per scanline: one division finds the boundary pixel and the step.
+        // Edge k's DDA on scanline `row`. The edge function E_k (fill-rule biased, as in
+        // setup_triangle) steps by multiples of 256 between pixel centres, so E_k >= 0 exactly when
+        // floor(E_k / 256) >= 0, which steps by -dy per pixel and by dx per scanline: one division
+        // finds the boundary pixel and the step.
         auto start = [&](int k, int64_t row) {
-            // The (fill-rule biased) edge function at the centre of pixel (0, row).
-            const int64_t edge = s.edge_origin[k] - s.edge_dx[k] * s.min_x + s.edge_dy[k] * (row - s.min_y);
+            const int a = (k + 1) % 3;
+            const int64_t edge = dx[k] * (row * kScale + raster::kHalfPixel - vy[a]) -
+                                 dy[k] * (raster::kHalfPixel - vx[a]) - (raster::is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
             const int64_t den = std::max<int64_t>(dy[k] < 0 ? -dy[k] : dy[k], 1);  // never horizontal
             const double inverse = 1.0 / double(den);
             const DivMod boundary = floor_divmod(edge >> kBits, den, inverse);
@@ -417,7 +464,7 @@ private:
         // corner (on the middle corner's own scanline both give the same boundary, and a horizontal
         // upper edge is never used).
         const int long_edge = mid, upper = bottom, lower = top;
-        const int64_t switch_row = (vy[mid] - raster::kHalfPixel + kScale - 1) >> kBits;
+        const int64_t switch_row = (int64_t(vy[mid]) - raster::kHalfPixel + kScale - 1) >> kBits;
         const bool long_is_left = dy[long_edge] < 0;
         const EdgeWalk long_walk = start(long_edge, first);
         const EdgeWalk short_walk = start(switch_row <= first ? lower : upper, first);
@@ -425,33 +472,63 @@ private:
 
         uint32_t slot;
         if (free_slots_.empty()) {
-            slot = uint32_t(attributes_.size());
-            attributes_.emplace_back();
-            lower_edges_.emplace_back();
+            slot = uint32_t(infos_.size());
+            infos_.emplace_back();
+            planes_.emplace_back();
         } else {
             slot = free_slots_.back();
             free_slots_.pop_back();
         }
-        if (switches) lower_edges_[slot] = {start(lower, switch_row), long_is_left ? 0 : 1};
-        ActiveAttributes& attributes = attributes_[slot];
-        attributes.id = id;
-        attributes.face = face;
-        attributes.instance = instance;
-        attributes.min_x = s.min_x;
-        attributes.min_y = s.min_y;
-        attributes.inv_w = s.inv_w;
-        attributes.b1_over_w = s.b1_over_w;
-        attributes.b2_over_w = s.b2_over_w;
-
-        ActivePolygon& a = active_.emplace_back();
+        ActivePolygon a;  // built whole, then copied: emplace_back() would clear it first
+        a.lower = switches ? start(lower, switch_row) : EdgeWalk{};
+        a.lower_left = long_is_left ? 0 : 1;
         a.left = long_is_left ? long_walk : short_walk;
         a.right = long_is_left ? short_walk : long_walk;
         a.last_row = int16_t(last);
         a.switch_row = switches ? int16_t(switch_row) : int16_t(-1);
         a.slot = slot;
-        a.dzdx = s.depth.dx;
-        a.dzdy = s.depth.dy;
-        a.z_row = (s.depth.origin + s.depth.dy * double(first - s.min_y)) - s.depth.dx * double(s.min_x);
+        a.dzdx = dzdx;
+        a.dzdy = dzdy;
+        a.z_row = z_row;
+        active_.push_back(a);
+        return slot;
+    }
+
+    // Polygons whose first scanline is y join the active list. Their table entries lie scattered in
+    // memory: they are prefetched a few polygons ahead, and with one placement the entries are
+    // fetched first, in a tight loop whose loads overlap, then the corner indices and window vertices
+    // are prefetched.
+    void activate_bucket(int32_t y) {
+        const uint32_t begin = bucket_start_[y], count = bucket_start_[y + 1] - begin;
+        if (count == 0) return;
+        const uint32_t* const ids = order_.data() + begin;
+        if (records_only_) {
+            constexpr uint32_t kAhead = 8;
+            const PolygonRecord* const records = records_.data();
+            for (uint32_t k = 0; k < std::min(count, kAhead); ++k) __builtin_prefetch(records + ids[k]);
+            for (uint32_t k = 0; k < count; ++k) {
+                if (k + kAhead < count) __builtin_prefetch(records + ids[k + kAhead]);
+                activate_record(records[ids[k]], ids[k], y);
+            }
+            return;
+        }
+        TableEntry* const staged = staged_.data();
+        for (uint32_t k = 0; k < count; ++k) staged[k] = table_[ids[k]];
+        constexpr uint32_t kAhead = 4;
+        for (uint32_t k = 0; k < count; ++k) {
+            if (k + 2 * kAhead < count && !staged[k + 2 * kAhead].is_record)
+                __builtin_prefetch(indices_ + 3 * size_t(staged[k + 2 * kAhead].index));
+            if (k + kAhead < count && !staged[k + kAhead].is_record) {
+                const uint32_t* const corner = indices_ + 3 * size_t(staged[k + kAhead].index);
+                __builtin_prefetch(&geometry_.window_vertex(corner[0]));
+                __builtin_prefetch(&geometry_.window_vertex(corner[1]));
+                __builtin_prefetch(&geometry_.window_vertex(corner[2]));
+            }
+            if (staged[k].is_record)
+                activate_record(records_[staged[k].index], ids[k], y);
+            else
+                activate_triangle(staged[k].index, ids[k], y);
+        }
     }
 
     template <bool kCountTests>
@@ -465,35 +542,15 @@ private:
         row_.assign(size_t(width), kEmpty);  // the one-row depth buffer
         uint64_t* const row = row_.data();
         active_.clear();
-        attributes_.clear();
-        lower_edges_.clear();
+        infos_.clear();
+        planes_.clear();
         free_slots_.clear();
         released_.clear();
         uint64_t tested = 0, written = 0, edge_pairs = 0, scanlines = 0;
         size_t active_max = 0;
 
         for (int32_t y = 0; y < height_; ++y) {
-            // Polygons whose first scanline this is join the active list. Their table entries, corner
-            // indices and window vertices lie scattered in memory: the entries are fetched first, in
-            // a tight loop whose loads overlap, and the rest is prefetched a few polygons ahead.
-            const uint32_t begin = bucket_start_[y], count = bucket_start_[y + 1] - begin;
-            if (count != 0) {
-                TableEntry* const staged = staged_.data();
-                for (uint32_t k = 0; k < count; ++k) staged[k] = table_[order_[begin + k]];
-                constexpr uint32_t kAhead = 4;
-                for (uint32_t k = 0; k < count; ++k) {
-                    if (k + 2 * kAhead < count && staged[k + 2 * kAhead].placement != kPiece)
-                        __builtin_prefetch(indices_ + 3 * size_t(staged[k + 2 * kAhead].triangle));
-                    if (k + kAhead < count && staged[k + kAhead].placement != kPiece) {
-                        const TableEntry e = staged[k + kAhead];
-                        const uint32_t* const corner = indices_ + 3 * size_t(e.triangle);
-                        __builtin_prefetch(window_vertex_address(corner[0], e.placement));
-                        __builtin_prefetch(window_vertex_address(corner[1], e.placement));
-                        __builtin_prefetch(window_vertex_address(corner[2], e.placement));
-                    }
-                    activate(staged[k], order_[begin + k], y);
-                }
-            }
+            activate_bucket(y);
             if (active_.empty()) continue;
             ++scanlines;
             edge_pairs += active_.size();
@@ -503,7 +560,7 @@ private:
             uint32_t* const tests_row = kCountTests ? tests_out + row_start : nullptr;
             int32_t lo = width, hi = -1;  // pixels of the row buffer touched
             ActivePolygon* const list = active_.data();
-            const ActiveAttributes* const attributes = attributes_.data();
+            const ActiveInfo* const infos = infos_.data();
             size_t n = active_.size();
             for (size_t i = 0; i < n;) {
                 ActivePolygon& p = list[i];
@@ -513,21 +570,24 @@ private:
                     lo = std::min(lo, x0);
                     hi = std::max(hi, x1);
                     tested += uint64_t(x1 - x0 + 1);
-                    // A row-buffer entry is (depth bits << 32 | attribute slot). Depth is never
-                    // negative, so its float bits order like its value, and one integer comparison
-                    // is the depth test; equal depths keep the polygon drawn first (the lower id),
-                    // as in zbuffer.
+                    // A row-buffer entry is (depth bits << 32 | slot). Depth is never negative, so
+                    // its float bits order like its value, and one integer comparison is the depth
+                    // test; equal depths keep the polygon drawn first (the lower id), as in zbuffer.
                     const uint64_t slot = p.slot;
                     const double dzdx = p.dzdx;
                     double z = p.z_row + dzdx * double(x0);
                     uint64_t span_written = 0;
                     for (int32_t x = x0; x <= x1; ++x, z += dzdx) {
-                        const uint32_t bits = std::bit_cast<uint32_t>(float(std::max(0.0, std::min(z, 1.0))));
+                        // zbuffer's depth_at holds depth to [0, 1]: on the float's bits (which order
+                        // like its value when positive, and are negative as an int when it is) that
+                        // is two integer clamps, without the branches double min and max compile to.
+                        const uint32_t bits = uint32_t(
+                            std::clamp(std::bit_cast<int32_t>(float(z)), 0, std::bit_cast<int32_t>(1.0f)));
                         const uint64_t key = (uint64_t(bits) << 32) | slot;
                         const uint64_t old = row[x];
                         uint64_t nearer = key < old ? 1 : 0;
                         if (uint32_t(old >> 32) == bits) [[unlikely]]
-                            nearer = attributes[slot].id < attributes[uint32_t(old)].id ? 1 : 0;
+                            nearer = infos[slot].id < infos[uint32_t(old)].id ? 1 : 0;
                         // Selected with a mask: as a branch, the depth test's outcome would be
                         // mispredicted about as often as not.
                         row[x] = old ^ ((old ^ key) & (0 - nearer));
@@ -536,7 +596,7 @@ private:
                     }
                     written += span_written;
                 }
-                if (p.last_row == y) {  // done: swap-remove (its attributes stay for this row)
+                if (p.last_row == y) {  // done: swap-remove (its slot stays taken for this row)
                     released_.push_back(p.slot);
                     p = list[--n];
                     continue;
@@ -554,10 +614,7 @@ private:
                 r.error -= r.den & right_carry;
                 r.x += r.step - right_carry;
                 p.z_row += p.dzdy;
-                if (p.switch_row == y + 1) {
-                    const LowerEdge& lower = lower_edges_[p.slot];
-                    (lower.left ? p.left : p.right) = lower.walk;
-                }
+                if (p.switch_row == y + 1) (p.lower_left ? p.left : p.right) = p.lower;
                 ++i;
             }
             active_.resize(n);
@@ -569,10 +626,14 @@ private:
                 if (key == kEmpty) continue;
                 row[x] = kEmpty;
                 const size_t pixel = row_start + size_t(x);
-                const ActiveAttributes& w = attributes[uint32_t(key)];
+                const uint32_t slot = uint32_t(key);
+                if (infos_[slot].placement != kNone) [[unlikely]]
+                    make_planes(slot);
+                const ActiveInfo& info = infos_[slot];
+                const ActivePlanes& w = planes_[slot];
                 depth_out[pixel] = std::bit_cast<float>(uint32_t(key >> 32));
-                face_out[pixel] = w.face;
-                if (instance_out != nullptr) instance_out[pixel] = w.instance;
+                face_out[pixel] = info.face;
+                if (instance_out != nullptr) instance_out[pixel] = info.instance;
                 barycentrics(w, double(x - w.min_x), j_base - double(w.min_y), bary_out + 2 * pixel);
             }
             free_slots_.insert(free_slots_.end(), released_.begin(), released_.end());
@@ -589,21 +650,22 @@ private:
     uint32_t width_ = 0;
     int32_t height_ = 0;
     raster::GeometryStage geometry_;                 // keeps its vertex buffers between frames
+    raster::Viewport viewport_;
     const uint32_t* indices_ = nullptr;
+    const float* positions_ = nullptr;
     std::vector<uint32_t> placement_instance_;
-    uint32_t last_placement_ = 0;                    // whose window vertices the geometry stage holds
-    bool set_up_on_activation_ = false;              // one placement: process() triangles on activation
-    std::vector<CachedVertex> vertex_cache_;         // the window vertices of the others
-    std::vector<int64_t> placement_cache_base_;      // vertex v of placement k: cache[base[k] + v]
-    std::vector<TableEntry> table_;                  // the polygon table, in drawing order
-    std::vector<Piece> pieces_;                      // pieces of clipped triangles
-    std::vector<uint16_t> first_row_;                // per table entry: its bucket
+    std::vector<glm::dmat4> placement_matrix_;       // object to clip space, per placement
+    bool records_only_ = false;                      // several placements: every polygon is a record
+    std::vector<TableEntry> table_;                  // one placement: the polygon table, in drawing order
+    std::vector<PolygonRecord> records_;             // several: the polygon table, in drawing order
+    std::vector<raster::TriangleSetup> pieces_;      // setups of the pieces of clipped triangles
+    std::vector<uint16_t> first_row_;                // per polygon: its bucket
     std::vector<uint32_t> bucket_start_;             // bucket y is order_[start[y], start[y + 1])
-    std::vector<uint32_t> order_;                    // table ids sorted by first scanline
+    std::vector<uint32_t> order_;                    // polygon ids sorted by first scanline
     std::vector<TableEntry> staged_;                 // one bucket's entries, fetched together
     std::vector<ActivePolygon> active_;              // the active polygon list (edge pairs)
-    std::vector<ActiveAttributes> attributes_;       // of the active polygons, by slot
-    std::vector<LowerEdge> lower_edges_;             // of the active polygons, by slot
+    std::vector<ActiveInfo> infos_;                  // of the active polygons, by slot
+    std::vector<ActivePlanes> planes_;               // of the active polygons, by slot
     std::vector<uint32_t> free_slots_, released_;    // released: free once the row is resolved
     std::vector<uint64_t> row_;                      // the one-row depth buffer
 };
