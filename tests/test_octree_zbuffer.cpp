@@ -408,3 +408,22 @@ TEST_CASE("octree-zbuffer: a deep scene is culled, not drawn", "[octree-zbuffer]
     INFO("depth tests: octree " << octree_tests << ", zbuffer " << zbuffer_tests);
     CHECK(octree_tests * 4 < zbuffer_tests);
 }
+
+TEST_CASE("octree-zbuffer: a deep scene of large triangles is culled block by block", "[octree-zbuffer][deep]") {
+    // 4 x 4 x 12 cubes: a cube's faces cover thousands of pixels, so triangles are tested in 32 x 32
+    // blocks, then 8 x 8 tiles; the hidden cubes' faces are rejected a block at a time.
+    const hsr::SceneData deep = hsr::make_instance_grid(model("cube.obj"), {4, 4, 12, 0.05f, 25.0f});
+    const hsr_scene scene = deep.view();
+    const hsr_camera camera = orbit(deep, 0, 0, 2.5f, false, 512);
+    const hsr::Frame reference = render("zbuffer", scene, camera);
+    const hsr::Frame octree = render("octree-zbuffer", scene, camera, {{"leaf-triangles", "1"}});
+    const Comparison c = compare(octree, reference);
+    INFO(c.first_difference);
+    CHECK(c.different == 0);
+    check_triangle_accounting(octree);
+    CHECK(counter(octree, "tiles-culled") > 0);
+    const uint64_t octree_tests = counter(octree, "pixels-depth-tested");
+    const uint64_t zbuffer_tests = counter(reference, "pixels-depth-tested");
+    INFO("depth tests: octree " << octree_tests << ", zbuffer " << zbuffer_tests);
+    CHECK(octree_tests * 4 < zbuffer_tests);
+}

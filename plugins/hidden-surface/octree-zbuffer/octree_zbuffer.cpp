@@ -117,7 +117,9 @@ SceneKey scene_key(const hsr::sdk::Scene& scene) {
 
 // ---------------------------------------------------------------------------------------------- //
 
-constexpr int32_t kTile = 8;  // tile-level rejection works on 8x8 tiles aligned to the image
+constexpr int32_t kTile = 8;  // tile-level rejection works on 8x8 tiles aligned to the image ...
+constexpr int32_t kBlock = 32;  // ... inside 32x32 blocks, each tested first ...
+constexpr int64_t kLargeTriangle = 4 * kBlock * kBlock;  // ... when the triangle's bounds exceed 4 blocks
 // A triangle whose pixel bounds hold at most this many pixels is tested once, as a whole.
 constexpr int64_t kSmallTriangle = 2 * kTile * kTile;
 // Node boxes are widened by this much (in pixels) before their pixel-centre rectangle is taken:
@@ -560,6 +562,17 @@ private:
         return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? TriangleVisibility::kHidden : TriangleVisibility::kVisible;
     }
 
+    // The rectangle [x0,x1]x[y0,y1] (inside the setup's bounds) misses the triangle: one edge function
+    // is negative at all four of its corners.
+    static bool misses(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+        for (int k = 0; k < 3; ++k) {
+            const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
+            const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
+            if (e00 + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0) < 0) return true;
+        }
+        return false;
+    }
+
     // Greene's triangle-level (unless done before setup) and tile-level rejection, then the pixel
     // loop. False when the whole piece was rejected by the pyramid.
     template <bool kCountTests>
@@ -573,28 +586,48 @@ private:
                 written.add(s.min_x, s.min_y, s.max_x, s.max_y);
             return true;
         }
-        for (int32_t ty = s.min_y & ~(kTile - 1); ty <= s.max_y; ty += kTile) {
-            const int32_t y0 = std::max(ty, s.min_y), y1 = std::min(ty + kTile - 1, s.max_y);
-            for (int32_t tx = s.min_x & ~(kTile - 1); tx <= s.max_x; tx += kTile) {
-                const int32_t x0 = std::max(tx, s.min_x), x1 = std::min(tx + kTile - 1, s.max_x);
-                // The tile misses the triangle when one edge function is negative at all its corners.
-                bool misses = false;
-                for (int k = 0; k < 3 && !misses; ++k) {
-                    const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
-                    const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
-                    const int64_t best = e00 + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0);
-                    misses = best < 0;
-                }
-                if (misses) continue;
+        if (area <= kLargeTriangle) {
+            draw_tiles<kCountTests>(s, s.min_x, s.min_y, s.max_x, s.max_y, id, instance_id, written);
+            return true;
+        }
+        // A large triangle goes in two levels: blocks of kBlock x kBlock pixels first, then the
+        // tiles of a block that is not hidden as a whole.
+        for (int32_t by = s.min_y & ~(kBlock - 1); by <= s.max_y; by += kBlock) {
+            const int32_t y0 = std::max(by, s.min_y), y1 = std::min(by + kBlock - 1, s.max_y);
+            for (int32_t bx = s.min_x & ~(kBlock - 1); bx <= s.max_x; bx += kBlock) {
+                const int32_t x0 = std::max(bx, s.min_x), x1 = std::min(bx + kBlock - 1, s.max_x);
+                if (misses(s, x0, y0, x1, y1)) continue;
                 ++stats_.tiles_tested;
                 if (pyramid_.is_hidden(x0, y0, x1, y1, nearest_depth(s, x0, y0, x1, y1))) {
                     ++stats_.tiles_culled;
                     continue;
                 }
-                if (fill<kCountTests>(s, x0, y0, x1, y1, id, instance_id) > 0) written.add(x0, y0, x1, y1);
+                draw_tiles<kCountTests>(s, x0, y0, x1, y1, id, instance_id, written);
             }
         }
         return true;
+    }
+
+    // The kTile x kTile tiles of [x0,x1]x[y0,y1] (inside the setup's bounds), each tested against the
+    // pyramid before its pixels are.
+    template <bool kCountTests>
+    void draw_tiles(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1, uint32_t id,
+                    uint32_t instance_id, Rect& written) {
+        for (int32_t ty = y0 & ~(kTile - 1); ty <= y1; ty += kTile) {
+            const int32_t tile_y0 = std::max(ty, y0), tile_y1 = std::min(ty + kTile - 1, y1);
+            for (int32_t tx = x0 & ~(kTile - 1); tx <= x1; tx += kTile) {
+                const int32_t tile_x0 = std::max(tx, x0), tile_x1 = std::min(tx + kTile - 1, x1);
+                if (misses(s, tile_x0, tile_y0, tile_x1, tile_y1)) continue;
+                ++stats_.tiles_tested;
+                if (pyramid_.is_hidden(tile_x0, tile_y0, tile_x1, tile_y1,
+                                       nearest_depth(s, tile_x0, tile_y0, tile_x1, tile_y1))) {
+                    ++stats_.tiles_culled;
+                    continue;
+                }
+                if (fill<kCountTests>(s, tile_x0, tile_y0, tile_x1, tile_y1, id, instance_id) > 0)
+                    written.add(tile_x0, tile_y0, tile_x1, tile_y1);
+            }
+        }
     }
 
     // The plain z-buffer's pixel loop (zbuffer.cpp) over [x0,x1]x[y0,y1] of the setup's bounds: the
