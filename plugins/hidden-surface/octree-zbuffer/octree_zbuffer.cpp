@@ -573,6 +573,16 @@ private:
         return false;
     }
 
+    // Every pixel of the rectangle is covered: each edge function is >= 0 at all four corners.
+    static bool covers(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+        for (int k = 0; k < 3; ++k) {
+            const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
+            const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
+            if (e00 + std::min<int64_t>(step_x, 0) + std::min<int64_t>(step_y, 0) < 0) return false;
+        }
+        return true;
+    }
+
     // Greene's triangle-level (unless done before setup) and tile-level rejection, then the pixel
     // loop. False when the whole piece was rejected by the pyramid.
     template <bool kCountTests>
@@ -624,8 +634,11 @@ private:
                     ++stats_.tiles_culled;
                     continue;
                 }
-                if (fill<kCountTests>(s, tile_x0, tile_y0, tile_x1, tile_y1, id, instance_id) > 0)
-                    written.add(tile_x0, tile_y0, tile_x1, tile_y1);
+                const uint64_t count =
+                    covers(s, tile_x0, tile_y0, tile_x1, tile_y1)
+                        ? fill<kCountTests, true>(s, tile_x0, tile_y0, tile_x1, tile_y1, id, instance_id)
+                        : fill<kCountTests>(s, tile_x0, tile_y0, tile_x1, tile_y1, id, instance_id);
+                if (count > 0) written.add(tile_x0, tile_y0, tile_x1, tile_y1);
             }
         }
     }
@@ -633,7 +646,9 @@ private:
     // The plain z-buffer's pixel loop (zbuffer.cpp) over [x0,x1]x[y0,y1] of the setup's bounds: the
     // same integer edge functions and the same depth and barycentrics at every sample. Returns the
     // number of pixels written.
-    template <bool kCountTests>
+    // kInside: every pixel of the rectangle is covered (the caller checked its corners), so the
+    // edge functions are not stepped.
+    template <bool kCountTests, bool kInside = false>
     uint64_t fill(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1, uint32_t id,
                   uint32_t instance_id) {
         // Locals only, so that stores to the buffers cannot alias what the loop reads.
@@ -656,7 +671,7 @@ private:
             double i = double(di);
             const size_t row = size_t(y) * stride;
             for (int32_t x = x0; x <= x1; ++x, i += 1.0) {
-                if ((e0 | e1 | e2) >= 0) {
+                if (kInside || (e0 | e1 | e2) >= 0) {
                     entered = true;
                     ++tested;
                     const size_t p = row + size_t(x);
