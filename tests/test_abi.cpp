@@ -98,6 +98,98 @@ TEST_CASE("a plugin built against an older minor is accepted by a newer host", "
     CHECK_THAT(hsr::check_descriptor(newer, 1, 9), Catch::Contains("needs ABI 1.10"));
 }
 
+TEST_CASE("a plugin frozen at ABI 1.1 still loads and runs in the 1.2 host", "[abi]") {
+    // frozen-1.1.so is compiled against the ABI 1.1 header kept in tests/plugins/abi-1.1, from
+    // before hidden-line removers (1.2) were added.
+    auto plugins = hsr::load_plugin_library(test_plugin("frozen-1.1"));
+    REQUIRE(plugins.size() == 1);
+    const hsr_plugin_descriptor& d = plugins[0].descriptor;
+    CHECK(d.abi_major == 1);
+    CHECK(d.abi_minor == 1);
+    CHECK(HSR_ABI_MINOR >= 2);
+    require_handmade_renders(plugins[0]);
+}
+
+namespace {
+
+struct CollectedLines {
+    std::vector<float> points;
+    std::vector<uint32_t> edge, flags;
+    std::vector<int32_t> qi;
+    uint32_t batches = 0;
+    std::vector<std::string> events;
+};
+
+hsr_status collect_segments(void* context, const hsr_segment_batch* batch) {
+    auto& out = *static_cast<CollectedLines*>(context);
+    ++out.batches;
+    out.points.insert(out.points.end(), batch->points, batch->points + 4 * batch->count);
+    out.edge.insert(out.edge.end(), batch->edge, batch->edge + batch->count);
+    out.flags.insert(out.flags.end(), batch->flags, batch->flags + batch->count);
+    out.qi.insert(out.qi.end(), batch->qi, batch->qi + batch->count);
+    return HSR_OK;
+}
+
+hsr_status refuse_segments(void*, const hsr_segment_batch*) { return HSR_ERROR_OUT_OF_MEMORY; }
+
+void collect_event(void* context, const hsr_trace_event* e) {
+    static_cast<CollectedLines*>(context)->events.push_back(std::string(e->type) + " " + std::to_string(e->edge));
+}
+
+}  // namespace
+
+TEST_CASE("a hidden-line plugin (ABI 1.2) returns segments in batches, with trace events", "[abi]") {
+    auto plugins = hsr::load_plugin_library(test_plugin("handmade-lines"));
+    REQUIRE(plugins.size() == 1);
+    CHECK(plugins[0].descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER);
+    CHECK(std::string(hsr::kind_name(plugins[0].descriptor.kind)) == "hidden-line");
+    hsr::HiddenLineRemover remover(plugins[0], {});
+
+    // The tiny triangle seen by an identity camera on a 4 x 4 image: clip = world.
+    TinyFrame f;
+    for (int k = 0; k < 16; ++k) f.camera.view_projection[k] = (k % 5 == 0) ? 1.0f : 0.0f;
+    const uint32_t vertices[] = {0, 1, 1, 2, 2, 0, 0, 1};
+    const uint32_t faces[] = {0, HSR_NO_FACE, 0, HSR_NO_FACE, 0, HSR_NO_FACE, 0, HSR_NO_FACE};
+    const uint32_t flags[] = {HSR_EDGE_BOUNDARY, HSR_EDGE_BOUNDARY, HSR_EDGE_BOUNDARY | HSR_EDGE_SILHOUETTE,
+                              HSR_EDGE_BOUNDARY};
+    hsr_line_request request{sizeof request, 4, vertices, faces, flags, 0};
+    CollectedLines lines;
+    hsr_segment_sink sink{&lines, &collect_segments};
+    hsr_trace_sink trace{&lines, &collect_event};
+    std::vector<std::pair<std::string, uint64_t>> counters;
+    hsr_counter_sink counter_sink{&counters, &collect};
+    remover.render_lines(f.scene, f.camera, request, sink, &trace, &counter_sink);
+
+    CHECK(lines.batches == 2);  // 3 + 1
+    REQUIRE(lines.edge == std::vector<uint32_t>{0, 1, 2, 3});
+    CHECK(lines.flags[2] == (HSR_EDGE_BOUNDARY | HSR_EDGE_SILHOUETTE));
+    CHECK(lines.qi == std::vector<int32_t>{0, 0, 0, 0});
+    // Edge 0 runs from world (0,0) = window (2,2) to world (1,0) = window (4,2).
+    CHECK(lines.points[0] == 2.0f);
+    CHECK(lines.points[1] == 2.0f);
+    CHECK(lines.points[2] == 4.0f);
+    CHECK(lines.points[3] == 2.0f);
+    CHECK(lines.events == std::vector<std::string>{"edge-begin 0", "edge-begin 1", "edge-begin 2", "edge-begin 3"});
+    REQUIRE(counters.size() == 1);
+    CHECK(counters[0] == std::pair<std::string, uint64_t>{"edges-in", 4});
+
+    // Without a trace sink it still runs; a sink that refuses a batch stops it with an error.
+    CollectedLines untraced;
+    hsr_segment_sink untraced_sink{&untraced, &collect_segments};
+    remover.render_lines(f.scene, f.camera, request, untraced_sink, nullptr, nullptr);
+    CHECK(untraced.edge.size() == 4);
+    hsr_segment_sink refusing{nullptr, &refuse_segments};
+    CHECK_THROWS_WITH(remover.render_lines(f.scene, f.camera, request, refusing, nullptr, nullptr),
+                      Catch::Contains("handmade-lines") && Catch::Contains("render_lines"));
+    // It is not a hidden-surface remover.
+    CHECK_THROWS_WITH(hsr::HiddenSurfaceRemover(plugins[0], {}), Catch::Contains("not a hidden-surface remover"));
+}
+
+TEST_CASE("a hidden-line plugin claiming an ABI before 1.2 is refused", "[abi]") {
+    const std::string message = load_error(test_plugin("lines-claiming-1.1"));
+    CHECK_THAT(message, Catch::Contains("hidden-line plugins came with ABI 1.2"));
+}
+
 TEST_CASE("fields beyond a table's struct_size are never read", "[abi]") {
     // short-tables' remover table stops before `extension` and leaves garbage there; the host must
     // treat the field as absent and still create and run the plugin.
@@ -168,9 +260,10 @@ TEST_CASE("the registry explains where it looked when a plugin is missing", "[ab
     hsr::PluginRegistry registry;
     registry.scan_directory(HSR_TEST_PLUGIN_DIR);
     registry.scan_directory("/nonexistent-dir");
-    // handmade (short-tables), frozen-1.0 and throwing load; the others are refused with reasons.
-    CHECK(registry.plugins().size() == 3);
-    CHECK(registry.rejected().size() == 3);
+    // handmade (short-tables), frozen-1.0, frozen-1.1, handmade-lines and throwing load; the others
+    // (wrong-major, newer-minor, no-entry, lines-claiming-1.1) are refused with reasons.
+    CHECK(registry.plugins().size() == 5);
+    CHECK(registry.rejected().size() == 4);
     try {
         registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, "octree-zbuffer");
         FAIL("find should have failed");

@@ -25,6 +25,7 @@ constexpr size_t frozen_descriptor_size = offsetof(hsr_plugin_descriptor, kind) 
 constexpr size_t descriptor_size_1_0 = sizeof(hsr_plugin_descriptor);
 constexpr size_t remover_size_1_0 = offsetof(IHiddenSurfaceRemover, extension);
 constexpr size_t lighting_size_1_0 = offsetof(ILightingModel, extension);
+constexpr size_t line_remover_size_1_2 = offsetof(IHiddenLineRemover, extension);
 constexpr size_t param_desc_size_1_0 = sizeof(hsr_param_desc);
 
 // Copies the first struct_size bytes of a plugin's struct into a zeroed host struct, so fields the
@@ -85,6 +86,7 @@ const char* kind_name(hsr_plugin_kind kind) {
     switch (kind) {
     case HSR_KIND_HIDDEN_SURFACE_REMOVER: return "hidden-surface";
     case HSR_KIND_LIGHTING_MODEL: return "lighting";
+    case HSR_KIND_HIDDEN_LINE_REMOVER: return "hidden-line";
     }
     return "unknown-kind";
 }
@@ -102,8 +104,11 @@ std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major
     if (d.struct_size < descriptor_size_1_0)
         return fmt::format("its descriptor has struct_size {}, ABI 1.0 needs at least {}", d.struct_size,
                            descriptor_size_1_0);
-    if (d.kind != HSR_KIND_HIDDEN_SURFACE_REMOVER && d.kind != HSR_KIND_LIGHTING_MODEL)
+    if (d.kind != HSR_KIND_HIDDEN_SURFACE_REMOVER && d.kind != HSR_KIND_LIGHTING_MODEL &&
+        d.kind != HSR_KIND_HIDDEN_LINE_REMOVER)
         return fmt::format("unknown plugin kind {}", static_cast<int>(d.kind));
+    if (d.kind == HSR_KIND_HIDDEN_LINE_REMOVER && d.abi_minor < 2)
+        return fmt::format("it claims ABI {}.{}, but hidden-line plugins came with ABI 1.2", d.abi_major, d.abi_minor);
     if (d.name == nullptr || d.name[0] == '\0') return "it has no name";
     if (d.interface_table == nullptr) return "it has no interface table";
     if (d.param_count > 0 && d.params == nullptr) return "its parameter table is missing";
@@ -124,9 +129,12 @@ std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major
         }
     }
     const uint32_t table_size = *static_cast<const uint32_t*>(d.interface_table);
-    const size_t needed = d.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER ? remover_size_1_0 : lighting_size_1_0;
+    const size_t needed = d.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER ? remover_size_1_0
+                           : d.kind == HSR_KIND_LIGHTING_MODEL    ? lighting_size_1_0
+                                                                  : line_remover_size_1_2;
     if (table_size < needed)
-        return fmt::format("its interface table has struct_size {}, ABI 1.0 needs at least {}", table_size, needed);
+        return fmt::format("its interface table has struct_size {}, ABI {} needs at least {}", table_size,
+                           d.kind == HSR_KIND_HIDDEN_LINE_REMOVER ? "1.2" : "1.0", needed);
     return {};
 }
 
@@ -274,6 +282,32 @@ void LightingModel::shade(hsr_fragment_batch& batch) const {
     hsr_error error{};
     hsr_status status = table_.shade(instance_, &batch, &error);
     if (status != HSR_OK) throw_status(plugin_, "shade", status, error);
+}
+
+HiddenLineRemover::HiddenLineRemover(const Plugin& plugin, const std::vector<Setting>& settings) : plugin_(plugin) {
+    if (plugin.descriptor.kind != HSR_KIND_HIDDEN_LINE_REMOVER)
+        throw Error("'{}' is a {} plugin, not a hidden-line remover", plugin.descriptor.name,
+                    kind_name(plugin.descriptor.kind));
+    const auto& table = *static_cast<const IHiddenLineRemover*>(plugin.descriptor.interface_table);
+    table_ = copy_prefix(table, table.struct_size);
+    require_functions(plugin_, table_);
+    if (table_.render_lines == nullptr) throw Error("{} has a NULL render_lines function", plugin_label(plugin_));
+    ParamValues values = resolve_params(plugin.descriptor, settings);
+    hsr_error error{};
+    hsr_status status = table_.create(values.data(), values.size(), &instance_, &error);
+    if (status != HSR_OK) throw_status(plugin_, "create", status, error);
+}
+
+HiddenLineRemover::~HiddenLineRemover() {
+    if (instance_ != nullptr) table_.destroy(instance_);
+}
+
+void HiddenLineRemover::render_lines(const hsr_scene& scene, const hsr_camera& camera, const hsr_line_request& request,
+                                     const hsr_segment_sink& segments, const hsr_trace_sink* trace,
+                                     const hsr_counter_sink* counters) {
+    hsr_error error{};
+    hsr_status status = table_.render_lines(instance_, &scene, &camera, &request, &segments, trace, counters, &error);
+    if (status != HSR_OK) throw_status(plugin_, "render_lines", status, error);
 }
 
 }  // namespace hsr

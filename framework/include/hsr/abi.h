@@ -35,6 +35,10 @@
  *        hsr_visibility_buffer and hsr_fragment_batch; hsr_visibility_buffer.depth_tests (per-pixel
  *        work counts for overdraw pictures). A host hands a 1.0 plugin an instanced scene only
  *        after copying the instances out into plain triangles.
+ *   1.2  hidden-line removal: the plugin kind HSR_KIND_HIDDEN_LINE_REMOVER and its table
+ *        IHiddenLineRemover; the edges to draw (hsr_line_request), the visible and hidden pieces
+ *        that come back in batches (hsr_segment_batch, hsr_segment_sink) and the optional step
+ *        events for replaying an algorithm (hsr_trace_event, hsr_trace_sink).
  */
 #ifndef HSR_ABI_H
 #define HSR_ABI_H
@@ -48,7 +52,7 @@ extern "C" {
 
 #define HSR_API_NAME "hsr"
 #define HSR_ABI_MAJOR 1
-#define HSR_ABI_MINOR 1
+#define HSR_ABI_MINOR 2
 #define HSR_ENTRY_SYMBOL "hsr_plugin_entry"
 
 #if defined(_WIN32)
@@ -299,11 +303,92 @@ typedef struct ILightingModel {
 } ILightingModel;
 
 /* ---------------------------------------------------------------------------------------------- */
+/* Since 1.2: hidden-line removal                                                                  */
+
+#define HSR_NO_EDGE 0xFFFFFFFFu
+
+/* What kind of edge an edge of the request is (bits of hsr_line_request.edge_flags); the host
+ * classifies edges for the camera of the call. A segment carries its edge's bits, or
+ * HSR_EDGE_PENETRATION for a line a plugin made where two bodies intersect. */
+#define HSR_EDGE_BOUNDARY 1u    /* one face only */
+#define HSR_EDGE_CREASE 2u      /* its two faces meet at more than the host's crease angle */
+#define HSR_EDGE_SILHOUETTE 4u  /* between a face turned toward the eye and one turned away */
+#define HSR_EDGE_BACK 8u        /* every face it has is turned away from the eye */
+#define HSR_EDGE_PENETRATION 16u /* segments only: where two bodies intersect (not a mesh edge) */
+
+/* The edges whose visible (and, on request, hidden) pieces the host wants, as arrays of count
+ * elements (structure of arrays). The scene a hidden-line remover gets never has instances (the host
+ * copies them out), so vertex and face indices are those of hsr_scene. Every face of the scene hides
+ * what is behind it, whether or not its edges are requested. */
+typedef struct hsr_line_request {
+    uint32_t struct_size;
+    uint32_t edge_count;
+    const uint32_t* edge_vertices; /* 2 * edge_count: the end points, indices into positions */
+    const uint32_t* edge_faces;    /* 2 * edge_count: the faces sharing the edge; HSR_NO_FACE for
+                                      the second one of a boundary edge */
+    const uint32_t* edge_flags;    /* edge_count: HSR_EDGE_* bits */
+    uint32_t want_hidden;          /* non-zero: also return the hidden pieces */
+} hsr_line_request;
+
+/* A batch of segments from the plugin, in window coordinates (x right, y down, in pixels, as for
+ * pixel centres; see hsr_camera), valid only during the emit call: the host copies what it keeps. */
+typedef struct hsr_segment_batch {
+    uint32_t struct_size;
+    uint32_t count;
+    const float* points;   /* 4 * count: x0, y0, x1, y1 */
+    const uint32_t* edge;  /* count: index into the request's edges, or HSR_NO_EDGE (penetration) */
+    const uint32_t* flags; /* count: HSR_EDGE_* bits of the segment */
+    const int32_t* qi;     /* count: quantitative invisibility, the number of faces between the
+                              segment and the eye: 0 = visible; -1 = hidden, count not known */
+} hsr_segment_batch;
+
+typedef struct hsr_segment_sink {
+    void* context;
+    /* Returns HSR_OK, or an error the plugin passes on (then it stops and returns that status). */
+    hsr_status (*emit)(void* context, const hsr_segment_batch* batch);
+} hsr_segment_sink;
+
+/* One step of an algorithm, for replaying it (e.g. "edge-begin", "hidden-by", "qi-change"): the
+ * plugin says which fields mean something; the others hold their "none" values (HSR_NO_EDGE,
+ * HSR_NO_FACE, HSR_NO_OBJECT, qi -1, t NaN). Valid only during the call. */
+#define HSR_NO_OBJECT 0xFFFFFFFFu
+typedef struct hsr_trace_event {
+    uint32_t struct_size;
+    const char* type;   /* lower-case words joined by '-' */
+    uint32_t edge;      /* the edge being worked on */
+    uint32_t face;      /* the face that hides it, bounds it, or changes its QI */
+    uint32_t object;    /* the body (hsr_scene.face_object) concerned */
+    int32_t qi;         /* quantitative invisibility after this step */
+    double t0, t1;      /* parameters along the edge (0 at its first vertex, 1 at its second) */
+} hsr_trace_event;
+
+typedef struct hsr_trace_sink {
+    void* context;
+    void (*event)(void* context, const hsr_trace_event* event);
+} hsr_trace_sink;
+
+typedef struct IHiddenLineRemover {
+    uint32_t struct_size;
+    hsr_status (*create)(const hsr_param_value* params, uint32_t param_count, void** instance,
+                         hsr_error* error);
+    void (*destroy)(void* instance);
+    /* Finds the visible pieces of the requested edges and hands them to segments in batches (the
+     * hidden ones too when request->want_hidden). trace and counters may be NULL. Never concurrent
+     * on one instance. */
+    hsr_status (*render_lines)(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                               const hsr_line_request* request, const hsr_segment_sink* segments,
+                               const hsr_trace_sink* trace, const hsr_counter_sink* counters,
+                               hsr_error* error);
+    const void* (*extension)(const char* id);
+} IHiddenLineRemover;
+
+/* ---------------------------------------------------------------------------------------------- */
 /* Discovery                                                                                       */
 
 typedef enum hsr_plugin_kind {
     HSR_KIND_HIDDEN_SURFACE_REMOVER = 1,
-    HSR_KIND_LIGHTING_MODEL = 2
+    HSR_KIND_LIGHTING_MODEL = 2,
+    HSR_KIND_HIDDEN_LINE_REMOVER = 3 /* since 1.2 */
 } hsr_plugin_kind;
 
 typedef struct hsr_plugin_descriptor {
@@ -319,7 +404,8 @@ typedef struct hsr_plugin_descriptor {
     const char* description; /* one line */
     const hsr_param_desc* params;
     uint32_t param_count;
-    /* Points to an IHiddenSurfaceRemover or an ILightingModel according to kind. */
+    /* Points to an IHiddenSurfaceRemover, an ILightingModel or an IHiddenLineRemover according to
+     * kind. */
     const void* interface_table;
 } hsr_plugin_descriptor;
 

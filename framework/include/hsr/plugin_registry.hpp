@@ -22,7 +22,7 @@ namespace hsr {
 std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major = HSR_ABI_MAJOR,
                              uint32_t host_minor = HSR_ABI_MINOR);
 
-const char* kind_name(hsr_plugin_kind kind);  // "hidden-surface" / "lighting"
+const char* kind_name(hsr_plugin_kind kind);  // "hidden-surface" / "lighting" / "hidden-line"
 
 // One plugin found in a library. Keeps the library loaded for as long as it (or any instance made
 // from it) lives.
@@ -99,6 +99,24 @@ public:
 private:
     Plugin plugin_;
     ILightingModel table_{};
+    void* instance_ = nullptr;
+};
+
+class HiddenLineRemover {
+public:
+    HiddenLineRemover(const Plugin& plugin, const std::vector<Setting>& settings);
+    ~HiddenLineRemover();
+    HiddenLineRemover(const HiddenLineRemover&) = delete;
+    HiddenLineRemover& operator=(const HiddenLineRemover&) = delete;
+
+    // trace and counters may be NULL. An error returned by segments.emit comes back as hsr::Error.
+    void render_lines(const hsr_scene& scene, const hsr_camera& camera, const hsr_line_request& request,
+                      const hsr_segment_sink& segments, const hsr_trace_sink* trace, const hsr_counter_sink* counters);
+    const Plugin& plugin() const { return plugin_; }
+
+private:
+    Plugin plugin_;
+    IHiddenLineRemover table_{};
     void* instance_ = nullptr;
 };
 

@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <new>
 #include <span>
 #include <stdexcept>
@@ -267,6 +268,102 @@ public:
                         Counters& counters) = 0;
 };
 
+// ABI 1.2: the edges a hidden-line remover is asked for (see hsr_line_request).
+class LineRequest {
+public:
+    explicit LineRequest(const hsr_line_request& r) : r_(&r) {}
+    const hsr_line_request& raw() const { return *r_; }
+    uint32_t edge_count() const { return r_->edge_count; }
+    uint32_t vertex(uint32_t edge, int end) const { return r_->edge_vertices[2 * edge + end]; }
+    uint32_t face(uint32_t edge, int side) const { return r_->edge_faces[2 * edge + side]; }  // HSR_NO_FACE
+    uint32_t flags(uint32_t edge) const { return r_->edge_flags[edge]; }
+    bool want_hidden() const { return r_->want_hidden != 0; }
+
+private:
+    const hsr_line_request* r_;
+};
+
+// Collects segments and hands them to the host's sink in batches (never one by one).
+class SegmentWriter {
+public:
+    static constexpr uint32_t kBatch = 4096;
+    explicit SegmentWriter(const hsr_segment_sink& sink) : sink_(&sink) {}
+    // (x0, y0)-(x1, y1) in window coordinates; qi 0 = visible, > 0 hidden behind qi faces, -1 hidden.
+    void add(glm::vec2 a, glm::vec2 b, uint32_t edge, uint32_t flags, int32_t qi) {
+        points_.insert(points_.end(), {a.x, a.y, b.x, b.y});
+        edge_.push_back(edge);
+        flags_.push_back(flags);
+        qi_.push_back(qi);
+        ++emitted_;
+        if (edge_.size() >= kBatch) flush();
+    }
+    void flush() {
+        if (edge_.empty()) return;
+        hsr_segment_batch batch{};
+        batch.struct_size = sizeof batch;
+        batch.count = static_cast<uint32_t>(edge_.size());
+        batch.points = points_.data();
+        batch.edge = edge_.data();
+        batch.flags = flags_.data();
+        batch.qi = qi_.data();
+        const hsr_status status = sink_->emit(sink_->context, &batch);
+        points_.clear();
+        edge_.clear();
+        flags_.clear();
+        qi_.clear();
+        if (status != HSR_OK) throw std::runtime_error("the host refused a batch of segments");
+    }
+    uint64_t emitted() const { return emitted_; }
+
+private:
+    const hsr_segment_sink* sink_;
+    std::vector<float> points_;
+    std::vector<uint32_t> edge_, flags_;
+    std::vector<int32_t> qi_;
+    uint64_t emitted_ = 0;
+};
+
+// The optional step events (hsr_trace_event). Check enabled() before building an event's data.
+class Trace {
+public:
+    explicit Trace(const hsr_trace_sink* sink) : sink_(sink != nullptr && sink->event != nullptr ? sink : nullptr) {}
+    bool enabled() const { return sink_ != nullptr; }
+    struct Event {
+        const char* type;
+        uint32_t edge = HSR_NO_EDGE;
+        uint32_t face = HSR_NO_FACE;
+        uint32_t object = HSR_NO_OBJECT;
+        int32_t qi = -1;
+        double t0 = std::numeric_limits<double>::quiet_NaN();
+        double t1 = std::numeric_limits<double>::quiet_NaN();
+    };
+    void emit(const Event& e) const {
+        if (sink_ == nullptr) return;
+        hsr_trace_event out{};
+        out.struct_size = sizeof out;
+        out.type = e.type;
+        out.edge = e.edge;
+        out.face = e.face;
+        out.object = e.object;
+        out.qi = e.qi;
+        out.t0 = e.t0;
+        out.t1 = e.t1;
+        sink_->event(sink_->context, &out);
+    }
+
+private:
+    const hsr_trace_sink* sink_;
+};
+
+// A hidden-line algorithm (ABI 1.2): finds the visible (and on request hidden) pieces of the requested
+// edges. The scene has no instances (the host copies them out).
+class HiddenLineRemover {
+public:
+    virtual ~HiddenLineRemover() = default;
+    virtual void render_lines(const Scene& scene, const hsr_camera& camera, const LineRequest& request,
+                              SegmentWriter& segments, const Trace& trace, Counters& counters) = 0;
+};
+
 class LightingModel {
 public:
     virtual ~LightingModel() = default;
@@ -334,6 +431,27 @@ hsr_status render(void* instance, const hsr_scene* scene, const hsr_camera* came
 }
 
 template <class T>
+hsr_status render_lines(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                        const hsr_line_request* request, const hsr_segment_sink* segments,
+                        const hsr_trace_sink* trace, const hsr_counter_sink* sink, hsr_error* error) {
+    return guarded(error, [&] {
+        if (instance == nullptr || scene == nullptr || camera == nullptr || request == nullptr ||
+            segments == nullptr || segments->emit == nullptr)
+            throw InvalidArgument("render_lines: NULL argument");
+        Scene scene_view(*scene);
+        if (scene_view.instance_count() > 0)
+            throw InvalidArgument("render_lines: the host must copy instances out for a hidden-line remover");
+        SegmentWriter writer(*segments);
+        Counters counters;
+        static_cast<T*>(instance)->render_lines(scene_view, *camera, LineRequest(*request), writer, Trace(trace),
+                                                counters);
+        writer.flush();
+        counters.set("segments", writer.emitted());
+        counters.flush(sink);
+    });
+}
+
+template <class T>
 hsr_status prepare(void* instance, const hsr_scene* scene, const hsr_shading_context* context,
                    hsr_error* error) {
     return guarded(error, [&] {
@@ -357,9 +475,11 @@ template <class T>
 constexpr hsr_plugin_kind kind_of() {
     if constexpr (std::is_base_of_v<HiddenSurfaceRemover, T>)
         return HSR_KIND_HIDDEN_SURFACE_REMOVER;
+    else if constexpr (std::is_base_of_v<HiddenLineRemover, T>)
+        return HSR_KIND_HIDDEN_LINE_REMOVER;
     else {
         static_assert(std::is_base_of_v<LightingModel, T>,
-                      "a plugin class derives from hsr::sdk::HiddenSurfaceRemover or LightingModel");
+                      "a plugin class derives from hsr::sdk::HiddenSurfaceRemover, HiddenLineRemover or LightingModel");
         return HSR_KIND_LIGHTING_MODEL;
     }
 }
@@ -369,6 +489,10 @@ const void* interface_table() {
     if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_SURFACE_REMOVER) {
         static const IHiddenSurfaceRemover table{sizeof(IHiddenSurfaceRemover), &create<T>,
                                                  &destroy<T>, &render<T>, &no_extension};
+        return &table;
+    } else if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_LINE_REMOVER) {
+        static const IHiddenLineRemover table{sizeof(IHiddenLineRemover), &create<T>, &destroy<T>,
+                                              &render_lines<T>, &no_extension};
         return &table;
     } else {
         static const ILightingModel table{sizeof(ILightingModel), &create<T>, &destroy<T>,
