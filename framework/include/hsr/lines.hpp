@@ -1,0 +1,54 @@
+// One line drawing: the edges of a flat scene classified for the camera (hsr/edges.hpp), handed to a
+// hidden-line plugin through the C ABI (1.2), and the visible (and hidden) pieces it returns, with
+// its counters and, on request, its step events written as JSON lines.
+#pragma once
+
+#include "hsr/abi.h"
+#include "hsr/edges.hpp"
+#include "hsr/plugin_registry.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hsr {
+
+struct LineSegment {
+    glm::vec2 a, b;  // window coordinates: x right, y down, pixels
+    uint32_t edge;   // index into the drawing's edges, or HSR_NO_EDGE (a penetration line)
+    uint32_t flags;  // HSR_EDGE_* bits
+    int32_t qi;      // 0 visible; n > 0 behind n faces; -1 hidden, count unknown
+};
+
+struct LineDrawing {
+    uint32_t width = 0, height = 0;
+    EdgeList edges;  // what was asked for
+    std::vector<LineSegment> segments;
+    std::vector<std::pair<std::string, uint64_t>> counters;
+    uint64_t trace_events = 0;
+    double lines_ms = 0;  // time inside the plugin
+
+    uint64_t counter(const std::string& name) const;  // 0 when absent
+};
+
+struct LineSettings {
+    EdgeSelection edges = EdgeSelection::kFeatures;
+    double crease_angle_degrees = 40.0;
+    bool want_hidden = false;
+    std::ostream* trace = nullptr;  // when set, every step event as one JSON object per line
+};
+
+// The scene must have no instances (flatten_instances first). Throws hsr::Error with the plugin's
+// message when it fails, or when it returns a segment with non-finite coordinates or an edge index
+// it was not given.
+LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, HiddenLineRemover& remover,
+                         const LineSettings& settings);
+
+// One trace event as a JSON object (no newline): fields that hold their "none" value are left out.
+std::string trace_event_json(const hsr_trace_event& event);
+
+}  // namespace hsr

@@ -1,0 +1,127 @@
+#include "hsr/lines.hpp"
+
+#include "hsr/error.hpp"
+#include "hsr/pipeline.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace hsr {
+namespace {
+
+struct Collector {
+    LineDrawing* drawing;
+    std::string problem;
+};
+
+hsr_status collect_segments(void* context, const hsr_segment_batch* batch) {
+    auto& c = *static_cast<Collector*>(context);
+    if (batch == nullptr || batch->points == nullptr || batch->edge == nullptr || batch->flags == nullptr ||
+        batch->qi == nullptr) {
+        c.problem = "a segment batch with NULL arrays";
+        return HSR_ERROR_INVALID_ARGUMENT;
+    }
+    const uint32_t edge_count = static_cast<uint32_t>(c.drawing->edges.size());
+    for (uint32_t k = 0; k < batch->count; ++k) {
+        const float* p = batch->points + 4 * size_t(k);
+        if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && std::isfinite(p[3]))) {
+            c.problem = fmt::format("a segment with non-finite end points (edge {})", batch->edge[k]);
+            return HSR_ERROR_INVALID_ARGUMENT;
+        }
+        if (batch->edge[k] != HSR_NO_EDGE && batch->edge[k] >= edge_count) {
+            c.problem = fmt::format("a segment of edge {}, but only {} edges were asked for", batch->edge[k], edge_count);
+            return HSR_ERROR_INVALID_ARGUMENT;
+        }
+        c.drawing->segments.push_back({{p[0], p[1]}, {p[2], p[3]}, batch->edge[k], batch->flags[k], batch->qi[k]});
+    }
+    return HSR_OK;
+}
+
+void collect_counter(void* context, const char* name, uint64_t value) {
+    auto* counters = static_cast<std::vector<std::pair<std::string, uint64_t>>*>(context);
+    for (auto& [n, v] : *counters)
+        if (n == name) {
+            v = value;
+            return;
+        }
+    counters->emplace_back(name, value);
+}
+
+struct TraceWriter {
+    std::ostream* out;
+    uint64_t events = 0;
+};
+
+void write_event(void* context, const hsr_trace_event* event) {
+    auto& w = *static_cast<TraceWriter*>(context);
+    if (event == nullptr || w.out == nullptr) return;
+    *w.out << trace_event_json(*event) << '\n';
+    ++w.events;
+}
+
+void append_json_string(std::string& out, const char* text) {
+    out += '"';
+    for (const char* c = text; *c != '\0'; ++c) {
+        const unsigned char u = static_cast<unsigned char>(*c);
+        if (u == '"' || u == '\\')
+            out += {'\\', char(u)};
+        else if (u < 0x20)
+            out += fmt::format("\\u{:04x}", u);
+        else
+            out += char(u);
+    }
+    out += '"';
+}
+
+}  // namespace
+
+uint64_t LineDrawing::counter(const std::string& name) const {
+    for (const auto& [n, v] : counters)
+        if (n == name) return v;
+    return 0;
+}
+
+std::string trace_event_json(const hsr_trace_event& e) {
+    std::string out = "{\"type\":";
+    append_json_string(out, e.type != nullptr ? e.type : "");
+    if (e.edge != HSR_NO_EDGE) out += fmt::format(",\"edge\":{}", e.edge);
+    if (e.face != HSR_NO_FACE) out += fmt::format(",\"face\":{}", e.face);
+    if (e.object != HSR_NO_OBJECT) out += fmt::format(",\"object\":{}", e.object);
+    if (e.qi >= 0) out += fmt::format(",\"qi\":{}", e.qi);
+    if (std::isfinite(e.t0)) out += fmt::format(",\"t0\":{}", e.t0);
+    if (std::isfinite(e.t1)) out += fmt::format(",\"t1\":{}", e.t1);
+    out += '}';
+    return out;
+}
+
+LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, HiddenLineRemover& remover,
+                         const LineSettings& settings) {
+    check_image_size(camera.width, camera.height);
+    LineDrawing drawing;
+    drawing.width = camera.width;
+    drawing.height = camera.height;
+    drawing.edges = classify_edges(scene, camera, settings.crease_angle_degrees, settings.edges);
+    const hsr_line_request request = drawing.edges.request(settings.want_hidden);
+    Collector collector{&drawing, {}};
+    hsr_segment_sink sink{&collector, &collect_segments};
+    TraceWriter writer{settings.trace};
+    hsr_trace_sink trace{&writer, &write_event};
+    hsr_counter_sink counters{&drawing.counters, &collect_counter};
+    const auto start = std::chrono::steady_clock::now();
+    try {
+        remover.render_lines(scene, camera, request, sink, settings.trace != nullptr ? &trace : nullptr, &counters);
+    } catch (const Error& e) {
+        if (!collector.problem.empty())
+            throw Error("hidden-line plugin '{}' returned {}", remover.plugin().descriptor.name, collector.problem);
+        throw;
+    }
+    drawing.lines_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    drawing.trace_events = writer.events;
+    drawing.counters.emplace_back("edges-requested", drawing.edges.size());
+    return drawing;
+}
+
+}  // namespace hsr
