@@ -88,18 +88,20 @@ struct Comparison {
     std::string first;  // the first disagreement, for the test's message
 };
 
-// Samples every requested edge every `step_px` pixels (at least 8 samples) and compares: a sample is
+// Samples every requested edge (every `edge_stride`-th one, to bound the cost on large meshes: each
+// sample casts a ray against every triangle) every `step_px` pixels (at least 8 samples) and compares: a sample is
 // visible for the plugin when a QI-0 segment of its edge passes within 0.02 px of its window point.
 // Samples within `tolerance_px` of a change of the reference's answer along the edge, or of an end
 // of one of the plugin's visible segments of that edge, are not checked.
 inline Comparison compare(const hsr_scene& s, const hsr_camera& c, const hsr::EdgeList& edges,
-                          const std::vector<Segment>& segments, double step_px = 0.25, double tolerance_px = 0.5) {
+                          const std::vector<Segment>& segments, double step_px = 0.25, double tolerance_px = 0.5,
+                          uint32_t edge_stride = 1) {
     const glm::dmat4 vp = view_projection(c);
     std::vector<std::vector<const Segment*>> visible_of(edges.size());
     for (const Segment& seg : segments)
         if (seg.qi == 0 && seg.edge < edges.size()) visible_of[seg.edge].push_back(&seg);
     Comparison out;
-    for (uint32_t e = 0; e < edges.size(); ++e) {
+    for (uint32_t e = 0; e < edges.size(); e += std::max<uint32_t>(edge_stride, 1)) {
         const glm::dvec3 p0 = position(s, edges.vertices[2 * e]), p1 = position(s, edges.vertices[2 * e + 1]);
         const glm::dvec2 w0 = to_window(c, vp, p0), w1 = to_window(c, vp, p1);
         const int n = std::max(8, int(std::ceil(glm::length(w1 - w0) / step_px)));
