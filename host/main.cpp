@@ -5,6 +5,8 @@
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"
+#include "hsr/line_image.hpp"
+#include "hsr/lines.hpp"
 #include "hsr/params.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
@@ -17,7 +19,9 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,7 +50,8 @@ const char* usage_text =
     "usage: hsr <command> [options]\n"
     "\n"
     "commands:\n"
-    "  render MODEL   render a mesh (OBJ, OFF, PLY, STL) or a .scene file to PNG\n"
+    "  render MODEL   render a mesh (OBJ, OFF, PLY, STL) or a .scene file to PNG, or draw its\n"
+    "                 visible edges to SVG/PNG with a hidden-line plugin (--algorithm appel)\n"
     "  plugins        list the plugins found, with their parameters\n"
     "  bench          time algorithms on models and deep scenes: table, CSV, SVG plot\n"
     "\n"
@@ -64,10 +69,10 @@ std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
     return out;
 }
 
-// Hidden-surface plugins first, then lighting; within a kind in the order found.
+// Hidden-surface plugins first, then hidden-line, then lighting; within a kind in the order found.
 std::string describe_plugins(const hsr::PluginRegistry& registry, const std::string& indent) {
     std::string out;
-    for (hsr_plugin_kind kind : {HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_LIGHTING_MODEL}) {
+    for (hsr_plugin_kind kind : {HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_HIDDEN_LINE_REMOVER, HSR_KIND_LIGHTING_MODEL}) {
         for (const hsr::Plugin& p : registry.plugins())
             if (p.descriptor.kind == kind) out += describe_plugin(p, indent);
     }
@@ -109,6 +114,9 @@ struct RenderOptions {
     std::string overdraw_out;
     std::string depth_tests_out;
     std::string repeat;
+    std::string edges = "features";
+    std::string hidden_lines = "hidden";
+    std::string trace;
     float repeat_gap = 0.25f, repeat_jitter = 0.0f;
     float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40;
     bool orthographic = false;
@@ -183,9 +191,11 @@ int run_render(const std::vector<std::string>& args) {
     po::options_description general("hsr render MODEL [options]: render a mesh or .scene file to PNG");
     general.add_options()
         ("help,h", "show this help, with every plugin's parameters")
-        ("output,o", po::value(&o.output), "PNG file to write (default: <model name>.png)")
+        ("output,o", po::value(&o.output),
+         "file to write: PNG for a hidden-surface plugin (default <model name>.png); SVG or PNG for a "
+         "hidden-line plugin (default <model name>.svg)")
         ("algorithm,a", po::value(&o.algorithm)->default_value(default_algorithm),
-         "hidden-surface plugin: NAME[:key=value,...]")
+         "hidden-surface or hidden-line plugin: NAME[:key=value,...]")
         ("lighting,l", po::value(&o.lighting)->default_value(default_lighting),
          "lighting plugin: NAME[:key=value,...]")
         ("width", po::value(&o.width)->default_value(1024), "image width in pixels")
@@ -201,7 +211,8 @@ int run_render(const std::vector<std::string>& args) {
         ("background", po::value(&o.background)->default_value(default_background), "background colour r/g/b or #rrggbb")
         ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
         ("crease-angle", po::value(&o.crease_angle)->default_value(40),
-         "degrees: shading normals are not smoothed across edges sharper than this")
+         "degrees: shading normals are not smoothed across edges sharper than this (and, for "
+         "hidden-line plugins, such edges are creases)")
         ("depth-out", po::value(&o.depth_out), "also write the depth buffer as a greyscale PNG (near = white)")
         ("overdraw-out", po::value(&o.overdraw_out),
          "also write the scene's depth complexity (surfaces over each pixel) as a heat-map PNG")
@@ -214,6 +225,13 @@ int run_render(const std::vector<std::string>& args) {
          "space between repeated copies, as a fraction of the model's size")
         ("repeat-jitter", po::value(&o.repeat_jitter)->default_value(0.0f, "0"),
          "turn each copy about the vertical by a random angle up to this many degrees")
+        ("edges", po::value(&o.edges)->default_value("features"),
+         "hidden-line plugins: which edges to draw: 'features' (silhouettes, creases sharper than "
+         "--crease-angle, boundaries) or 'all' (every edge but the diagonals inside flat polygons)")
+        ("hidden", po::value(&o.hidden_lines)->default_value("hidden"),
+         "hidden-line plugins: 'hidden' leaves hidden lines out, 'dashed' draws them dashed")
+        ("trace", po::value(&o.trace),
+         "hidden-line plugins: write the algorithm's steps to this file, one JSON object per line")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
         ("threads", po::value(&o.threads)->default_value(0), "shading threads (0 = one per core)")
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
@@ -242,16 +260,55 @@ int run_render(const std::vector<std::string>& args) {
     if (!(o.zoom > 0)) throw UsageError("--zoom must be positive");
     const glm::vec3 background = parse_color_option(o.background, "background");
 
+    auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
     // Plugins first: a typo in a plugin name should not wait for a large mesh to load.
     hsr::PluginRegistry registry = scan_plugins(o.plugin_dirs);
     const hsr::PluginSpec algorithm = hsr::parse_plugin_spec(o.algorithm);
-    const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(o.lighting);
-    hsr::HiddenSurfaceRemover remover(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
-    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+    const bool line_drawing = !registry.contains(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name) &&
+                              registry.contains(HSR_KIND_HIDDEN_LINE_REMOVER, algorithm.name);
+    std::optional<hsr::LineSettings> line_settings;
+    std::optional<hsr::LineStyle> line_style;
+    std::unique_ptr<hsr::HiddenLineRemover> line_remover;
+    std::unique_ptr<hsr::HiddenSurfaceRemover> surface_remover;
+    std::unique_ptr<hsr::LightingModel> lighting;
+    if (line_drawing) {
+        for (const char* option : {"lighting", "depth-out", "overdraw-out", "depth-tests-out", "threads"})
+            if (given(option))
+                throw UsageError("--{} is for hidden-surface plugins; '{}' draws lines", option, algorithm.name);
+        line_settings.emplace();
+        line_style.emplace();
+        if (o.edges == "features")
+            line_settings->edges = hsr::EdgeSelection::kFeatures;
+        else if (o.edges == "all")
+            line_settings->edges = hsr::EdgeSelection::kAll;
+        else
+            throw UsageError("--edges '{}': expected 'all' or 'features'", o.edges);
+        if (o.hidden_lines == "hidden")
+            line_style->hidden = hsr::HiddenLines::kHidden;
+        else if (o.hidden_lines == "dashed")
+            line_style->hidden = hsr::HiddenLines::kDashed;
+        else
+            throw UsageError("--hidden '{}': expected 'dashed' or 'hidden'", o.hidden_lines);
+        line_settings->want_hidden = line_style->hidden == hsr::HiddenLines::kDashed;
+        line_settings->crease_angle_degrees = o.crease_angle;
+        if (!o.output.empty() && !hsr::is_line_drawing_path(o.output))
+            throw UsageError("--output '{}': a line drawing is written as .svg or .png", o.output);
+        line_remover = std::make_unique<hsr::HiddenLineRemover>(
+            registry.find(HSR_KIND_HIDDEN_LINE_REMOVER, algorithm.name), algorithm.settings);
+    } else {
+        for (const char* option : {"edges", "hidden", "trace"})
+            if (given(option))
+                throw UsageError("--{} is for hidden-line plugins (appel, roberts, ...); '{}' removes hidden surfaces",
+                                 option, algorithm.name);
+        const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(o.lighting);
+        surface_remover = std::make_unique<hsr::HiddenSurfaceRemover>(
+            registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
+        lighting = std::make_unique<hsr::LightingModel>(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name),
+                                                        lighting_spec.settings);
+    }
 
     // Scene and camera. What the command line says explicitly wins over what a scene file says.
     const fs::path model_path(o.model);
-    auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
     hsr::SceneData scene;
     std::vector<hsr::LightSpec> light_specs;
     std::optional<glm::vec3> scene_background;
@@ -289,6 +346,43 @@ int run_render(const std::vector<std::string>& args) {
         ? hsr::make_pixel_camera(width, height, scene.bounds_min.z, scene.bounds_max.z)
         : hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, settings);
 
+    if (line_drawing) {
+        if (!scene.instances.empty()) scene = hsr::flatten_instances(scene);
+        const hsr_scene scene_view = scene.view();
+        std::ofstream trace_file;
+        if (!o.trace.empty()) {
+            trace_file.open(o.trace, std::ios::binary);
+            if (!trace_file) throw hsr::Error("--trace {}: cannot write the file", o.trace);
+            line_settings->trace = &trace_file;
+        }
+        const hsr::LineDrawing drawing = hsr::render_lines(scene_view, camera, *line_remover, *line_settings);
+        if (trace_file.is_open()) {
+            trace_file.close();
+            if (!trace_file) throw hsr::Error("--trace {}: writing failed", o.trace);
+        }
+        const fs::path output = o.output.empty() ? fs::path(model_path.stem().string() + ".svg") : fs::path(o.output);
+        line_style->background = vm["background"].defaulted() ? glm::vec3(1.0f) : background;
+        const hsr::LineImageStats drawn = hsr::write_line_drawing(output, drawing, *line_style);
+        if (o.stats) {
+            std::fprintf(stderr, "%s, %u triangles, %zu edges asked for, %ux%u\n", algorithm.name.c_str(),
+                         scene_view.triangle_count, drawing.edges.size(), drawing.width, drawing.height);
+            std::fprintf(stderr, "  %-28s %10.2f ms\n", "hidden-line time", drawing.lines_ms);
+            for (const auto& [name, value] : drawing.counters)
+                std::fprintf(stderr, "  %-28s %10llu\n", name.c_str(), static_cast<unsigned long long>(value));
+        }
+        if (!o.trace.empty())
+            std::fprintf(stderr, "wrote %s (%llu steps)\n", o.trace.c_str(),
+                         static_cast<unsigned long long>(drawing.trace_events));
+        std::fprintf(stderr, "wrote %s (%ux%u, %llu visible segments%s, %zu edges, %.1f ms)\n",
+                     output.string().c_str(), drawing.width, drawing.height,
+                     static_cast<unsigned long long>(drawn.visible),
+                     line_style->hidden == hsr::HiddenLines::kDashed
+                         ? fmt::format(" and {} hidden", drawn.hidden).c_str()
+                         : "",
+                     drawing.edges.size(), drawing.lines_ms);
+        return 0;
+    }
+
     if (!o.lights.empty()) {
         light_specs.clear();
         for (const std::string& text : o.lights) light_specs.push_back(hsr::parse_light_spec(text));
@@ -304,7 +398,8 @@ int run_render(const std::vector<std::string>& args) {
 
     const hsr_scene scene_view = scene.view();
     const hsr_shading_context context = hsr::make_shading_context(camera, lights);
-    hsr::Frame frame = hsr::render_frame(scene_view, camera, remover, lighting, context, frame_settings);
+    hsr::HiddenSurfaceRemover& remover = *surface_remover;
+    hsr::Frame frame = hsr::render_frame(scene_view, camera, remover, *lighting, context, frame_settings);
 
     const fs::path output = o.output.empty() ? fs::path(model_path.stem().string() + ".png") : fs::path(o.output);
     hsr::write_png(output, frame.width, frame.height, 3, frame.rgb);
@@ -325,7 +420,7 @@ int run_render(const std::vector<std::string>& args) {
         std::fprintf(stderr, "wrote %s (depth tests heat map: black 0 ... pale yellow %u)\n",
                      o.depth_tests_out.c_str(), depth_complexity->max);
     }
-    if (o.stats) print_stats(frame, remover, lighting, scene_view, depth_complexity);
+    if (o.stats) print_stats(frame, remover, *lighting, scene_view, depth_complexity);
     std::fprintf(stderr, "wrote %s (%ux%u, %llu triangles, %.1f ms visibility + %.1f ms shading)\n",
                  output.string().c_str(), frame.width, frame.height,
                  static_cast<unsigned long long>(hsr::drawn_triangle_count(scene_view)), frame.visibility_ms,

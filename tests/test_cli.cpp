@@ -193,3 +193,50 @@ TEST_CASE("cli: a malformed --repeat is a one-line error", "[cli]") {
     require_one_line_error(run_hsr("render " + model("cube.obj") + " --repeat 3x0x2 -o x.png", "repeat-zero"), "--repeat");
     require_one_line_error(run_hsr("render " + model("cube.obj") + " --repeat 3x2 -o x.png", "repeat-short"), "COLUMNSxROWSxLAYERS");
 }
+
+TEST_CASE("cli: a hidden-line plugin draws SVG or PNG lines and writes its trace", "[cli][lines]") {
+    // handmade-lines (tests/plugins) returns every requested edge as visible.
+    const std::string plugins = std::string(" --plugin-path ") + HSR_TEST_PLUGIN_DIR;
+    const fs::path svg = scratch_dir() / "cube-lines.svg", png = scratch_dir() / "cube-lines.png";
+    const fs::path trace = scratch_dir() / "cube-lines.jsonl";
+    fs::remove(svg);
+    const Run r = run_hsr("render " + model("cube.obj") + plugins + " -a handmade-lines --edges all --hidden dashed "
+                          "--yaw 30 --pitch 20 --width 120 --height 90 --stats -o " + svg.string() + " --trace " +
+                          trace.string(), "lines-svg");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.err, Catch::Contains("12 edges asked for") && Catch::Contains("edges-in"));
+    const std::string text = slurp(svg);
+    CHECK_THAT(text, Catch::Contains("<svg") && Catch::Contains("width=\"120px\""));
+    const std::string steps = slurp(trace);
+    CHECK(std::count(steps.begin(), steps.end(), '\n') == 12);
+    CHECK(steps.rfind("{\"type\":\"edge-begin\"", 0) == 0);
+
+    const Run p = run_hsr("render " + model("cube.obj") + plugins + " -a handmade-lines --yaw 30 --pitch 20 "
+                          "--width 120 --height 90 -o " + png.string(), "lines-png");
+    INFO(p.err);
+    REQUIRE(p.status == 0);
+    const hsr::Image img = hsr::read_png_rgb(png);
+    CHECK(img.width == 120);
+    int dark = 0;
+    for (size_t k = 0; k < img.pixels.size(); k += 3) dark += img.pixels[k] < 128;
+    CHECK(dark > 100);  // the cube's outline
+}
+
+TEST_CASE("cli: options of the wrong family and bad line options are one-line errors", "[cli][lines]") {
+    const std::string plugins = std::string(" --plugin-path ") + HSR_TEST_PLUGIN_DIR;
+    const std::string cube = model("cube.obj");
+    require_one_line_error(run_hsr("render " + cube + " --edges all -o x.png", "edges-surface"),
+                           "--edges is for hidden-line plugins");
+    require_one_line_error(run_hsr("render " + cube + plugins + " -a handmade-lines --lighting phong", "lighting-lines"),
+                           "--lighting is for hidden-surface plugins");
+    require_one_line_error(run_hsr("render " + cube + plugins + " -a handmade-lines --edges some", "edges-bad"),
+                           "--edges 'some'");
+    require_one_line_error(run_hsr("render " + cube + plugins + " -a handmade-lines --hidden dotted", "hidden-bad"),
+                           "--hidden 'dotted'");
+    require_one_line_error(run_hsr("render " + cube + plugins + " -a handmade-lines -o x.jpg", "lines-jpg"),
+                           ".svg or .png");
+    require_one_line_error(
+        run_hsr("render " + cube + plugins + " -a handmade-lines -o x.svg --trace /nonexistent-dir/t.jsonl", "trace-bad"),
+        "/nonexistent-dir/t.jsonl");
+}

@@ -198,6 +198,11 @@ void PluginRegistry::scan_directory(const fs::path& dir) {
     for (const fs::path& f : files) add_library(f);
 }
 
+bool PluginRegistry::contains(hsr_plugin_kind kind, const std::string& name) const {
+    return std::any_of(plugins_.begin(), plugins_.end(),
+                       [&](const Plugin& p) { return p.descriptor.kind == kind && name == p.descriptor.name; });
+}
+
 const Plugin& PluginRegistry::find(hsr_plugin_kind kind, const std::string& name) const {
     for (const Plugin& p : plugins_)
         if (p.descriptor.kind == kind && name == p.descriptor.name) return p;

@@ -50,6 +50,8 @@ public:
 
     // The plugin of that kind and name; throws hsr::Error listing where it looked and what it found.
     const Plugin& find(hsr_plugin_kind kind, const std::string& name) const;
+    // Whether a plugin of that kind and name was found.
+    bool contains(hsr_plugin_kind kind, const std::string& name) const;
 
     const std::vector<Plugin>& plugins() const { return plugins_; }
     const std::vector<RejectedLibrary>& rejected() const { return rejected_; }

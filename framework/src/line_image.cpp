@@ -1,0 +1,112 @@
+#include "hsr/line_image.hpp"
+
+#include "hsr/error.hpp"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <cctype>
+#include <memory>
+#include <string>
+
+namespace hsr {
+namespace {
+
+std::string lower_extension(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+bool is_outline(uint32_t flags) { return (flags & (HSR_EDGE_SILHOUETTE | HSR_EDGE_BOUNDARY)) != 0; }
+
+// Strokes every segment that `take` selects as one path (one SVG element, not one per segment).
+template <class Take>
+uint64_t stroke(cairo_t* cr, const LineDrawing& d, Take take, glm::vec3 color, double width, bool dashed,
+                const LineStyle& style) {
+    uint64_t n = 0;
+    for (const LineSegment& s : d.segments) {
+        if (!take(s)) continue;
+        cairo_move_to(cr, s.a.x, s.a.y);
+        cairo_line_to(cr, s.b.x, s.b.y);
+        ++n;
+    }
+    if (n == 0) return 0;
+    cairo_set_source_rgb(cr, color.r, color.g, color.b);
+    cairo_set_line_width(cr, width);
+    if (dashed) {
+        const double pattern[2] = {style.dash, style.gap};
+        cairo_set_dash(cr, pattern, 2, 0.0);
+    } else {
+        cairo_set_dash(cr, nullptr, 0, 0.0);
+    }
+    cairo_stroke(cr);
+    return n;
+}
+
+LineImageStats draw(cairo_t* cr, const LineDrawing& d, const LineStyle& style) {
+    cairo_set_source_rgb(cr, style.background.r, style.background.g, style.background.b);
+    cairo_paint(cr);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    LineImageStats stats;
+    // Hidden lines first, under the visible ones; then other visible edges; the outline on top.
+    if (style.hidden == HiddenLines::kDashed)
+        stats.hidden = stroke(cr, d, [](const LineSegment& s) { return s.qi != 0; }, style.hidden_ink,
+                              style.hidden_width, true, style);
+    stats.visible = stroke(cr, d, [](const LineSegment& s) { return s.qi == 0 && !is_outline(s.flags); }, style.ink,
+                           style.line_width, false, style);
+    stats.outline = stroke(cr, d, [](const LineSegment& s) { return s.qi == 0 && is_outline(s.flags); }, style.ink,
+                           style.outline_width, false, style);
+    stats.visible += stats.outline;
+    return stats;
+}
+
+struct SurfaceCloser {
+    void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+};
+struct ContextCloser {
+    void operator()(cairo_t* c) const { cairo_destroy(c); }
+};
+
+}  // namespace
+
+bool is_line_drawing_path(const std::filesystem::path& path) {
+    const std::string ext = lower_extension(path);
+    return ext == ".svg" || ext == ".png";
+}
+
+LineImageStats write_line_drawing(const std::filesystem::path& path, const LineDrawing& drawing,
+                                  const LineStyle& style) {
+    const std::string ext = lower_extension(path);
+    if (ext != ".svg" && ext != ".png")
+        throw Error("{}: a line drawing is written as .svg or .png, not '{}'", path.string(), ext);
+    if (drawing.width == 0 || drawing.height == 0) throw Error("{}: the drawing has no size", path.string());
+    std::unique_ptr<cairo_surface_t, SurfaceCloser> surface(
+        ext == ".svg" ? cairo_svg_surface_create(path.c_str(), drawing.width, drawing.height)
+                      : cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(drawing.width), int(drawing.height)));
+    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+        throw Error("{}: cannot write: {}", path.string(), cairo_status_to_string(cairo_surface_status(surface.get())));
+    if (ext == ".svg") cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_PX);  // 1 unit = 1 pixel
+    LineImageStats stats;
+    {
+        std::unique_ptr<cairo_t, ContextCloser> cr(cairo_create(surface.get()));
+        stats = draw(cr.get(), drawing, style);
+        if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS)
+            throw Error("{}: drawing failed: {}", path.string(), cairo_status_to_string(cairo_status(cr.get())));
+    }
+    if (ext == ".png") {
+        const cairo_status_t status = cairo_surface_write_to_png(surface.get(), path.c_str());
+        if (status != CAIRO_STATUS_SUCCESS)
+            throw Error("{}: cannot write: {}", path.string(), cairo_status_to_string(status));
+    } else {
+        cairo_surface_finish(surface.get());
+        if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+            throw Error("{}: cannot write: {}", path.string(),
+                        cairo_status_to_string(cairo_surface_status(surface.get())));
+    }
+    return stats;
+}
+
+}  // namespace hsr
