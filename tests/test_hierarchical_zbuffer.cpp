@@ -16,21 +16,23 @@
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/zpyramid.hpp"
+#include "surface_test_support.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
+
+using namespace surface_tests;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
@@ -139,136 +141,22 @@ void draw_random_rectangles(DepthImage& image, hsr::raster::ZPyramid& pyramid, s
 // ---------------------------------------------------------------------------------------------- //
 // Plugins through the ABI
 
-using Settings = std::vector<hsr::Setting>;
+const Agreement kHierarchical{.plugin = "hierarchical-zbuffer", .label = "hierarchical"};
 
-const hsr::Plugin& plugin(const std::string& name) {
-    static std::vector<std::vector<hsr::Plugin>> loaded;
-    for (const auto& plugins : loaded)
-        if (plugins.at(0).descriptor.name == name) return plugins.at(0);
-    loaded.push_back(hsr::load_plugin_library(std::string(HSR_PLUGIN_DIR) + "/hsr-" + name + ".so"));
-    return loaded.back().at(0);
-}
-
-hsr::Frame render(const std::string& name, const hsr_scene& scene, const hsr_camera& camera,
-                  const Settings& settings = {}, bool count_tests = false) {
-    hsr::HiddenSurfaceRemover remover(plugin(name), settings);
-    hsr::Frame frame;
-    hsr::resolve_visibility(scene, camera, remover, frame, count_tests);
-    return frame;
-}
-
-const hsr::SceneData& model(const std::string& file) {
-    static std::vector<std::pair<std::string, hsr::SceneData>> cache;
-    for (const auto& [name, data] : cache)
-        if (name == file) return data;
-    const std::string path = std::string(HSR_MODELS_DIR) + "/" + file;
-    cache.emplace_back(file, file.ends_with(".scene") ? hsr::load_scene_file(path).scene : hsr::load_model(path));
-    return cache.back().second;
-}
-
-hsr_camera orbit(const hsr::SceneData& scene, float yaw, float pitch, float zoom, bool ortho, uint32_t width,
-                 uint32_t height) {
-    hsr::CameraSettings s;
-    s.yaw_degrees = yaw;
-    s.pitch_degrees = pitch;
-    s.zoom = zoom;
-    s.orthographic = ortho;
-    s.width = width;
-    s.height = height;
-    return hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, s);
-}
-
-// A perspective camera at `eye` looking at `center`.
-hsr_camera look(glm::vec3 eye, glm::vec3 center, float near, float far, uint32_t width, uint32_t height,
-                float fovy_degrees) {
-    const glm::mat4 view = glm::lookAt(eye, center, glm::vec3(0, 1, 0));
-    const glm::mat4 projection = glm::perspective(glm::radians(fovy_degrees), float(width) / height, near, far);
-    const glm::mat4 view_projection = projection * view;
-    hsr_camera c{};
-    c.struct_size = sizeof(hsr_camera);
-    c.width = width;
-    c.height = height;
-    c.projection_type = HSR_PROJECTION_PERSPECTIVE;
-    std::memcpy(c.view, glm::value_ptr(view), sizeof c.view);
-    std::memcpy(c.projection, glm::value_ptr(projection), sizeof c.projection);
-    std::memcpy(c.view_projection, glm::value_ptr(view_projection), sizeof c.view_projection);
-    const glm::vec3 direction = glm::normalize(center - eye);
-    for (int k = 0; k < 3; ++k) {
-        c.eye[k] = eye[k];
-        c.view_direction[k] = direction[k];
-    }
-    c.near_plane = near;
-    c.far_plane = far;
-    return c;
-}
-
-uint64_t counter(const hsr::Frame& frame, const std::string& name) {
-    for (const auto& [n, v] : frame.counters)
-        if (n == name) return v;
-    FAIL("no counter " << name);
-    return 0;
-}
-
-struct Comparison {
-    uint64_t covered = 0;    // pixels zbuffer covers
-    uint64_t same = 0;       // same face and instance, identical depth and barycentrics
-    uint64_t ties = 0;       // another surface at the same depth, up to float rounding
-    uint64_t different = 0;  // anything else
-    std::string first_difference;
-};
-
-Comparison compare(const hsr::Frame& frame, const hsr::Frame& reference) {
-    Comparison c;
-    REQUIRE(frame.face.size() == reference.face.size());
-    REQUIRE(frame.instance.size() == reference.instance.size());
-    for (size_t p = 0; p < reference.face.size(); ++p) {
-        if (reference.face[p] != HSR_NO_FACE) ++c.covered;
-        const bool same_surface = frame.face[p] == reference.face[p] &&
-                                  (reference.instance.empty() || frame.instance[p] == reference.instance[p]);
-        if (same_surface && frame.depth[p] == reference.depth[p] && frame.bary[2 * p] == reference.bary[2 * p] &&
-            frame.bary[2 * p + 1] == reference.bary[2 * p + 1]) {
-            ++c.same;
-            continue;
-        }
-        const float a = frame.depth[p], b = reference.depth[p];
-        const bool both_covered = frame.face[p] != HSR_NO_FACE && reference.face[p] != HSR_NO_FACE;
-        if (!same_surface && both_covered &&
-            std::abs(a - b) <= 2.0f * std::numeric_limits<float>::epsilon() * std::max(a, b)) {
-            ++c.ties;
-            continue;
-        }
-        if (++c.different == 1)
-            c.first_difference = "pixel " + std::to_string(p % reference.width) + "," +
-                                 std::to_string(p / reference.width) + ": hierarchical face " +
-                                 std::to_string(frame.face[p]) + " depth " + std::to_string(frame.depth[p]) +
-                                 ", zbuffer face " + std::to_string(reference.face[p]) + " depth " +
-                                 std::to_string(reference.depth[p]);
-    }
-    return c;
-}
-
-// Every triangle the scene draws is accounted for exactly once.
-void check_triangle_accounting(const hsr::Frame& frame) {
-    CHECK(counter(frame, "triangles-in") ==
-          counter(frame, "triangles-backface-culled") + counter(frame, "triangles-outside") +
-              counter(frame, "triangles-degenerate") + counter(frame, "triangles-rasterized") +
-              counter(frame, "triangles-culled-by-pyramid") + counter(frame, "triangles-in-skipped-instances"));
-}
+// Counters that account for triangles the z-pyramid spared drawing.
+constexpr std::initializer_list<const char*> kCulled = {"triangles-culled-by-pyramid",
+                                                        "triangles-in-skipped-instances"};
 
 // The hierarchical z-buffer and the plain one agree everywhere but at ties; returns the frame.
 hsr::Frame check_same_picture(const hsr_scene& scene, const hsr_camera& camera, const Settings& settings = {},
                               const Settings& zbuffer_settings = {}) {
-    const hsr::Frame reference = render("zbuffer", scene, camera, zbuffer_settings);
-    hsr::Frame frame = render("hierarchical-zbuffer", scene, camera, settings);
-    const Comparison c = compare(frame, reference);
-    INFO(c.first_difference);
-    CHECK(c.covered > 0);
-    CHECK(c.different == 0);
-    CHECK(double(c.ties) < 0.001 * double(c.covered));
-    check_triangle_accounting(frame);
+    Picture picture = check_against_zbuffer(kHierarchical, scene, camera, settings, zbuffer_settings);
+    const hsr::Frame &reference = picture.reference, &frame = picture.frame;
+    INFO(picture.comparison.first_difference);
+    check_triangle_accounting(frame, kCulled);
     CHECK(counter(frame, "triangles-in") == counter(reference, "triangles-in"));
     CHECK(counter(frame, "pixels-depth-tested") <= counter(reference, "pixels-depth-tested"));
-    return frame;
+    return std::move(picture.frame);
 }
 
 }  // namespace
@@ -455,23 +343,19 @@ TEST_CASE("hierarchical-zbuffer: a deep scene is culled, and matches zbuffer", "
     const hsr::SceneData deep = hsr::make_instance_grid(model("monkey.obj"), {6, 4, 12, 0.05f, 25.0f});
     const hsr_scene scene = deep.view();
     const hsr_camera camera = orbit(deep, 0, 0, 3.2f, false, 320, 320);
-    const hsr::Frame reference = render("zbuffer", scene, camera);
-    const hsr::Frame frame = render("hierarchical-zbuffer", scene, camera);
-    const Comparison c = compare(frame, reference);
-    INFO(c.first_difference);
-    CHECK(c.covered > 0);
-    CHECK(c.different == 0);
-    CHECK(double(c.ties) < 0.001 * double(c.covered));
-    check_triangle_accounting(frame);
+    const Picture picture = check_against_zbuffer(kHierarchical, scene, camera);
+    const hsr::Frame &reference = picture.reference, &frame = picture.frame;
+    INFO(picture.comparison.first_difference);
+    check_triangle_accounting(frame, kCulled);
     for (const auto& [name, value] : frame.counters) UNSCOPED_INFO(name << " " << value);
     CHECK(counter(frame, "triangles-culled-by-pyramid") > 2 * counter(frame, "triangles-rasterized"));
     CHECK(counter(frame, "pixels-depth-tested") * 3 < counter(reference, "pixels-depth-tested"));
     CHECK(counter(frame, "pixels-written") <= counter(reference, "pixels-written"));
     // In scene order (no sorting) the picture is the same.
     const hsr::Frame unsorted = render("hierarchical-zbuffer", scene, camera, {{"front-to-back", "false"}});
-    CHECK(compare(unsorted, reference).different == 0);
+    CHECK(compare(unsorted, reference, kHierarchical).different == 0);
     // Small tiles: triangles of the front layer are drawn tile by tile, and tiles get culled.
     const hsr::Frame tiled = render("hierarchical-zbuffer", scene, camera, {{"tile-size", "4"}});
-    CHECK(compare(tiled, reference).different == 0);
+    CHECK(compare(tiled, reference, kHierarchical).different == 0);
     CHECK(counter(tiled, "tiles-culled") > 0);
 }

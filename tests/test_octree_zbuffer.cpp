@@ -8,153 +8,33 @@
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "surface_test_support.hpp"
 
 #include "../plugins/hidden-surface/octree-zbuffer/octree.cpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <cmath>
+#include <bit>
 #include <cstring>
-#include <limits>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
 namespace {
 
-using Settings = std::vector<hsr::Setting>;
+using namespace surface_tests;
 
-const hsr::Plugin& plugin(const std::string& name) {
-    static std::vector<std::vector<hsr::Plugin>> loaded;
-    for (const auto& plugins : loaded)
-        if (plugins.at(0).descriptor.name == name) return plugins.at(0);
-    loaded.push_back(hsr::load_plugin_library(std::string(HSR_PLUGIN_DIR) + "/hsr-" + name + ".so"));
-    return loaded.back().at(0);
-}
+const Agreement kOctree{.plugin = "octree-zbuffer", .label = "octree"};
 
-hsr::Frame render(hsr::HiddenSurfaceRemover& remover, const hsr_scene& scene, const hsr_camera& camera,
-                  bool count_tests = false) {
-    hsr::Frame frame;
-    hsr::resolve_visibility(scene, camera, remover, frame, count_tests);
-    return frame;
-}
-
-hsr::Frame render(const std::string& name, const hsr_scene& scene, const hsr_camera& camera,
-                  const Settings& settings = {}, bool count_tests = false) {
-    hsr::HiddenSurfaceRemover remover(plugin(name), settings);
-    return render(remover, scene, camera, count_tests);
-}
-
-const hsr::SceneData& model(const std::string& file) {
-    static std::vector<std::pair<std::string, hsr::SceneData>> cache;
-    for (const auto& [name, data] : cache)
-        if (name == file) return data;
-    const std::string path = std::string(HSR_MODELS_DIR) + "/" + file;
-    cache.emplace_back(file, file.ends_with(".scene") ? hsr::load_scene_file(path).scene : hsr::load_model(path));
-    return cache.back().second;
-}
-
-hsr_camera orbit(const hsr::SceneData& scene, float yaw, float pitch, float zoom, bool ortho, uint32_t size) {
-    hsr::CameraSettings s;
-    s.yaw_degrees = yaw;
-    s.pitch_degrees = pitch;
-    s.zoom = zoom;
-    s.orthographic = ortho;
-    s.width = s.height = size;
-    return hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, s);
-}
-
-// A perspective camera at `eye` looking at `center`, with a near plane close to the eye.
-hsr_camera look(glm::vec3 eye, glm::vec3 center, float near, float far, uint32_t width, uint32_t height,
-                float fovy_degrees = 70.0f) {
-    const glm::mat4 view = glm::lookAt(eye, center, glm::vec3(0, 1, 0));
-    const glm::mat4 projection = glm::perspective(glm::radians(fovy_degrees), float(width) / height, near, far);
-    const glm::mat4 view_projection = projection * view;
-    hsr_camera c{};
-    c.struct_size = sizeof(hsr_camera);
-    c.width = width;
-    c.height = height;
-    c.projection_type = HSR_PROJECTION_PERSPECTIVE;
-    std::memcpy(c.view, glm::value_ptr(view), sizeof c.view);
-    std::memcpy(c.projection, glm::value_ptr(projection), sizeof c.projection);
-    std::memcpy(c.view_projection, glm::value_ptr(view_projection), sizeof c.view_projection);
-    const glm::vec3 direction = glm::normalize(center - eye);
-    for (int k = 0; k < 3; ++k) {
-        c.eye[k] = eye[k];
-        c.view_direction[k] = direction[k];
-    }
-    c.near_plane = near;
-    c.far_plane = far;
-    return c;
-}
-
-struct Comparison {
-    uint64_t covered = 0;     // pixels the reference covers
-    uint64_t same = 0;        // same face and instance, bit-identical depth and barycentrics
-    uint64_t ties = 0;        // another face at the same depth (up to float rounding)
-    uint64_t different = 0;   // anything else
-    std::string first_difference;
-};
-
-// Compares an octree-zbuffer frame with the reference zbuffer frame.
-Comparison compare(const hsr::Frame& octree, const hsr::Frame& reference) {
-    Comparison c;
-    REQUIRE(octree.face.size() == reference.face.size());
-    REQUIRE(octree.instance.size() == reference.instance.size());
-    for (size_t p = 0; p < reference.face.size(); ++p) {
-        if (reference.face[p] != HSR_NO_FACE) ++c.covered;
-        const bool same_surface = octree.face[p] == reference.face[p] &&
-                                  (reference.instance.empty() || octree.instance[p] == reference.instance[p]);
-        if (same_surface && octree.depth[p] == reference.depth[p] && octree.bary[2 * p] == reference.bary[2 * p] &&
-            octree.bary[2 * p + 1] == reference.bary[2 * p + 1]) {
-            ++c.same;
-            continue;
-        }
-        const bool both_covered = octree.face[p] != HSR_NO_FACE && reference.face[p] != HSR_NO_FACE;
-        // A tie: equal depths up to float rounding. (Not a fixed tolerance: with a near plane close to
-        // the eye, window depths of surfaces far apart differ by less than 1e-6.)
-        const float a = octree.depth[p], b = reference.depth[p];
-        if (!same_surface && both_covered && std::abs(a - b) <= 2.0f * std::numeric_limits<float>::epsilon() * std::max(a, b)) {
-            ++c.ties;
-            continue;
-        }
-        if (++c.different == 1)
-            c.first_difference = "pixel " + std::to_string(p % reference.width) + "," + std::to_string(p / reference.width) +
-                                 ": octree face " + std::to_string(octree.face[p]) + " depth " +
-                                 std::to_string(octree.depth[p]) + ", zbuffer face " + std::to_string(reference.face[p]) +
-                                 " depth " + std::to_string(reference.depth[p]);
-    }
-    return c;
-}
+// Counters that account for triangles the z-pyramid and the octree spared drawing.
+constexpr std::initializer_list<const char*> kCulled = {"triangles-culled-by-pyramid", "triangles-in-culled-nodes"};
 
 // Octree and zbuffer agree at every pixel but ties (fewer than 0.1 % of the covered pixels).
 void check_same_picture(const hsr_scene& scene, const hsr_camera& camera, const Settings& octree_settings = {},
                         const Settings& zbuffer_settings = {}) {
-    const hsr::Frame reference = render("zbuffer", scene, camera, zbuffer_settings);
-    const hsr::Frame octree = render("octree-zbuffer", scene, camera, octree_settings);
-    const Comparison c = compare(octree, reference);
-    INFO(c.first_difference);
-    CHECK(c.covered > 0);
-    CHECK(c.different == 0);
-    CHECK(double(c.ties) < 0.001 * double(c.covered));
-}
-
-uint64_t counter(const hsr::Frame& frame, const std::string& name) {
-    for (const auto& [n, v] : frame.counters)
-        if (n == name) return v;
-    FAIL("no counter " << name);
-    return 0;
-}
-
-// Every triangle the scene draws is accounted for exactly once.
-void check_triangle_accounting(const hsr::Frame& frame) {
-    CHECK(counter(frame, "triangles-in") ==
-          counter(frame, "triangles-backface-culled") + counter(frame, "triangles-outside") +
-              counter(frame, "triangles-degenerate") + counter(frame, "triangles-rasterized") +
-              counter(frame, "triangles-culled-by-pyramid") + counter(frame, "triangles-in-culled-nodes"));
+    check_against_zbuffer(kOctree, scene, camera, octree_settings, zbuffer_settings);
 }
 
 }  // namespace
@@ -250,20 +130,20 @@ TEST_CASE("octree-zbuffer: build parameters shape the octree, not the picture", 
     uint64_t previous_nodes = 0;
     for (const char* leaf : {"4096", "256", "16"}) {
         const hsr::Frame frame = render("octree-zbuffer", scene, camera, {{"leaf-triangles", leaf}});
-        const Comparison c = compare(frame, reference);
+        const Comparison c = compare(frame, reference, kOctree);
         INFO("leaf-triangles=" << leaf << " " << c.first_difference);
         CHECK(c.different == 0);
         const uint64_t nodes = counter(frame, "octree-nodes");
         CHECK(nodes > previous_nodes);  // smaller leaves, more nodes
         previous_nodes = nodes;
-        check_triangle_accounting(frame);
+        check_triangle_accounting(frame, kCulled);
     }
     const hsr::Frame flat = render("octree-zbuffer", scene, camera, {{"max-depth", "0"}});
     CHECK(counter(flat, "octree-nodes") == 1);
-    CHECK(compare(flat, reference).different == 0);
+    CHECK(compare(flat, reference, kOctree).different == 0);
     const hsr::Frame shallow = render("octree-zbuffer", scene, camera, {{"max-depth", "2"}, {"leaf-triangles", "1"}});
     CHECK(counter(shallow, "octree-nodes") <= 1 + 8 + 64);
-    CHECK(compare(shallow, reference).different == 0);
+    CHECK(compare(shallow, reference, kOctree).different == 0);
 }
 
 TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves hold exact vertex copies", "[octree-zbuffer]") {
@@ -339,13 +219,13 @@ TEST_CASE("octree-zbuffer: built once, reused, rebuilt for another scene", "[oct
     uint64_t sum = 0;
     for (uint32_t n : second.depth_tests) sum += n;
     CHECK(sum == counter(second, "pixels-depth-tested"));
-    check_triangle_accounting(second);
+    check_triangle_accounting(second, kCulled);
 
     // Another scene through the same instance: rebuilt, and right.
     const hsr_camera monkey_camera = orbit(monkey, -30, 15, 1, false, 200);
     const hsr::Frame other = render(octree, monkey.view(), monkey_camera);
     CHECK(counter(other, "build-time-us") > 0);
-    CHECK(compare(other, render("zbuffer", monkey.view(), monkey_camera)).different == 0);
+    CHECK(compare(other, render("zbuffer", monkey.view(), monkey_camera), kOctree).different == 0);
     // A copy of the bunny at another address is recognised as another scene, too.
     const hsr::SceneData copy = bunny;
     const hsr::Frame again = render(octree, copy.view(), camera);
@@ -382,7 +262,7 @@ TEST_CASE("octree-zbuffer: instances, including one moved between frames", "[oct
     }
     const hsr::Frame after = render(octree, grid.view(), camera);
     CHECK(counter(after, "build-time-us") > 0);
-    const Comparison c = compare(after, render("zbuffer", grid.view(), camera));
+    const Comparison c = compare(after, render("zbuffer", grid.view(), camera), kOctree);
     INFO(c.first_difference);
     CHECK(c.different == 0);
 }
@@ -395,11 +275,11 @@ TEST_CASE("octree-zbuffer: a deep scene is culled, not drawn", "[octree-zbuffer]
     const hsr_camera camera = orbit(deep, 0, 0, 3.2f, false, 512);
     const hsr::Frame reference = render("zbuffer", scene, camera);
     const hsr::Frame octree = render("octree-zbuffer", scene, camera);
-    const Comparison c = compare(octree, reference);
+    const Comparison c = compare(octree, reference, kOctree);
     INFO(c.first_difference);
     CHECK(c.different == 0);
     CHECK(double(c.ties) < 0.001 * double(c.covered));
-    check_triangle_accounting(octree);
+    check_triangle_accounting(octree, kCulled);
 
     CHECK(counter(octree, "octree-nodes-culled") + counter(octree, "instance-nodes-culled") > 0);
     CHECK(counter(octree, "triangles-in-culled-nodes") > counter(octree, "triangles-in") / 2);
@@ -417,10 +297,10 @@ TEST_CASE("octree-zbuffer: a deep scene of large triangles is culled block by bl
     const hsr_camera camera = orbit(deep, 0, 0, 2.5f, false, 512);
     const hsr::Frame reference = render("zbuffer", scene, camera);
     const hsr::Frame octree = render("octree-zbuffer", scene, camera, {{"leaf-triangles", "1"}});
-    const Comparison c = compare(octree, reference);
+    const Comparison c = compare(octree, reference, kOctree);
     INFO(c.first_difference);
     CHECK(c.different == 0);
-    check_triangle_accounting(octree);
+    check_triangle_accounting(octree, kCulled);
     CHECK(counter(octree, "tiles-culled") > 0);
     const uint64_t octree_tests = counter(octree, "pixels-depth-tested");
     const uint64_t zbuffer_tests = counter(reference, "pixels-depth-tested");

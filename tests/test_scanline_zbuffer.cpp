@@ -9,15 +9,12 @@
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "surface_test_support.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -25,89 +22,18 @@
 
 namespace {
 
-using Settings = std::vector<hsr::Setting>;
+using namespace surface_tests;
 
-const hsr::Plugin& plugin(const std::string& name) {
-    static std::vector<std::vector<hsr::Plugin>> loaded;
-    for (const auto& plugins : loaded)
-        if (plugins.at(0).descriptor.name == name) return plugins.at(0);
-    loaded.push_back(hsr::load_plugin_library(std::string(HSR_PLUGIN_DIR) + "/hsr-" + name + ".so"));
-    return loaded.back().at(0);
-}
-
-hsr::Frame render(hsr::HiddenSurfaceRemover& remover, const hsr_scene& scene, const hsr_camera& camera,
-                  bool count_tests = true) {
-    hsr::Frame frame;
-    hsr::resolve_visibility(scene, camera, remover, frame, count_tests);
-    return frame;
-}
-
-hsr::Frame render(const std::string& name, const hsr_scene& scene, const hsr_camera& camera,
-                  const Settings& settings = {}, bool count_tests = true) {
-    hsr::HiddenSurfaceRemover remover(plugin(name), settings);
-    return render(remover, scene, camera, count_tests);
-}
-
-uint64_t counter(const hsr::Frame& frame, const std::string& name) {
-    for (const auto& [n, v] : frame.counters)
-        if (n == name) return v;
-    FAIL("no counter " << name);
-    return 0;
-}
-
-const hsr::SceneData& model(const std::string& file) {
-    static std::vector<std::pair<std::string, hsr::SceneData>> cache;
-    for (const auto& [name, data] : cache)
-        if (name == file) return data;
-    const std::string path = std::string(HSR_MODELS_DIR) + "/" + file;
-    cache.emplace_back(file, file.ends_with(".scene") ? hsr::load_scene_file(path).scene : hsr::load_model(path));
-    return cache.back().second;
-}
-
-hsr_camera orbit(const hsr::SceneData& scene, float yaw, float pitch, float zoom, bool ortho, uint32_t width,
-                 uint32_t height) {
-    hsr::CameraSettings s;
-    s.yaw_degrees = yaw;
-    s.pitch_degrees = pitch;
-    s.zoom = zoom;
-    s.orthographic = ortho;
-    s.width = width;
-    s.height = height;
-    return hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, s);
-}
-
-// A perspective camera at `eye` looking at `center`, with its near plane close to the eye.
-hsr_camera look(glm::vec3 eye, glm::vec3 center, float near, float far, uint32_t width, uint32_t height,
-                float fovy_degrees = 70.0f) {
-    const glm::mat4 view = glm::lookAt(eye, center, glm::vec3(0, 1, 0));
-    const glm::mat4 projection = glm::perspective(glm::radians(fovy_degrees), float(width) / height, near, far);
-    const glm::mat4 view_projection = projection * view;
-    hsr_camera c{};
-    c.struct_size = sizeof(hsr_camera);
-    c.width = width;
-    c.height = height;
-    c.projection_type = HSR_PROJECTION_PERSPECTIVE;
-    std::memcpy(c.view, glm::value_ptr(view), sizeof c.view);
-    std::memcpy(c.projection, glm::value_ptr(projection), sizeof c.projection);
-    std::memcpy(c.view_projection, glm::value_ptr(view_projection), sizeof c.view_projection);
-    const glm::vec3 direction = glm::normalize(center - eye);
-    for (int k = 0; k < 3; ++k) {
-        c.eye[k] = eye[k];
-        c.view_direction[k] = direction[k];
-    }
-    c.near_plane = near;
-    c.far_plane = far;
-    return c;
-}
-
-// Window depth of a world point, from the camera's matrix (double precision).
-double window_depth(const hsr_camera& camera, glm::dvec3 world) {
-    glm::dmat4 m;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) m[c][r] = camera.view_projection[4 * c + r];
-    const glm::dvec4 clip = m * glm::dvec4(world, 1.0);
-    return (clip.z / clip.w + 1.0) / 2.0;
-}
+// Coverage must be the same sample for sample: both frames count their per-pixel depth tests. The
+// same surface is enough (depth and barycentrics are measured, not compared bit for bit); ties
+// are depths within 4 float steps and may reach 0.1 % of the covered pixels.
+const Agreement kScanline{.plugin = "scanline-zbuffer",
+                          .label = "scanline",
+                          .bit_identical = false,
+                          .count_depth_tests = true,
+                          .tie_float_steps = 4.0f,
+                          .tie_floor = 1e-6f,
+                          .ties_may_reach_share = true};
 
 // Barycentric weights of corners 1 and 2 of triangle t of the scene at world point (x, y).
 glm::dvec2 barycentric_2d(const hsr::SceneData& scene, uint32_t t, glm::dvec2 p) {
@@ -116,10 +42,7 @@ glm::dvec2 barycentric_2d(const hsr::SceneData& scene, uint32_t t, glm::dvec2 p)
         const uint32_t v = scene.indices[3 * t + k];
         c[k] = {scene.positions[3 * v], scene.positions[3 * v + 1]};
     }
-    const double det = (c[1].x - c[0].x) * (c[2].y - c[0].y) - (c[2].x - c[0].x) * (c[1].y - c[0].y);
-    const double w1 = ((p.x - c[0].x) * (c[2].y - c[0].y) - (c[2].x - c[0].x) * (p.y - c[0].y)) / det;
-    const double w2 = ((c[1].x - c[0].x) * (p.y - c[0].y) - (p.x - c[0].x) * (c[1].y - c[0].y)) / det;
-    return {w1, w2};
+    return surface_tests::barycentric_2d(p, c[0], c[1], c[2]);
 }
 
 // Triangles given by hand (their own vertices each), as a scene of one object.
@@ -131,82 +54,15 @@ hsr::SceneData triangles(const std::vector<glm::vec3>& corners) {
     return builder.build();
 }
 
-struct Comparison {
-    uint64_t covered = 0;    // pixels the reference covers
-    uint64_t same = 0;       // same face and instance
-    uint64_t ties = 0;       // another face at the same depth (up to float rounding)
-    uint64_t different = 0;  // anything else
-    uint64_t coverage_differences = 0;  // pixels whose depth-test counts differ
-    double worst_depth_ulps = 0;        // on pixels with the same face
-    double worst_bary = 0;
-    std::string first_difference;
-};
-
-bool close_depths(float a, float b) {
-    return std::abs(a - b) <= 4.0f * std::numeric_limits<float>::epsilon() * std::max({a, b, 1e-6f});
-}
-
-// Compares a scanline-zbuffer frame with the zbuffer frame of the same scene and camera.
-Comparison compare(const hsr::Frame& scan, const hsr::Frame& reference) {
-    Comparison c;
-    REQUIRE(scan.face.size() == reference.face.size());
-    REQUIRE(scan.instance.size() == reference.instance.size());
-    REQUIRE(scan.depth_tests.size() == reference.depth_tests.size());
-    for (size_t p = 0; p < reference.depth_tests.size(); ++p)
-        c.coverage_differences += scan.depth_tests[p] != reference.depth_tests[p] ? 1 : 0;
-    for (size_t p = 0; p < reference.face.size(); ++p) {
-        const bool covered = reference.face[p] != HSR_NO_FACE;
-        if (covered) ++c.covered;
-        const bool same_surface = scan.face[p] == reference.face[p] &&
-                                  (reference.instance.empty() || scan.instance[p] == reference.instance[p]);
-        const float a = scan.depth[p], b = reference.depth[p];
-        if (same_surface) {
-            ++c.same;
-            if (covered) {
-                c.worst_depth_ulps =
-                    std::max(c.worst_depth_ulps, std::abs(double(a) - double(b)) /
-                                                     (std::numeric_limits<float>::epsilon() * std::max(b, 1e-6f)));
-                c.worst_bary = std::max({c.worst_bary, std::abs(double(scan.bary[2 * p]) - reference.bary[2 * p]),
-                                         std::abs(double(scan.bary[2 * p + 1]) - reference.bary[2 * p + 1])});
-            } else if (a != b || scan.bary[2 * p] != 0.0f || scan.bary[2 * p + 1] != 0.0f) {
-                ++c.different;  // an uncovered pixel must stay as the host cleared it
-            }
-            continue;
-        }
-        const bool both_covered = covered && scan.face[p] != HSR_NO_FACE;
-        if (both_covered && close_depths(a, b)) {
-            ++c.ties;
-            continue;
-        }
-        if (++c.different == 1)
-            c.first_difference = "pixel " + std::to_string(p % reference.width) + "," +
-                                 std::to_string(p / reference.width) + ": scanline face " +
-                                 std::to_string(scan.face[p]) + " depth " + std::to_string(a) + ", zbuffer face " +
-                                 std::to_string(reference.face[p]) + " depth " + std::to_string(b);
-    }
-    return c;
-}
-
-// Every triangle the scene draws is accounted for exactly once.
-void check_triangle_accounting(const hsr::Frame& frame) {
-    CHECK(counter(frame, "triangles-in") == counter(frame, "triangles-backface-culled") +
-                                                counter(frame, "triangles-outside") +
-                                                counter(frame, "triangles-degenerate") +
-                                                counter(frame, "triangles-rasterized"));
-}
-
 // The scanline z-buffer and the z-buffer agree: the same samples tested at every pixel, the same
 // triangle counters, the same visible surface except at ties (fewer than 0.1 % of the covered
 // pixels), and there depth within a few float steps and barycentrics within float rounding.
 Comparison check_same_picture(const hsr_scene& scene, const hsr_camera& camera, const Settings& settings = {}) {
-    const hsr::Frame reference = render("zbuffer", scene, camera, settings);
-    const hsr::Frame scan = render("scanline-zbuffer", scene, camera, settings);
-    const Comparison c = compare(scan, reference);
+    const Picture picture = check_against_zbuffer(kScanline, scene, camera, settings, settings);
+    const hsr::Frame &reference = picture.reference, &scan = picture.frame;
+    const Comparison& c = picture.comparison;
     INFO(camera.width << "x" << camera.height << ": " << c.first_difference);
-    CHECK(c.covered > 0);
     CHECK(c.coverage_differences == 0);
-    CHECK(c.different == 0);
-    CHECK(double(c.ties) <= 0.001 * double(c.covered));
     CHECK(c.worst_depth_ulps <= 2.0);
     CHECK(c.worst_bary <= 1e-6);
     for (const char* name : {"triangles-in", "triangles-backface-culled", "triangles-clipped", "triangles-outside",
@@ -241,7 +97,7 @@ TEST_CASE("scanline-zbuffer: two intersecting triangles, answered by hand", "[sc
     const hsr::SceneData scene = triangles({{-1, -1, 0}, {30, -1, 0}, {-1, 30, 0},     // 0: flat
                                             {-1, -1, -5}, {30, -1, 26}, {-1, 30, -5}});  // 1: z = x - 4
     const hsr_camera camera = hsr::make_pixel_camera(8, 6, -6.0f, 27.0f);
-    const hsr::Frame frame = render("scanline-zbuffer", scene.view(), camera);
+    const hsr::Frame frame = render("scanline-zbuffer", scene.view(), camera, {}, true);
     for (uint32_t y = 0; y < 6; ++y)
         for (uint32_t x = 0; x < 8; ++x) {
             INFO("pixel " << x << "," << y);
@@ -283,7 +139,7 @@ TEST_CASE("scanline-zbuffer: the fill rule on edges and corners through pixel ce
                                             world(5.5, 1.5), world(1.5, 5.5), world(5.5, 5.5)});
     const hsr_camera camera = hsr::make_pixel_camera(8, 8, -1.0f, 1.0f);
     for (const Settings& settings : {Settings{}, Settings{{"cull-backfaces", "true"}}}) {
-        const hsr::Frame frame = render("scanline-zbuffer", scene.view(), camera, settings);
+        const hsr::Frame frame = render("scanline-zbuffer", scene.view(), camera, settings, true);
         for (uint32_t j = 0; j < 8; ++j)
             for (uint32_t i = 0; i < 8; ++i) {
                 INFO("pixel " << i << "," << j);
@@ -326,11 +182,11 @@ TEST_CASE("scanline-zbuffer: random triangles cover exactly what zbuffer covers"
         INFO("round " << round);
         const hsr_camera pixels = hsr::make_pixel_camera(64, 48, -10.0f, 10.0f);
         check_same_picture(scene.view(), pixels);
-        CHECK(counter(render("scanline-zbuffer", scene.view(), pixels), "triangles-clipped") > 0);
+        CHECK(counter(render("scanline-zbuffer", scene.view(), pixels, {}, true), "triangles-clipped") > 0);
         // The eye just above the soup, looking across it: the near plane cuts many triangles.
         const hsr_camera perspective = look({32, 24, 3}, {60, 40, -4}, 0.05f, 200.0f, 96, 64, 100.0f);
         check_same_picture(scene.view(), perspective);
-        CHECK(counter(render("scanline-zbuffer", scene.view(), perspective), "triangles-clipped") > 0);
+        CHECK(counter(render("scanline-zbuffer", scene.view(), perspective, {}, true), "triangles-clipped") > 0);
     }
 }
 
@@ -377,7 +233,7 @@ TEST_CASE("scanline-zbuffer: the near plane cuts through the model", "[scanline-
             const glm::vec3 along = glm::normalize(corner[1] - corner[0]) + 0.2f * normal;
             const hsr_camera skimming = look(eye, eye + along, 1e-3f * size, 4 * size, 256, 256, 80.0f);
             check_same_picture(data.view(), skimming, settings);
-            CHECK(counter(render("scanline-zbuffer", data.view(), skimming, settings), "triangles-clipped") > 0);
+            CHECK(counter(render("scanline-zbuffer", data.view(), skimming, settings, true), "triangles-clipped") > 0);
         }
     }
 }
@@ -387,7 +243,7 @@ TEST_CASE("scanline-zbuffer: counters and buffers reused between frames", "[scan
     const hsr_scene scene = bunny.view();
     hsr::HiddenSurfaceRemover scanline(plugin("scanline-zbuffer"), {});
     const hsr_camera camera = orbit(bunny, 10, 10, 1, false, 300, 240);
-    const hsr::Frame first = render(scanline, scene, camera);
+    const hsr::Frame first = render(scanline, scene, camera, true);
     CHECK(counter(first, "triangles-in") == bunny.triangle_count());
     // Every rasterized triangle went through the polygon table (one entry each: no clipping here).
     CHECK(counter(first, "polygons-in-table") >= counter(first, "triangles-rasterized"));
@@ -405,12 +261,12 @@ TEST_CASE("scanline-zbuffer: counters and buffers reused between frames", "[scan
     CHECK(counter(first, "edge-pairs-processed") >= counter(first, "active-polygons-max"));
 
     // Another size, another scene, then the first again: the same instance gives the same frames.
-    (void)render(scanline, scene, orbit(bunny, 10, 10, 1, false, 640, 480));
+    (void)render(scanline, scene, orbit(bunny, 10, 10, 1, false, 640, 480), true);
     const hsr::SceneData& monkey = model("monkey.obj");
     const hsr_camera monkey_camera = orbit(monkey, -30, 15, 1, false, 200, 150);
-    const hsr::Frame other = render(scanline, monkey.view(), monkey_camera);
-    CHECK(compare(other, render("zbuffer", monkey.view(), monkey_camera)).different == 0);
-    const hsr::Frame again = render(scanline, scene, camera);
+    const hsr::Frame other = render(scanline, monkey.view(), monkey_camera, true);
+    CHECK(compare(other, render("zbuffer", monkey.view(), monkey_camera, {}, true), kScanline).different == 0);
+    const hsr::Frame again = render(scanline, scene, camera, true);
     CHECK(again.face == first.face);
     CHECK(again.depth == first.depth);
     CHECK(again.bary == first.bary);
@@ -458,7 +314,7 @@ TEST_CASE("scanline-zbuffer: a deep scene of instances matches zbuffer", "[scanl
     const glm::vec3 lo = grid.bounds_min, hi = grid.bounds_max, middle = 0.5f * (lo + hi);
     const float size = glm::length(hi - lo);
     check_same_picture(scene, look(middle, middle - glm::vec3(0.2f, 0.1f, 1.0f), 1e-3f * size, 2 * size, 256, 256));
-    const hsr::Frame frame = render("scanline-zbuffer", scene, orbit(grid, 0, 0, 2.5f, false, 384, 288));
+    const hsr::Frame frame = render("scanline-zbuffer", scene, orbit(grid, 0, 0, 2.5f, false, 384, 288), {}, true);
     CHECK(counter(frame, "triangles-in") == hsr::drawn_triangle_count(scene));
     CHECK(size_t(std::count(frame.instance.begin(), frame.instance.end(), 0u)) < frame.instance.size());
 }

@@ -5,15 +5,14 @@
 #include "hsr/error.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "surface_test_support.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <map>
 #include <random>
@@ -22,7 +21,12 @@
 
 namespace {
 
-using Settings = std::vector<hsr::Setting>;
+using surface_tests::barycentric_2d;
+using surface_tests::look;
+using surface_tests::make_camera;
+using surface_tests::plugin;
+using surface_tests::Settings;
+using surface_tests::window_depth;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 // ---------------------------------------------------------------------------------------------- //
@@ -87,28 +91,6 @@ struct TestMesh {
     }
 };
 
-hsr_camera make_camera(uint32_t width, uint32_t height, hsr_projection type, const glm::mat4& projection,
-                       glm::vec3 eye, glm::vec3 center, glm::vec3 up, float near, float far) {
-    const glm::mat4 view = glm::lookAt(eye, center, up);
-    const glm::mat4 view_projection = projection * view;
-    const glm::vec3 direction = glm::normalize(center - eye);
-    hsr_camera c{};
-    c.struct_size = sizeof(hsr_camera);
-    c.width = width;
-    c.height = height;
-    c.projection_type = type;
-    std::memcpy(c.view, glm::value_ptr(view), sizeof c.view);
-    std::memcpy(c.projection, glm::value_ptr(projection), sizeof c.projection);
-    std::memcpy(c.view_projection, glm::value_ptr(view_projection), sizeof c.view_projection);
-    for (int k = 0; k < 3; ++k) {
-        c.eye[k] = eye[k];
-        c.view_direction[k] = direction[k];
-    }
-    c.near_plane = near;
-    c.far_plane = far;
-    return c;
-}
-
 // Orthographic camera looking down -z from z = 10 whose window coordinates are world units:
 // window x = world x, window y = height - world y, window depth = (9 - world z) / 19.
 hsr_camera pixel_camera(uint32_t width, uint32_t height) {
@@ -117,13 +99,6 @@ hsr_camera pixel_camera(uint32_t width, uint32_t height) {
                        {0, 1, 0}, 1.0f, 20.0f);
 }
 double pixel_camera_depth(double world_z) { return (9.0 - world_z) / 19.0; }
-
-hsr_camera perspective_camera(uint32_t width, uint32_t height, float fovy_degrees, float near, float far,
-                              glm::vec3 eye, glm::vec3 center, glm::vec3 up = {0, 1, 0}) {
-    return make_camera(width, height, HSR_PROJECTION_PERSPECTIVE,
-                       glm::perspective(glm::radians(fovy_degrees), float(width) / float(height), near, far), eye,
-                       center, up, near, far);
-}
 
 // A visibility buffer cleared the way the host clears it.
 struct Frame {
@@ -152,19 +127,13 @@ hsr_counter_sink sink_into(CounterValues& values) {
             }};
 }
 
-const hsr::Plugin& zbuffer_plugin() {
-    static const std::vector<hsr::Plugin> plugins =
-        hsr::load_plugin_library(std::string(HSR_PLUGIN_DIR) + "/hsr-zbuffer.so");
-    return plugins.at(0);
-}
-
 struct Render {
     Frame frame;
     CounterValues counters;
 };
 
 Render render(const TestMesh& mesh, const hsr_camera& camera, const Settings& settings = {}) {
-    hsr::HiddenSurfaceRemover zbuffer(zbuffer_plugin(), settings);
+    hsr::HiddenSurfaceRemover zbuffer(plugin("zbuffer"), settings);
     Render out{Frame(camera.width, camera.height), {}};
     const hsr_scene scene = mesh.raw();
     hsr_visibility_buffer buffer = out.frame.raw();
@@ -176,7 +145,7 @@ Render render(const TestMesh& mesh, const hsr_camera& camera, const Settings& se
 // How many triangles cover each pixel, each triangle rendered alone into its own buffer.
 std::vector<int> coverage_counts(const TestMesh& mesh, const hsr_camera& camera) {
     std::vector<int> counts(size_t(camera.width) * camera.height, 0);
-    hsr::HiddenSurfaceRemover zbuffer(zbuffer_plugin(), {});
+    hsr::HiddenSurfaceRemover zbuffer(plugin("zbuffer"), {});
     for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
         const TestMesh single = mesh.only(t);
         const hsr_scene scene = single.raw();
@@ -221,14 +190,6 @@ Ray window_ray(const hsr_camera& camera, double wx, double wy) {
     const glm::dvec4 far = inverse * glm::dvec4(x, y, 1.0, 1.0);
     const glm::dvec3 a = glm::dvec3(near) / near.w, b = glm::dvec3(far) / far.w;
     return {a, b - a};
-}
-
-double window_depth(const hsr_camera& camera, glm::dvec3 world) {
-    glm::dmat4 view_projection;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) view_projection[c][r] = camera.view_projection[4 * c + r];
-    const glm::dvec4 clip = view_projection * glm::dvec4(world, 1.0);
-    return (clip.z / clip.w + 1.0) / 2.0;
 }
 
 struct Hit {
@@ -303,14 +264,6 @@ CoverageComparison compare_with_ray_cast(const TestMesh& mesh, uint32_t t, const
     return r;
 }
 
-// Barycentric weights of corners b and c at p in the plane (exact for the half-integer inputs used).
-glm::dvec2 barycentric_2d(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
-    const double det = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
-    const double w1 = ((p.x - a.x) * (c.y - a.y) - (c.x - a.x) * (p.y - a.y)) / det;
-    const double w2 = ((b.x - a.x) * (p.y - a.y) - (p.x - a.x) * (b.y - a.y)) / det;
-    return {w1, w2};
-}
-
 // World point of the pixel camera that lands on window point (wx, wy), at height z.
 glm::dvec3 from_window(const hsr_camera& camera, double wx, double wy, double z = 0.0) {
     return {wx, camera.height - wy, z};
@@ -321,7 +274,7 @@ glm::dvec3 from_window(const hsr_camera& camera, double wx, double wy, double z 
 // ---------------------------------------------------------------------------------------------- //
 
 TEST_CASE("zbuffer: descriptor lists its parameters", "[zbuffer]") {
-    const hsr_plugin_descriptor& d = zbuffer_plugin().descriptor;
+    const hsr_plugin_descriptor& d = plugin("zbuffer").descriptor;
     REQUIRE(std::string(d.name) == "zbuffer");
     REQUIRE(d.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER);
     REQUIRE(d.param_count == 2);
@@ -425,7 +378,7 @@ TEST_CASE("zbuffer: two intersecting squares match their plane equations at ever
 
 TEST_CASE("zbuffer: near-plane clipping with 0, 1, 2 and 3 corners in front", "[zbuffer][clipping]") {
     // Eye at the origin looking down -z, near plane at z = -1. Corners with z > 0 are behind the eye.
-    const hsr_camera camera = perspective_camera(64, 64, 90.0f, 1.0f, 50.0f, {0, 0, 0}, {0, 0, -1});
+    const hsr_camera camera = look({0, 0, 0}, {0, 0, -1}, 1.0f, 50.0f, 64, 64, 90.0f);
     struct Case {
         int in_front;
         glm::dvec3 a, b, c;
@@ -547,7 +500,7 @@ TEST_CASE("zbuffer: fill rule covers shared edges exactly once", "[zbuffer][fill
     }
 
     SECTION("a jittered ground grid crossing the near plane is watertight") {
-        const hsr_camera camera = perspective_camera(48, 40, 70.0f, 0.5f, 80.0f, {0, 0, 0}, {0, -0.6, -1});
+        const hsr_camera camera = look({0, 0, 0}, {0, -0.6, -1}, 0.5f, 80.0f, 48, 40, 70.0f);
         const int cells = 10;
         const double x0 = -12, x1 = 12, z0 = -40, z1 = 6, ground = -1;
         std::mt19937 random(1234);
@@ -654,10 +607,10 @@ TEST_CASE("zbuffer: back-face culling keeps the side facing the camera", "[zbuff
         uint32_t front;  // the triangle whose front this camera sees
     };
     const View views[] = {
-        {"perspective from +z", perspective_camera(40, 32, 60.0f, 0.1f, 20.0f, {0, 0, 5}, {0, 0, 0}), 0},
-        {"perspective from -z", perspective_camera(40, 32, 60.0f, 0.1f, 20.0f, {0, 0, -5}, {0, 0, 0}), 1},
+        {"perspective from +z", look({0, 0, 5}, {0, 0, 0}, 0.1f, 20.0f, 40, 32, 60.0f), 0},
+        {"perspective from -z", look({0, 0, -5}, {0, 0, 0}, 0.1f, 20.0f, 40, 32, 60.0f), 1},
         {"perspective from +z, upside down",
-         perspective_camera(40, 32, 60.0f, 0.1f, 20.0f, {0, 0, 5}, {0, 0, 0}, {0, -1, 0}), 0},
+         look({0, 0, 5}, {0, 0, 0}, 0.1f, 20.0f, 40, 32, 60.0f, {0, -1, 0}), 0},
         {"orthographic from +z",
          make_camera(40, 32, HSR_PROJECTION_ORTHOGRAPHIC, glm::ortho(-2.5f, 2.5f, -2.0f, 2.0f, 0.1f, 20.0f),
                      {0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.1f, 20.0f),
@@ -683,7 +636,7 @@ TEST_CASE("zbuffer: back-face culling keeps the side facing the camera", "[zbuff
 }
 
 TEST_CASE("zbuffer: perspective-correct barycentrics and depth match a ray cast", "[zbuffer]") {
-    const hsr_camera camera = perspective_camera(96, 64, 60.0f, 0.5f, 30.0f, {0.3f, 1.2f, 4.0f}, {0, 0, -1});
+    const hsr_camera camera = look({0.3f, 1.2f, 4.0f}, {0, 0, -1}, 0.5f, 30.0f, 96, 64, 60.0f);
     TestMesh mesh;
     mesh.add_triangle({-2.5, -1.5, 2.0}, {3.0, -0.5, -9.0}, {-0.5, 2.5, -3.0});
     const Render r = render(mesh, camera);
@@ -714,7 +667,7 @@ TEST_CASE("zbuffer: perspective-correct barycentrics and depth match a ray cast"
 }
 
 TEST_CASE("zbuffer: degenerate, behind-the-eye and non-finite triangles draw nothing and no NaN", "[zbuffer]") {
-    const hsr_camera camera = perspective_camera(32, 32, 90.0f, 1.0f, 50.0f, {0, 0, 0}, {0, 0, -1});
+    const hsr_camera camera = look({0, 0, 0}, {0, 0, -1}, 1.0f, 50.0f, 32, 32, 90.0f);
     const double nan = std::numeric_limits<double>::quiet_NaN();
 
     SECTION("nothing to draw") {
@@ -779,7 +732,7 @@ TEST_CASE("zbuffer: bad input comes back as hsr::Error with a clear message", "[
     mesh.add_triangle({1, 1, 0}, {5, 1, 0}, {1, 5, 0});
     const hsr_scene scene = mesh.raw();
     const hsr_camera camera = pixel_camera(16, 12);
-    hsr::HiddenSurfaceRemover zbuffer(zbuffer_plugin(), {});
+    hsr::HiddenSurfaceRemover zbuffer(plugin("zbuffer"), {});
 
     Frame wrong_size(12, 16);
     hsr_visibility_buffer wrong = wrong_size.raw();
