@@ -11,6 +11,7 @@
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/surface.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/program_options.hpp>
@@ -117,6 +118,8 @@ struct RenderOptions {
     std::string edges = "features";
     std::string hidden_lines = "hidden";
     std::string trace;
+    std::string surface, range, heightmap;
+    double heightmap_height = 0.0;
     float repeat_gap = 0.25f, repeat_jitter = 0.0f;
     float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40;
     bool orthographic = false;
@@ -232,6 +235,15 @@ int run_render(const std::vector<std::string>& args) {
          "hidden-line plugins: 'hidden' leaves hidden lines out, 'dashed' draws them dashed")
         ("trace", po::value(&o.trace),
          "hidden-line plugins: write the algorithm's steps to this file, one JSON object per line")
+        ("surface", po::value(&o.surface),
+         "instead of MODEL: the surface z = f(x, y) of this formula (muparser: sin cos sqrt exp ^ pi ...), "
+         "e.g. \"sin(x)*cos(y)\"")
+        ("range", po::value(&o.range),
+         "with --surface: X0:X1,Y0:Y1[,CxR] (default -1:1,-1:1,64x64), e.g. -3:3,-3:3,80x80")
+        ("heightmap", po::value(&o.heightmap),
+         "instead of MODEL: a surface from a greyscale PNG, one grid sample per pixel")
+        ("heightmap-height", po::value(&o.heightmap_height)->default_value(0.0, "auto"),
+         "with --heightmap: the height of a white pixel (pixels are 1 apart); auto = a fifth of the larger side")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
         ("threads", po::value(&o.threads)->default_value(0), "shading threads (0 = one per core)")
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
@@ -252,7 +264,12 @@ int run_render(const std::vector<std::string>& args) {
         std::cout << describe_plugins(registry, "  ");
         return 0;
     }
-    if (o.model.empty()) throw UsageError("render: no model given");
+    const int sources = int(!o.model.empty()) + int(!o.surface.empty()) + int(!o.heightmap.empty());
+    if (sources == 0) throw UsageError("render: no model given (or --surface FORMULA, or --heightmap FILE.png)");
+    if (sources > 1) throw UsageError("render: give one of MODEL, --surface and --heightmap");
+    if (!o.range.empty() && o.surface.empty()) throw UsageError("--range goes with --surface");
+    if (!vm["heightmap-height"].defaulted() && o.heightmap.empty())
+        throw UsageError("--heightmap-height goes with --heightmap");
     if (o.width <= 0 || o.height <= 0 || o.width > hsr::max_image_side || o.height > hsr::max_image_side)
         throw UsageError("image size {}x{}: each side must be between 1 and {}", o.width, o.height, hsr::max_image_side);
     for (float v : {o.yaw, o.pitch, o.zoom, o.crease_angle})
@@ -308,7 +325,7 @@ int run_render(const std::vector<std::string>& args) {
     }
 
     // Scene and camera. What the command line says explicitly wins over what a scene file says.
-    const fs::path model_path(o.model);
+    const fs::path model_path(!o.model.empty() ? o.model : !o.heightmap.empty() ? o.heightmap : "surface");
     hsr::SceneData scene;
     std::vector<hsr::LightSpec> light_specs;
     std::optional<glm::vec3> scene_background;
@@ -319,7 +336,16 @@ int run_render(const std::vector<std::string>& args) {
     settings.pitch_degrees = o.pitch;
     settings.zoom = o.zoom;
     settings.orthographic = o.orthographic;
-    if (hsr::is_scene_file(model_path)) {
+    if (!o.surface.empty()) {
+        const hsr::SurfaceRange range = o.range.empty() ? hsr::SurfaceRange{} : hsr::parse_surface_range(o.range);
+        scene = hsr::make_formula_surface(o.surface, range,
+                                          o.color.empty() ? glm::vec3(0.8f) : parse_color_option(o.color, "color"));
+    } else if (!o.heightmap.empty()) {
+        hsr::HeightmapOptions heightmap;
+        heightmap.height = o.heightmap_height;
+        if (!o.color.empty()) heightmap.color = parse_color_option(o.color, "color");
+        scene = hsr::make_heightmap_surface(o.heightmap, heightmap);
+    } else if (hsr::is_scene_file(model_path)) {
         hsr::SceneFile file = hsr::load_scene_file(model_path);
         scene = std::move(file.scene);
         light_specs = file.lights;

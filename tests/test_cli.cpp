@@ -240,3 +240,19 @@ TEST_CASE("cli: options of the wrong family and bad line options are one-line er
         run_hsr("render " + cube + plugins + " -a handmade-lines -o x.svg --trace /nonexistent-dir/t.jsonl", "trace-bad"),
         "/nonexistent-dir/t.jsonl");
 }
+
+TEST_CASE("cli: --surface draws a formula, bad formulas and ranges are one-line errors", "[cli][surface]") {
+    const fs::path png = scratch_dir() / "surface.png";
+    fs::remove(png);
+    const Run r = run_hsr("render --surface \"sin(x)*cos(y)\" --range -3:3,-3:3,24x24 --pitch 30 --width 80 --height 60 "
+                          "-o " + png.string(), "surface");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(hsr::read_png_rgb(png).width == 80);
+    require_one_line_error(run_hsr("render --surface \"sin(x\"", "surface-bad"), "Missing parenthesis");
+    require_one_line_error(run_hsr("render --surface \"x+q\"", "surface-name"), "x+q");
+    require_one_line_error(run_hsr("render --surface x --range 3:1,0:1", "surface-range"), "3:1,0:1");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --surface x", "surface-two"), "one of MODEL");
+    require_one_line_error(run_hsr("render --heightmap /nonexistent/h.png", "heightmap-missing"), "/nonexistent/h.png");
+    require_one_line_error(run_hsr("render --range 0:1,0:1 " + model("cube.obj"), "range-alone"), "--range goes with");
+}
