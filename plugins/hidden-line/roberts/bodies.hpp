@@ -27,8 +27,10 @@ struct Body {
     glm::dvec3 box_min{0.0}, box_max{0.0};    // world-space bounds of its vertices
     glm::dvec3 interior_point{0.0};           // the mean of its vertices
     double tolerance = 0;  // world units: how far a vertex may lie outside a face plane (rounding)
-    double shrink = 0;     // world units: planes are moved this far inward for the visibility tests,
-                           // so that a body does not hide what lies on (or touches) its surface
+    double shrink = 0;     // world units: a line of sight must pass more than this deep inside the
+                           // body for it to hide anything, so that a body does not hide what lies on
+                           // (or touches) its surface; the hidden interval's end points come from the
+                           // true planes all the same
 };
 
 // Every body of a scene, with their planes (the columns of all body matrices, body after body).

@@ -24,8 +24,13 @@
 //     (p_k·w_j - p_j·w_k) + t·(q_k·w_j - q_j·w_k) > 0,      and with a >= 0:  p_k + t·q_k > 0,
 //
 // and each condition r + s·t > 0 cuts the interval at t = -r/s from below (s > 0) or above (s < 0).
-// The planes come in moved inward by the body's `shrink` (p_j and w_j·E_w reduced), so that a line
-// on or touching the body's surface is not hidden by it.
+//
+// The planes may come in moved inward by `shrink` (p_j reduced by shrink, w_j by shrink·E_w): the
+// same test then asks whether the line of sight passes through the body shrunk by that much, that
+// is, more than `shrink` deep inside it. roberts.cpp uses that only to decide whether a hidden
+// interval is real (a line on or touching the surface is not hidden by it); the interval itself is
+// always computed with the true planes (shrink = 0), so its end points are the exact silhouette
+// crossings.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -47,8 +52,8 @@ struct BodyPlanes {
     const glm::dvec4* planes;  // all planes of the scene, indexed by `order`
     const uint32_t* order;
     uint32_t front_count, edge_on_count, back_count;
-    const double* eye_weight;  // w_j of the shrunk planes, indexed like `planes`
-    double shrink;
+    const double* eye_weight;  // w_j of the planes as moved by `shrink`, indexed like `planes`
+    double shrink;             // how far the planes are moved inward (0: the true body)
 };
 
 class ParametricTest {

@@ -97,10 +97,16 @@ struct View {
     }
 };
 
+// One body's planes for the current camera, in the order the parametric test reads them: front
+// faces, edge-on faces, back faces (by the sign of w for the planes as given or as shrunk).
+struct PlaneSplit {
+    uint32_t front_count = 0, edge_on_count = 0, back_count = 0;
+};
+
 // One body for the current camera.
 struct BodyView {
-    uint32_t first_ordered = 0;  // its planes in View order: front faces, edge-on faces, back faces
-    uint32_t front_count = 0, edge_on_count = 0, back_count = 0;
+    uint32_t first_ordered = 0;  // its planes' first entry in ordered_planes_ / ordered_shrunk_
+    PlaneSplit exact, shrunk;    // the true planes; the planes moved inward by the body's shrink
     glm::dvec2 window_min{0.0}, window_max{0.0};
     bool window_box_valid = false;  // false when part of the body lies behind the eye
     double depth_min = 0;
@@ -108,7 +114,7 @@ struct BodyView {
 
 struct Stats {
     uint64_t edges_behind_eye = 0, edges_back = 0;
-    uint64_t tests = 0, bounds_rejections = 0, depth_rejections = 0, hidden_intervals = 0;
+    uint64_t tests = 0, bounds_rejections = 0, depth_rejections = 0, hidden_intervals = 0, touching_rejections = 0;
     uint64_t pieces_visible = 0, pieces_hidden = 0, penetration_pieces_visible = 0;
 };
 
@@ -203,6 +209,7 @@ public:
         counters.set("bounds-rejections", stats.bounds_rejections);
         counters.set("depth-rejections", stats.depth_rejections);
         counters.set("hidden-intervals", stats.hidden_intervals);
+        counters.set("touching-rejections", stats.touching_rejections);
         counters.set("pieces-visible", stats.pieces_visible);
         counters.set("pieces-hidden", stats.pieces_hidden);
         counters.set("body-pairs-overlapping", penetration.body_pairs_overlapping);
@@ -283,8 +290,10 @@ private:
         const size_t plane_count = set_.planes.size();
         const size_t body_count = set_.bodies.size();
         eye_weight_.resize(plane_count);
+        shrunk_weight_.resize(plane_count);
         plane_is_back_.resize(plane_count);
         ordered_planes_.resize(plane_count);
+        ordered_shrunk_.resize(plane_count);
         body_views_.resize(body_count);
         size_t largest = 0;
         for (size_t b = 0; b < body_count; ++b) {
@@ -292,30 +301,19 @@ private:
             BodyView& v = body_views_[b];
             largest = std::max<size_t>(largest, body.plane_count);
             // The row w = E · V: the sign says which faces are turned away (w >= 0: the eye is on the
-            // inner side of the plane, or in it). The test uses the planes moved inward by `shrink`.
+            // inner side of the plane, or in it). The hidden intervals come from the true planes; the
+            // planes moved inward by `shrink` (w loses shrink·E_w) only confirm that a line of sight
+            // goes deeper into the body than touching.
             const double weight_shrink = body.shrink * view_.eye.w;
-            uint32_t front = 0, edge_on = 0, back = 0;
             for (uint32_t j = body.first_plane; j < body.first_plane + body.plane_count; ++j) {
                 const double w = glm::dot(view_.eye, set_.planes[j]);
                 plane_is_back_[j] = w >= 0 ? 1 : 0;
-                eye_weight_[j] = w - weight_shrink;
-                if (eye_weight_[j] < 0)
-                    ++front;
-                else if (eye_weight_[j] == 0)
-                    ++edge_on;
-                else
-                    ++back;
+                eye_weight_[j] = w;
+                shrunk_weight_[j] = w - weight_shrink;
             }
             v.first_ordered = body.first_plane;
-            v.front_count = front;
-            v.edge_on_count = edge_on;
-            v.back_count = back;
-            uint32_t next_front = body.first_plane, next_edge_on = body.first_plane + front,
-                     next_back = body.first_plane + front + edge_on;
-            for (uint32_t j = body.first_plane; j < body.first_plane + body.plane_count; ++j) {
-                const double w = eye_weight_[j];
-                ordered_planes_[w < 0 ? next_front++ : w == 0 ? next_edge_on++ : next_back++] = j;
-            }
+            v.exact = split_planes(body, eye_weight_, ordered_planes_);
+            v.shrunk = split_planes(body, shrunk_weight_, ordered_shrunk_);
             // Window box and depth range of its vertices.
             v.window_box_valid = true;
             v.depth_min = std::numeric_limits<double>::infinity();
@@ -352,10 +350,39 @@ private:
         next_pieces_.reserve(2 * body_count + 2);
     }
 
+    // Sorts a body's planes into front (weight < 0), edge-on (= 0) and back (> 0) faces, in that
+    // order, into its range of `ordered`.
+    static PlaneSplit split_planes(const roberts::Body& body, const std::vector<double>& weight,
+                                   std::vector<uint32_t>& ordered) {
+        PlaneSplit split;
+        for (uint32_t j = body.first_plane; j < body.first_plane + body.plane_count; ++j) {
+            if (weight[j] < 0)
+                ++split.front_count;
+            else if (weight[j] == 0)
+                ++split.edge_on_count;
+            else
+                ++split.back_count;
+        }
+        uint32_t next_front = body.first_plane, next_edge_on = body.first_plane + split.front_count,
+                 next_back = body.first_plane + split.front_count + split.edge_on_count;
+        for (uint32_t j = body.first_plane; j < body.first_plane + body.plane_count; ++j) {
+            const double w = weight[j];
+            ordered[w < 0 ? next_front++ : w == 0 ? next_edge_on++ : next_back++] = j;
+        }
+        return split;
+    }
+
+    // The body's true planes (what its hidden intervals are computed with).
     BodyPlanes planes_of(uint32_t body) const {
         const BodyView& v = body_views_[body];
-        return {set_.planes.data(), ordered_planes_.data() + v.first_ordered, v.front_count, v.edge_on_count,
-                v.back_count, eye_weight_.data(), set_.bodies[body].shrink};
+        return {set_.planes.data(), ordered_planes_.data() + v.first_ordered, v.exact.front_count,
+                v.exact.edge_on_count, v.exact.back_count, eye_weight_.data(), 0.0};
+    }
+    // Its planes moved inward by its shrink (what decides whether a hidden interval is real).
+    BodyPlanes shrunk_planes_of(uint32_t body) const {
+        const BodyView& v = body_views_[body];
+        return {set_.planes.data(), ordered_shrunk_.data() + v.first_ordered, v.shrunk.front_count,
+                v.shrunk.edge_on_count, v.shrunk.back_count, shrunk_weight_.data(), set_.bodies[body].shrink};
     }
 
     // --- per line -----------------------------------------------------------------------------------
@@ -401,8 +428,21 @@ private:
             const uint32_t object = set_.bodies[body].object;
             ++stats.tests;
             const BodyPlanes planes = planes_of(body);
+            // The hidden interval of the true body: its ends are where the line crosses the body's
+            // silhouette (or surface), exactly.
             const Interval hidden = test_.hidden(planes, start, direction, t_begin, t_end);
             if (hidden.empty() || (hidden.t1 - hidden.t0) * pixels_per_t < kSliverPixels) continue;
+            // It counts only if somewhere in it the line of sight passes more than `shrink` deep
+            // inside the body, that is, through the body shrunk by that much. A line lying on the
+            // surface, or whose line of sight only grazes it (surfaces that touch or share a plane),
+            // can come out "inside" the true planes by rounding, but never inside the shrunk ones. A
+            // line that does pass through the inside meets the surface of the (convex) shadow of
+            // the body in at most two points, so the shrunk test never stands for a stretch of
+            // touching: the interval's ends are left where the true planes put them.
+            if (test_.hidden(shrunk_planes_of(body), start, direction, hidden.t0, hidden.t1).empty()) {
+                ++stats.touching_rejections;
+                continue;
+            }
             ++stats.hidden_intervals;
             if (trace.enabled()) {
                 const uint32_t exit = roberts::ParametricTest::exit_plane(planes, start, direction,
@@ -449,9 +489,11 @@ private:
     roberts::BodySet set_;
     roberts::ParametricTest test_;
     View view_;
-    std::vector<double> eye_weight_;         // per plane: w = E · V, planes moved inward
+    std::vector<double> eye_weight_;         // per plane: w = E · V
+    std::vector<double> shrunk_weight_;      // per plane: w of the plane moved inward by its body's shrink
     std::vector<uint8_t> plane_is_back_;     // per plane: turned away from the eye (or edge-on)
-    std::vector<uint32_t> ordered_planes_;   // each body's planes: front, edge-on, back
+    std::vector<uint32_t> ordered_planes_;   // each body's planes: front, edge-on, back (by eye_weight_)
+    std::vector<uint32_t> ordered_shrunk_;   // the same by shrunk_weight_
     std::vector<BodyView> body_views_;
     struct Screen {  // what the pre-tests need of one body
         double depth_min;
