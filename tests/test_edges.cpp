@@ -2,6 +2,7 @@
 // hidden-line plugin call (hsr/lines.hpp) with the plain-C test plugin.
 #include "hsr/edges.hpp"
 #include "hsr/lines.hpp"
+#include "hsr/surface.hpp"
 #include "line_test_support.hpp"
 
 #include <catch2/catch.hpp>
@@ -107,4 +108,26 @@ TEST_CASE("lines: the trace's JSON leaves out empty fields and escapes text", "[
     e.t0 = 0.25;
     e.t1 = std::numeric_limits<double>::quiet_NaN();
     CHECK(hsr::trace_event_json(e) == "{\"type\":\"say \\\"hi\\\"\\u000a\",\"face\":7,\"t0\":0.25}");
+}
+
+TEST_CASE("edges: on a surface grid, --edges all keeps every grid line, flat or not, and no diagonal", "[edges]") {
+    // z = max(x, 0) on 9 x 5 samples: flat for x <= 0, a plane for x >= 0, a crease at x = 0.
+    hsr::SurfaceRange range;
+    range.x0 = -1;
+    range.x1 = 1;
+    range.columns = 9;
+    range.rows = 5;
+    const hsr::SceneData surface = hsr::make_formula_surface("max(x, 0)", range);
+    const hsr_scene scene = surface.view();
+    hsr::CameraSettings settings;
+    settings.pitch_degrees = 30;
+    const hsr_camera camera = hsr::make_orbit_camera(surface.bounds_min, surface.bounds_max, settings);
+    const hsr::EdgeList all = hsr::classify_edges(scene, camera, 40, hsr::EdgeSelection::kAll);
+    // Grid lines: 5 rows of 8 edges and 9 columns of 4 edges.
+    CHECK(all.size() == 5 * 8 + 9 * 4);
+    for (size_t e = 0; e < all.size(); ++e) {
+        const uint32_t a = std::min(all.vertices[2 * e], all.vertices[2 * e + 1]);
+        const uint32_t b = std::max(all.vertices[2 * e], all.vertices[2 * e + 1]);
+        CHECK(((b - a == 1 && a / 9 == b / 9) || b - a == 9));
+    }
 }

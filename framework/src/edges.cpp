@@ -1,10 +1,13 @@
 #include "hsr/edges.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/surface.hpp"
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace hsr {
 namespace {
@@ -55,6 +58,15 @@ EdgeList classify_edges(const hsr_scene& scene, const hsr_camera& camera, double
     const double cos_crease = std::cos(crease_angle_degrees * 3.14159265358979323846 / 180.0);
     // Faces whose normals differ by less than this are one flat polygon (about 0.06 degrees).
     constexpr double cos_coplanar = 1.0 - 5e-7;
+    // On a surface grid (hsr/surface.hpp) the grid lines are edges of the drawing even where the
+    // surface is flat; only the cells' diagonals are triangulation.
+    const std::optional<SurfaceGrid> grid =
+        selection == EdgeSelection::kAll ? find_surface_grid(scene) : std::nullopt;
+    const uint32_t grid_columns = grid ? grid->columns : 0;
+    auto is_grid_line = [grid_columns](uint32_t a, uint32_t b) {
+        const uint32_t lo = std::min(a, b), hi = std::max(a, b);
+        return (hi - lo == 1 && hi % grid_columns != 0) || hi - lo == grid_columns;
+    };
     EdgeList out;
     out.vertices.reserve(3 * size_t(scene.triangle_count));
     out.faces.reserve(3 * size_t(scene.triangle_count));
@@ -75,7 +87,8 @@ EdgeList classify_edges(const hsr_scene& scene, const hsr_camera& camera, double
                 if (cosine < cos_crease) flags |= HSR_EDGE_CREASE;
                 if (front[t] != front[u]) flags |= HSR_EDGE_SILHOUETTE;
                 if (!front[t] && !front[u]) flags |= HSR_EDGE_BACK;
-                const bool coplanar = cosine > cos_coplanar;
+                const bool coplanar = cosine > cos_coplanar &&
+                                      !(grid && is_grid_line(scene.indices[3 * t + i], scene.indices[3 * t + (i + 1) % 3]));
                 if (selection == EdgeSelection::kAll ? coplanar
                                                      : (flags & (HSR_EDGE_CREASE | HSR_EDGE_SILHOUETTE)) == 0)
                     continue;

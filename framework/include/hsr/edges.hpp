@@ -13,7 +13,8 @@ namespace hsr {
 
 enum class EdgeSelection {
     kAll,       // every edge of the mesh except those between coplanar faces (the diagonals a
-                // triangulation added inside flat polygons): the classic wireframe
+                // triangulation added inside flat polygons): the classic wireframe. On a surface
+                // grid (hsr/surface.hpp) every grid line, flat or not, and no cell diagonal
     kFeatures,  // silhouettes, creases and boundaries only: a clean drawing of a smooth mesh
 };
 
