@@ -1,4 +1,5 @@
-// What the hidden-line tests share: models loaded once, orbit cameras, running a hidden-line plugin
+// What the hidden-line tests share (on top of surface_test_support.hpp's plugin loader, model cache
+// and cameras): models with instances copied out, running a hidden-line plugin
 // from the build's plugin folder, and its segments in the form line_reference.hpp compares.
 #pragma once
 
@@ -7,6 +8,7 @@
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
 #include "line_reference.hpp"
+#include "surface_test_support.hpp"
 
 #include <string>
 #include <utility>
@@ -14,37 +16,19 @@
 
 namespace line_tests {
 
-inline const hsr::Plugin& plugin(const std::string& name, const char* dir = HSR_PLUGIN_DIR,
-                                 const char* prefix = "hsr-") {
-    static std::vector<std::vector<hsr::Plugin>> loaded;
-    for (const auto& plugins : loaded)
-        if (plugins.at(0).descriptor.name == name) return plugins.at(0);
-    loaded.push_back(hsr::load_plugin_library(std::string(dir) + "/" + prefix + name + ".so"));
-    return loaded.back().at(0);
-}
+using surface_tests::plugin;
 
-// models/<file>: a mesh, or a .scene file (its instances copied out).
+// models/<file>: a mesh, or a .scene file with its instances copied out; loaded once.
 inline const hsr::SceneData& model(const std::string& file) {
     static std::vector<std::pair<std::string, hsr::SceneData>> cache;
     for (const auto& [name, data] : cache)
         if (name == file) return data;
-    const std::string path = std::string(HSR_MODELS_DIR) + "/" + file;
-    hsr::SceneData data = file.ends_with(".scene") ? hsr::load_scene_file(path).scene : hsr::load_model(path);
-    if (!data.instances.empty()) data = hsr::flatten_instances(data);
-    cache.emplace_back(file, std::move(data));
+    const hsr::SceneData& loaded = surface_tests::model(file);
+    cache.emplace_back(file, loaded.instances.empty() ? loaded : hsr::flatten_instances(loaded));
     return cache.back().second;
 }
 
-inline hsr_camera orbit(const hsr::SceneData& scene, float yaw, float pitch, float zoom, bool ortho,
-                        uint32_t size) {
-    hsr::CameraSettings s;
-    s.yaw_degrees = yaw;
-    s.pitch_degrees = pitch;
-    s.zoom = zoom;
-    s.orthographic = ortho;
-    s.width = s.height = size;
-    return hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, s);
-}
+using surface_tests::orbit;
 
 inline hsr::LineDrawing draw(const std::string& plugin_name, const hsr_scene& scene, const hsr_camera& camera,
                              hsr::LineSettings settings = {}, const std::vector<hsr::Setting>& params = {}) {

@@ -32,12 +32,14 @@ using Settings = std::vector<hsr::Setting>;
 // ---------------------------------------------------------------------------------------------- //
 // Plugins, models, frames, counters
 
-// The plugin hsr-<name>.so of the build's plugin folder, loaded once.
-inline const hsr::Plugin& plugin(const std::string& name) {
+// The plugin <prefix><name>.so of a folder (by default hsr-<name>.so of the build's plugin folder),
+// loaded once.
+inline const hsr::Plugin& plugin(const std::string& name, const char* dir = HSR_PLUGIN_DIR,
+                                 const char* prefix = "hsr-") {
     static std::vector<std::vector<hsr::Plugin>> loaded;
     for (const auto& plugins : loaded)
         if (plugins.at(0).descriptor.name == name) return plugins.at(0);
-    loaded.push_back(hsr::load_plugin_library(std::string(HSR_PLUGIN_DIR) + "/hsr-" + name + ".so"));
+    loaded.push_back(hsr::load_plugin_library(std::string(dir) + "/" + prefix + name + ".so"));
     return loaded.back().at(0);
 }
 
