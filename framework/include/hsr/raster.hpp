@@ -342,35 +342,145 @@ inline glm::vec2 barycentrics_at(const TriangleSetup& s, double i, double j) {
     return {float(b1), float(b2)};
 }
 
-// Calls visit(x, y, i, j) for every covered pixel centre, row by row from the top and left to right
-// in a row; (i, j) = (x - min_x, y - min_y) as doubles, ready for Plane::at. The edge functions step
-// exactly in integers, so the fill rule holds bit for bit. The covered samples of a row are
-// contiguous, so a row ends once its run has been left. (Finding each row's run directly, with one
-// division per edge and row, measured slower on small triangles, which dominate real meshes.)
-template <class Visit>
-inline void for_each_covered_pixel(const TriangleSetup& s, Visit&& visit) {
-    int64_t row0 = s.edge_origin[0], row1 = s.edge_origin[1], row2 = s.edge_origin[2];
-    double j = 0.0;
-    for (int32_t y = s.min_y; y <= s.max_y; ++y, j += 1.0) {
+// Calls visit(x, y, i, j) for every covered pixel centre inside the rectangle [x0,x1] x [y0,y1]
+// (which lies inside the setup's bounds), row by row from the top and left to right in a row;
+// (i, j) = (x - min_x, y - min_y) as doubles, ready for Plane::at. The edge functions step exactly in
+// integers, so the fill rule holds bit for bit. The covered samples of a row are contiguous, so a row
+// ends once its run has been left. (Finding each row's run directly, with one division per edge and
+// row, measured slower on small triangles, which dominate real meshes.)
+// kAllCovered: the caller knows every pixel of the rectangle is covered (covers() below), so the
+// edge functions are not stepped.
+template <bool kAllCovered = false, class Visit>
+inline void for_each_covered_pixel_in(const TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                                      Visit&& visit) {
+    const int64_t di = x0 - s.min_x, dj = y0 - s.min_y;
+    int64_t row0 = s.edge_origin[0] + s.edge_dx[0] * di + s.edge_dy[0] * dj;
+    int64_t row1 = s.edge_origin[1] + s.edge_dx[1] * di + s.edge_dy[1] * dj;
+    int64_t row2 = s.edge_origin[2] + s.edge_dx[2] * di + s.edge_dy[2] * dj;
+    const int64_t dx0 = s.edge_dx[0], dx1 = s.edge_dx[1], dx2 = s.edge_dx[2];
+    double j = double(dj);
+    for (int32_t y = y0; y <= y1; ++y, j += 1.0) {
         int64_t e0 = row0, e1 = row1, e2 = row2;
         bool entered = false;
-        double i = 0.0;
-        for (int32_t x = s.min_x; x <= s.max_x; ++x, i += 1.0) {
-            if ((e0 | e1 | e2) >= 0) {
+        double i = double(di);
+        for (int32_t x = x0; x <= x1; ++x, i += 1.0) {
+            if (kAllCovered || (e0 | e1 | e2) >= 0) {
                 entered = true;
                 visit(x, y, i, j);
             } else if (entered) {
                 break;
             }
-            e0 += s.edge_dx[0];
-            e1 += s.edge_dx[1];
-            e2 += s.edge_dx[2];
+            e0 += dx0;
+            e1 += dx1;
+            e2 += dx2;
         }
         row0 += s.edge_dy[0];
         row1 += s.edge_dy[1];
         row2 += s.edge_dy[2];
     }
 }
+
+// Every covered pixel centre of the triangle.
+template <class Visit>
+inline void for_each_covered_pixel(const TriangleSetup& s, Visit&& visit) {
+    for_each_covered_pixel_in(s, s.min_x, s.min_y, s.max_x, s.max_y, visit);
+}
+
+// The rectangle [x0,x1] x [y0,y1] (inside the setup's bounds) holds no covered pixel centre: one
+// edge function is negative at all four of its corners.
+inline bool misses(const TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    for (int k = 0; k < 3; ++k) {
+        const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
+        const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
+        if (e00 + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0) < 0) return true;
+    }
+    return false;
+}
+
+// Every pixel centre of the rectangle is covered: each edge function is >= 0 at all four corners.
+inline bool covers(const TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    for (int k = 0; k < 3; ++k) {
+        const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
+        const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
+        if (e00 + std::min<int64_t>(step_x, 0) + std::min<int64_t>(step_y, 0) < 0) return false;
+    }
+    return true;
+}
+
+// ---------------------------------------------------------------------------------------------- //
+// The depth test every z-buffer variant shares
+
+// Which surface a depth test keeps.
+enum class DepthRule {
+    kNearer,   // strictly nearer wins: of equal depths, the one drawn first stays
+    kFarther,  // strictly farther wins (zbuffer's depth-test=greater)
+    // Nearer wins, and of equal depths the lower instance, then the lower face: the surface the
+    // plain z-buffer draws first, whatever order the triangles come in (octree-zbuffer)
+    kNearerThenLowerId,
+};
+
+// The visibility buffer's arrays as plain pointers, read once per frame.
+struct PixelBuffers {
+    float* depth = nullptr;
+    uint32_t* face = nullptr;
+    float* bary = nullptr;
+    uint32_t* instance = nullptr;  // nullptr: the scene has no instances
+    uint32_t* tests = nullptr;     // per-pixel depth-test counts, or nullptr
+    size_t stride = 0;
+
+    PixelBuffers() = default;
+    explicit PixelBuffers(hsr::sdk::VisibilityBuffer& target)
+        : depth(target.depth()), face(target.face()), bary(target.bary()), instance(target.instance()),
+          tests(target.depth_tests()), stride(target.width()) {}
+};
+
+// The depth test and the writes at covered pixel centres of one triangle: depth, face, instance and
+// perspective-correct barycentrics where the triangle wins, and the test and write counts. Make one
+// per triangle (or per piece of one) as a local: its fields then live in registers in the pixel
+// loop, which stores to face[] (uint32_t) could otherwise force it to reload.
+template <DepthRule kRule, bool kCountTests>
+struct DepthTest {
+    float* depth;
+    uint32_t* face;
+    float* bary;
+    uint32_t* instance;
+    uint32_t* tests;
+    size_t stride;
+    uint32_t face_id;
+    uint32_t instance_id;
+    uint64_t tested = 0;
+    uint64_t written = 0;
+
+    DepthTest(const PixelBuffers& b, uint32_t face_id, uint32_t instance_id)
+        : depth(b.depth), face(b.face), bary(b.bary), instance(b.instance), tests(b.tests), stride(b.stride),
+          face_id(face_id), instance_id(instance_id) {}
+
+    // Pixel (x, y) = (min_x + i, min_y + j) of the setup, covered by it.
+    void operator()(const TriangleSetup& s, int32_t x, int32_t y, double i, double j) {
+        ++tested;
+        const size_t p = size_t(y) * stride + size_t(x);
+        if constexpr (kCountTests) ++tests[p];
+        const float z = depth_at(s, i, j);
+        const float stored = depth[p];
+        if constexpr (kRule == DepthRule::kNearer) {
+            if (!(z < stored)) return;
+        } else if constexpr (kRule == DepthRule::kFarther) {
+            if (!(z > stored)) return;
+        } else {
+            if (!(z < stored || (z == stored && (instance != nullptr && instance[p] != instance_id
+                                                     ? instance_id < instance[p]
+                                                     : face_id < face[p]))))
+                return;
+        }
+        ++written;
+        depth[p] = z;
+        face[p] = face_id;
+        if (instance != nullptr) instance[p] = instance_id;
+        const glm::vec2 b = barycentrics_at(s, i, j);
+        bary[2 * p] = b.x;
+        bary[2 * p + 1] = b.y;
+    }
+};
 
 // ---------------------------------------------------------------------------------------------- //
 // Whole-frame geometry: input checks, per-vertex transform, per-triangle cull/clip/setup

@@ -133,17 +133,6 @@ private:
         bool outside = false;      // projectable, and the rectangle misses the image
     };
 
-    // The buffers the pixel loop writes, as plain locals (see the zbuffer plugin: a store to face[]
-    // could otherwise alias anything reached through `this`).
-    struct Buffers {
-        float* depth;
-        uint32_t* face;
-        float* bary;
-        uint32_t* instance;
-        uint32_t* tests;
-        size_t width;
-    };
-
     void prepare_placements(const hsr::sdk::Scene& scene, const hsr_camera& camera) {
         const uint32_t n = scene.placement_count();
         order_.resize(n);
@@ -210,8 +199,7 @@ private:
 
     template <bool kCountTests>
     void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, Stats& stats) {
-        const Buffers buffers{target.depth(),    target.face(),        target.bary(),
-                              target.instance(), target.depth_tests(), target.width()};
+        const raster::PixelBuffers buffers(target);
         for (const uint32_t k : order_) {
             const PlacementBox& box = boxes_[k];
             if (box.projectable) {
@@ -329,7 +317,7 @@ private:
     // One triangle (or clipped piece): reject it whole, draw it whole, or draw it tile by tile.
     template <bool kCountTests>
     void draw_piece(const raster::TriangleSetup& setup, uint32_t id, uint32_t instance_id, double vertex_lower,
-                    bool test_whole, const Buffers& buffers, Stats& stats) {
+                    bool test_whole, const raster::PixelBuffers& buffers, Stats& stats) {
         // A local copy: stores to face[] (uint32_t) may alias the caller's int32_t fields, which would
         // force the pixel loop to reload them after every write; a local whose address never escapes
         // cannot alias.
@@ -345,34 +333,13 @@ private:
             }
         }
 
-        // Everything the pixel loop touches is a local (see Buffers).
-        uint64_t tested = 0, written = 0;
-        float* const depth_out = buffers.depth;
-        uint32_t* const face_out = buffers.face;
-        float* const bary_out = buffers.bary;
-        uint32_t* const tests_out = buffers.tests;
-        uint32_t* const instance_out = buffers.instance;
-        const size_t stride = buffers.width;
-        auto visit = [&](int32_t x, int32_t y, double i, double j) {
-            ++tested;
-            const size_t p = size_t(y) * stride + size_t(x);
-            if constexpr (kCountTests) ++tests_out[p];
-            const float z = raster::depth_at(s, i, j);
-            if (!(z < depth_out[p])) return;
-            ++written;
-            depth_out[p] = z;
-            face_out[p] = id;
-            if (instance_out != nullptr) instance_out[p] = instance_id;
-            const glm::vec2 b = raster::barycentrics_at(s, i, j);
-            bary_out[2 * p] = b.x;
-            bary_out[2 * p + 1] = b.y;
-        };
-
+        raster::DepthTest<raster::DepthRule::kNearer, kCountTests> test(buffers, id, instance_id);
+        auto visit = [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); };
         if (small) {
             raster::for_each_covered_pixel(s, visit);
-            stats.depth_tested += tested;
-            stats.written += written;
-            if (written > 0) note_written(depth_out, s.min_x, s.min_y, s.max_x, s.max_y);
+            stats.depth_tested += test.tested;
+            stats.written += test.written;
+            if (test.written > 0) note_written(buffers.depth, s.min_x, s.min_y, s.max_x, s.max_y);
             return;
         }
 
@@ -382,53 +349,23 @@ private:
             const int32_t y0 = std::max(ty, s.min_y), y1 = std::min(ty + tile - 1, s.max_y);
             for (int32_t tx = first_tx; tx <= s.max_x; tx += tile) {
                 const int32_t x0 = std::max(tx, s.min_x), x1 = std::min(tx + tile - 1, s.max_x);
-                const int64_t i0 = x0 - s.min_x, j0 = y0 - s.min_y, di = x1 - x0, dj = y1 - y0;
-                // Edge functions at the tile's first pixel; a tile outside one edge at all four corners
-                // holds no covered sample.
-                int64_t e[3];
-                bool empty = false;
-                for (int k = 0; k < 3; ++k) {
-                    e[k] = s.edge_origin[k] + s.edge_dx[k] * i0 + s.edge_dy[k] * j0;
-                    const int64_t step_x = s.edge_dx[k] * di, step_y = s.edge_dy[k] * dj;
-                    if (e[k] + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0) < 0) empty = true;
-                }
-                if (empty) continue;
+                if (raster::misses(s, x0, y0, x1, y1)) continue;
                 ++stats.tiles_tested;
-                const double tile_lower =
-                    std::max(lower, plane_min(s.depth, double(i0), double(j0), double(i0 + di), double(j0 + dj)));
+                const double i0 = x0 - s.min_x, j0 = y0 - s.min_y;
+                const double tile_lower = std::max(lower, plane_min(s.depth, i0, j0, i0 + (x1 - x0), j0 + (y1 - y0)));
                 // O(1): the pyramid cells covering the tile, not refined (refining a tile that turns
                 // out visible measured slower than drawing it).
                 if (pyramid_.farthest(x0, y0, x1, y1) < depth_lower_bound(tile_lower)) {
                     ++stats.tiles_culled;
                     continue;
                 }
-                const uint64_t written_before = written;
-                int64_t row0 = e[0], row1 = e[1], row2 = e[2];
-                double j = double(j0);
-                for (int32_t y = y0; y <= y1; ++y, j += 1.0) {
-                    int64_t e0 = row0, e1 = row1, e2 = row2;
-                    bool entered = false;
-                    double i = double(i0);
-                    for (int32_t x = x0; x <= x1; ++x, i += 1.0) {
-                        if ((e0 | e1 | e2) >= 0) {
-                            entered = true;
-                            visit(x, y, i, j);
-                        } else if (entered) {
-                            break;
-                        }
-                        e0 += s.edge_dx[0];
-                        e1 += s.edge_dx[1];
-                        e2 += s.edge_dx[2];
-                    }
-                    row0 += s.edge_dy[0];
-                    row1 += s.edge_dy[1];
-                    row2 += s.edge_dy[2];
-                }
-                if (written != written_before) note_written(depth_out, x0, y0, x1, y1);
+                const uint64_t written_before = test.written;
+                raster::for_each_covered_pixel_in(s, x0, y0, x1, y1, visit);
+                if (test.written != written_before) note_written(buffers.depth, x0, y0, x1, y1);
             }
         }
-        stats.depth_tested += tested;
-        stats.written += written;
+        stats.depth_tested += test.tested;
+        stats.written += test.written;
     }
 
     // Deferred: the pyramid's cells over the rectangle are recomputed at the next large query

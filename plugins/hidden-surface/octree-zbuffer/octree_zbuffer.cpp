@@ -187,7 +187,7 @@ public:
         begin_frame(scene, camera, target);
         stats_ = FrameStats{};
         if (!bvh_.empty()) {
-            if (target.depth_tests() == nullptr)
+            if (buffers_.tests == nullptr)
                 draw_instances<false>(0);
             else
                 draw_instances<true>(0);
@@ -312,11 +312,7 @@ private:
         height_ = int32_t(camera.height);
         half_width_ = 0.5 * camera.width;
         half_height_ = 0.5 * camera.height;
-        depth_ = target.depth();
-        face_ = target.face();
-        bary_ = target.bary();
-        instance_ = target.instance();
-        tests_ = target.depth_tests();
+        buffers_ = raster::PixelBuffers(target);
     }
 
     // Projects the box's corners: outside the view volume (or between pixel centres), hidden behind
@@ -501,7 +497,7 @@ private:
         if (!written.empty()) {
             // Deferred: the cells over the rectangle are recomputed at the next large query
             // (hsr/zpyramid.hpp); valid because depths here only ever decrease.
-            pyramid_.mark_dirty(depth_, written.x0, written.y0, written.x1, written.y1);
+            pyramid_.mark_dirty(buffers_.depth, written.x0, written.y0, written.x1, written.y1);
             ++stats_.pyramid_updates;
         }
     }
@@ -562,27 +558,6 @@ private:
         return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? TriangleVisibility::kHidden : TriangleVisibility::kVisible;
     }
 
-    // The rectangle [x0,x1]x[y0,y1] (inside the setup's bounds) misses the triangle: one edge function
-    // is negative at all four of its corners.
-    static bool misses(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-        for (int k = 0; k < 3; ++k) {
-            const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
-            const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
-            if (e00 + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0) < 0) return true;
-        }
-        return false;
-    }
-
-    // Every pixel of the rectangle is covered: each edge function is >= 0 at all four corners.
-    static bool covers(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-        for (int k = 0; k < 3; ++k) {
-            const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
-            const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
-            if (e00 + std::min<int64_t>(step_x, 0) + std::min<int64_t>(step_y, 0) < 0) return false;
-        }
-        return true;
-    }
-
     // Greene's triangle-level (unless done before setup) and tile-level rejection, then the pixel
     // loop. False when the whole piece was rejected by the pyramid.
     template <bool kCountTests>
@@ -606,7 +581,7 @@ private:
             const int32_t y0 = std::max(by, s.min_y), y1 = std::min(by + kBlock - 1, s.max_y);
             for (int32_t bx = s.min_x & ~(kBlock - 1); bx <= s.max_x; bx += kBlock) {
                 const int32_t x0 = std::max(bx, s.min_x), x1 = std::min(bx + kBlock - 1, s.max_x);
-                if (misses(s, x0, y0, x1, y1)) continue;
+                if (raster::misses(s, x0, y0, x1, y1)) continue;
                 ++stats_.tiles_tested;
                 if (pyramid_.is_hidden(x0, y0, x1, y1, nearest_depth(s, x0, y0, x1, y1))) {
                     ++stats_.tiles_culled;
@@ -627,7 +602,7 @@ private:
             const int32_t tile_y0 = std::max(ty, y0), tile_y1 = std::min(ty + kTile - 1, y1);
             for (int32_t tx = x0 & ~(kTile - 1); tx <= x1; tx += kTile) {
                 const int32_t tile_x0 = std::max(tx, x0), tile_x1 = std::min(tx + kTile - 1, x1);
-                if (misses(s, tile_x0, tile_y0, tile_x1, tile_y1)) continue;
+                if (raster::misses(s, tile_x0, tile_y0, tile_x1, tile_y1)) continue;
                 ++stats_.tiles_tested;
                 if (pyramid_.is_hidden(tile_x0, tile_y0, tile_x1, tile_y1,
                                        nearest_depth(s, tile_x0, tile_y0, tile_x1, tile_y1))) {
@@ -635,7 +610,7 @@ private:
                     continue;
                 }
                 const uint64_t count =
-                    covers(s, tile_x0, tile_y0, tile_x1, tile_y1)
+                    raster::covers(s, tile_x0, tile_y0, tile_x1, tile_y1)
                         ? fill<kCountTests, true>(s, tile_x0, tile_y0, tile_x1, tile_y1, id, instance_id)
                         : fill<kCountTests>(s, tile_x0, tile_y0, tile_x1, tile_y1, id, instance_id);
                 if (count > 0) written.add(tile_x0, tile_y0, tile_x1, tile_y1);
@@ -643,69 +618,19 @@ private:
         }
     }
 
-    // The plain z-buffer's pixel loop (zbuffer.cpp) over [x0,x1]x[y0,y1] of the setup's bounds: the
-    // same integer edge functions and the same depth and barycentrics at every sample. Returns the
-    // number of pixels written.
-    // kInside: every pixel of the rectangle is covered (the caller checked its corners), so the
-    // edge functions are not stepped.
-    template <bool kCountTests, bool kInside = false>
+    // The plain z-buffer's pixel loop (raster::DepthTest, as in zbuffer.cpp) over [x0,x1]x[y0,y1] of the
+    // setup's bounds, with exact depth ties going to the surface the plain z-buffer draws first (lower
+    // instance, then lower face), so the traversal order never shows. Returns the pixels written.
+    // kAllCovered: every pixel of the rectangle is covered (the caller checked its corners).
+    template <bool kCountTests, bool kAllCovered = false>
     uint64_t fill(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1, uint32_t id,
                   uint32_t instance_id) {
-        // Locals only, so that stores to the buffers cannot alias what the loop reads.
-        float* const depth_out = depth_;
-        uint32_t* const face_out = face_;
-        float* const bary_out = bary_;
-        uint32_t* const instance_out = instance_;
-        uint32_t* const tests_out = tests_;
-        const size_t stride = size_t(width_);
-        uint64_t tested = 0, written = 0;
-        const int64_t di = x0 - s.min_x, dj = y0 - s.min_y;
-        int64_t row0 = s.edge_origin[0] + s.edge_dx[0] * di + s.edge_dy[0] * dj;
-        int64_t row1 = s.edge_origin[1] + s.edge_dx[1] * di + s.edge_dy[1] * dj;
-        int64_t row2 = s.edge_origin[2] + s.edge_dx[2] * di + s.edge_dy[2] * dj;
-        const int64_t dx0 = s.edge_dx[0], dx1 = s.edge_dx[1], dx2 = s.edge_dx[2];
-        double j = double(dj);
-        for (int32_t y = y0; y <= y1; ++y, j += 1.0) {
-            int64_t e0 = row0, e1 = row1, e2 = row2;
-            bool entered = false;
-            double i = double(di);
-            const size_t row = size_t(y) * stride;
-            for (int32_t x = x0; x <= x1; ++x, i += 1.0) {
-                if (kInside || (e0 | e1 | e2) >= 0) {
-                    entered = true;
-                    ++tested;
-                    const size_t p = row + size_t(x);
-                    if constexpr (kCountTests) ++tests_out[p];
-                    const float z = raster::depth_at(s, i, j);
-                    const float stored = depth_out[p];
-                    // An exact tie goes to the surface the plain z-buffer draws first (lower
-                    // instance, then lower face), so the traversal order never shows.
-                    if (z < stored ||
-                        (z == stored && (instance_out != nullptr && instance_out[p] != instance_id
-                                             ? instance_id < instance_out[p]
-                                             : id < face_out[p]))) {
-                        ++written;
-                        depth_out[p] = z;
-                        face_out[p] = id;
-                        if (instance_out != nullptr) instance_out[p] = instance_id;
-                        const glm::vec2 b = raster::barycentrics_at(s, i, j);
-                        bary_out[2 * p] = b.x;
-                        bary_out[2 * p + 1] = b.y;
-                    }
-                } else if (entered) {
-                    break;
-                }
-                e0 += dx0;
-                e1 += dx1;
-                e2 += dx2;
-            }
-            row0 += s.edge_dy[0];
-            row1 += s.edge_dy[1];
-            row2 += s.edge_dy[2];
-        }
-        stats_.pixels_tested += tested;
-        stats_.pixels_written += written;
-        return written;
+        raster::DepthTest<raster::DepthRule::kNearerThenLowerId, kCountTests> test(buffers_, id, instance_id);
+        raster::for_each_covered_pixel_in<kAllCovered>(
+            s, x0, y0, x1, y1, [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); });
+        stats_.pixels_tested += test.tested;
+        stats_.pixels_written += test.written;
+        return test.written;
     }
 
     // Parameters
@@ -734,11 +659,7 @@ private:
     bool perspective_ = true;
     int32_t width_ = 0, height_ = 0;
     double half_width_ = 0.0, half_height_ = 0.0;
-    float* depth_ = nullptr;
-    uint32_t* face_ = nullptr;
-    float* bary_ = nullptr;
-    uint32_t* instance_ = nullptr;
-    uint32_t* tests_ = nullptr;
+    raster::PixelBuffers buffers_;
 };
 
 }  // namespace

@@ -74,45 +74,18 @@ private:
 
     template <bool kKeepNearest, bool kCountTests>
     void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
-        float* const depth = target.depth();
-        uint32_t* const face = target.face();
-        float* const bary = target.bary();
-        uint32_t* const instance = target.instance();
-        uint32_t* const tests = target.depth_tests();
-        const size_t width = target.width();
+        constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
+        const raster::PixelBuffers buffers(target);
         for (uint32_t k = 0; k < scene.placement_count(); ++k) {
             const hsr::sdk::Placement placement = scene.placement(k);
             geometry_.place(placement);
             const uint32_t end = placement.first_triangle + placement.triangle_count;
             for (uint32_t t = placement.first_triangle; t < end; ++t) {
                 geometry_.process(t, [&](const raster::TriangleSetup& s) {
-                    // Everything the pixel loop touches is a local, so the compiler can keep it in
-                    // registers (a store to face[] could otherwise alias a captured uint32_t).
-                    uint64_t tested = 0, written = 0;
-                    float* const depth_out = depth;
-                    uint32_t* const face_out = face;
-                    float* const bary_out = bary;
-                    uint32_t* const tests_out = tests;
-                    uint32_t* const instance_out = instance;
-                    const size_t stride = width;
-                    const uint32_t id = t;
-                    const uint32_t instance_id = placement.instance;
-                    raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) {
-                        ++tested;
-                        const size_t p = size_t(y) * stride + size_t(x);
-                        if constexpr (kCountTests) ++tests_out[p];
-                        const float z = raster::depth_at(s, i, j);
-                        if (kKeepNearest ? !(z < depth_out[p]) : !(z > depth_out[p])) return;
-                        ++written;
-                        depth_out[p] = z;
-                        face_out[p] = id;
-                        if (instance_out != nullptr) instance_out[p] = instance_id;
-                        const glm::vec2 b = raster::barycentrics_at(s, i, j);
-                        bary_out[2 * p] = b.x;
-                        bary_out[2 * p + 1] = b.y;
-                    });
-                    pixels.depth_tested += tested;
-                    pixels.written += written;
+                    raster::DepthTest<rule, kCountTests> test(buffers, t, placement.instance);
+                    raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); });
+                    pixels.depth_tested += test.tested;
+                    pixels.written += test.written;
                 });
             }
         }
