@@ -311,14 +311,9 @@ private:
             if (m == base[index]) continue;
             base[index] = m;
             for (int k = B + 1; k <= top_; ++k) {  // up the levels while the maximum changes
-                const float* below = storage_.data() + offset_[k - 1];
-                const int32_t below_w = level_width_[k - 1], below_h = level_height_[k - 1];
                 cx >>= 1;
                 cy >>= 1;
-                const float* row_a = below + size_t(2 * cy) * below_w;
-                const float* row_b = below + size_t(std::min(2 * cy + 1, below_h - 1)) * below_w;
-                const int32_t a = 2 * cx, b = std::min(2 * cx + 1, below_w - 1);
-                const float parent = std::max(std::max(row_a[a], row_a[b]), std::max(row_b[a], row_b[b]));
+                const float parent = parent_of(k, cx, cy);
                 float& out = storage_[offset_[k] + size_t(cy) * level_width_[k] + size_t(cx)];
                 ++cells_updated_;
                 if (parent == out) break;
@@ -328,59 +323,57 @@ private:
         dirty_list_.clear();
     }
 
+    // The bounding rectangle of the cells of one level whose value changed.
+    struct ChangedCells {
+        int32_t x0 = std::numeric_limits<int32_t>::max(), y0 = -1, x1 = -1, y1 = -1;
+        bool empty() const { return y1 < 0; }
+        void add(int32_t x, int32_t y) {  // rows come in increasing order
+            x0 = std::min(x0, x);
+            x1 = std::max(x1, x);
+            if (y1 < 0) y0 = y;
+            y1 = y;
+        }
+    };
+
+    // Cells [x0,x1] x [y0,y1] of stored level k get value(x, y); returns those that changed.
+    template <class Value>
+    ChangedCells recompute_cells(int k, int32_t x0, int32_t y0, int32_t x1, int32_t y1, Value&& value) {
+        ChangedCells changed;
+        float* here = storage_.data() + offset_[k];
+        const int32_t w = level_width_[k];
+        for (int32_t y = y0; y <= y1; ++y) {
+            float* out = here + size_t(y) * w;
+            for (int32_t x = x0; x <= x1; ++x) {
+                const float m = value(x, y);
+                if (m != out[x]) {
+                    out[x] = m;
+                    changed.add(x, y);
+                }
+            }
+        }
+        cells_updated_ += uint64_t(x1 - x0 + 1) * uint64_t(y1 - y0 + 1);
+        return changed;
+    }
+
+    // The farthest of the (up to) 2 x 2 cells of level k - 1 under cell (cx, cy) of level k.
+    float parent_of(int k, int32_t cx, int32_t cy) const {
+        const float* below = storage_.data() + offset_[k - 1];
+        const int32_t below_w = level_width_[k - 1], below_h = level_height_[k - 1];
+        const float* row_a = below + size_t(2 * cy) * below_w;
+        const float* row_b = below + size_t(std::min(2 * cy + 1, below_h - 1)) * below_w;
+        const int32_t a = 2 * cx, b = std::min(2 * cx + 1, below_w - 1);
+        return std::max(std::max(row_a[a], row_a[b]), std::max(row_b[a], row_b[b]));
+    }
+
+    // update(): the base cells over the pixel rectangle from the fine depths, then each level above
+    // over the cells that changed below, until none did.
     template <int B>
     void update_base(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-        x0 >>= B;
-        y0 >>= B;
-        x1 >>= B;
-        y1 >>= B;
-        int32_t cx0 = std::numeric_limits<int32_t>::max(), cx1 = -1, cy0 = -1, cy1 = -1;
-        {
-            float* here = storage_.data() + offset_[B];
-            const int32_t w = level_width_[B];
-            for (int32_t y = y0; y <= y1; ++y) {
-                float* out = here + size_t(y) * w;
-                for (int32_t x = x0; x <= x1; ++x) {
-                    const float m = base_cell_max<B>(x, y);
-                    if (m != out[x]) {
-                        out[x] = m;
-                        cx0 = std::min(cx0, x);
-                        cx1 = std::max(cx1, x);
-                        if (cy1 < 0) cy0 = y;
-                        cy1 = y;
-                    }
-                }
-            }
-            cells_updated_ += uint64_t(x1 - x0 + 1) * uint64_t(y1 - y0 + 1);
-        }
-        for (int k = B + 1; k <= top_ && cy1 >= 0; ++k) {
-            x0 = cx0 >> 1;
-            x1 = cx1 >> 1;
-            y0 = cy0 >> 1;
-            y1 = cy1 >> 1;
-            cx0 = std::numeric_limits<int32_t>::max(), cx1 = -1, cy0 = -1, cy1 = -1;
-            const float* below = storage_.data() + offset_[k - 1];
-            const int32_t below_w = level_width_[k - 1], below_h = level_height_[k - 1];
-            float* here = storage_.data() + offset_[k];
-            const int32_t w = level_width_[k];
-            for (int32_t y = y0; y <= y1; ++y) {
-                const float* row_a = below + size_t(2 * y) * below_w;
-                const float* row_b = below + size_t(std::min(2 * y + 1, below_h - 1)) * below_w;
-                float* out = here + size_t(y) * w;
-                for (int32_t x = x0; x <= x1; ++x) {
-                    const int32_t a = 2 * x, b = std::min(2 * x + 1, below_w - 1);
-                    const float m = std::max(std::max(row_a[a], row_a[b]), std::max(row_b[a], row_b[b]));
-                    if (m != out[x]) {
-                        out[x] = m;
-                        cx0 = std::min(cx0, x);
-                        cx1 = std::max(cx1, x);
-                        if (cy1 < 0) cy0 = y;
-                        cy1 = y;
-                    }
-                }
-            }
-            cells_updated_ += uint64_t(x1 - x0 + 1) * uint64_t(y1 - y0 + 1);
-        }
+        ChangedCells changed = recompute_cells(B, x0 >> B, y0 >> B, x1 >> B, y1 >> B,
+                                               [&](int32_t x, int32_t y) { return base_cell_max<B>(x, y); });
+        for (int k = B + 1; k <= top_ && !changed.empty(); ++k)
+            changed = recompute_cells(k, changed.x0 >> 1, changed.y0 >> 1, changed.x1 >> 1, changed.y1 >> 1,
+                                      [&](int32_t x, int32_t y) { return parent_of(k, x, y); });
     }
 
     int32_t width_ = -1, height_ = -1;
