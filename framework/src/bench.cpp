@@ -275,7 +275,10 @@ FrameTimer::FrameTimer(const hsr_scene& scene, const hsr_camera& camera, HiddenS
 }
 
 CallTiming FrameTimer::call() {
-    Frame frame;  // fresh, so that its counters are this call's alone
+    // One frame's buffers serve every call (as an application's would): no page faults from fresh
+    // allocations in between. The counters are this call's alone.
+    Frame& frame = frame_;
+    frame.counters.clear();
     resolve_visibility(scene_, camera_, remover_, frame, false);
     shade_frame(scene_, lighting_, context_, settings_.frame, frame);
     CallTiming call;

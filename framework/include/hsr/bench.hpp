@@ -128,6 +128,7 @@ public:
 
 private:
     std::optional<SceneData> flat_;
+    Frame frame_;
     hsr_scene scene_;
     const hsr_camera& camera_;
     HiddenSurfaceRemover& remover_;
