@@ -477,29 +477,55 @@ private:
         const uint32_t end = node.first_triangle + node.triangle_count;
         const uint32_t* const faces = forest_.mesh.face.data();
         const uint32_t* const indices = forest_.mesh.indices.data();
+        // Front faces first, then the others (back_faces_), which a closed surface hides behind its
+        // front: drawn after it they are rejected by tile tests instead of being written and then
+        // overwritten. Any order gives the same picture (see the tie rule in fill).
+        back_faces_.clear();
         for (uint32_t t = node.first_triangle; t < end; ++t) {
-            const uint32_t id = faces[t];
-            bool tested = false;
-            switch (test_triangle(indices + 3 * size_t(t))) {
-                case TriangleVisibility::kHidden:
-                    ++stats_.triangles_culled_before_setup;
-                    continue;
-                case TriangleVisibility::kVisible: tested = true; break;
-                case TriangleVisibility::kUntested: break;
-            }
-            uint32_t pieces = 0, culled = 0;
-            geometry_.process(t, [&](const raster::TriangleSetup& s) {
-                ++pieces;
-                if (!draw_triangle<kCountTests>(s, id, instance_id, tested, written)) ++culled;
-            });
-            if (pieces > 0 && culled == pieces) ++stats_.triangles_culled_after_setup;
+            if (faces_viewer(indices + 3 * size_t(t)))
+                draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
+            else
+                back_faces_.push_back(t);
         }
+        for (const uint32_t t : back_faces_) draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
         if (!written.empty()) {
             // Deferred: the cells over the rectangle are recomputed at the next large query
             // (hsr/zpyramid.hpp); valid because depths here only ever decrease.
             pyramid_.mark_dirty(buffers_.depth, written.x0, written.y0, written.x1, written.y1);
             ++stats_.pyramid_updates;
         }
+    }
+
+    template <bool kCountTests>
+    void draw_leaf_triangle(uint32_t t, uint32_t id, uint32_t instance_id, Rect& written) {
+        bool tested = false;
+        switch (test_triangle(forest_.mesh.indices.data() + 3 * size_t(t))) {
+            case TriangleVisibility::kHidden:
+                ++stats_.triangles_culled_before_setup;
+                return;
+            case TriangleVisibility::kVisible: tested = true; break;
+            case TriangleVisibility::kUntested: break;
+        }
+        uint32_t pieces = 0, culled = 0;
+        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+            ++pieces;
+            if (!draw_triangle<kCountTests>(s, id, instance_id, tested, written)) ++culled;
+        });
+        if (pieces > 0 && culled == pieces) ++stats_.triangles_culled_after_setup;
+    }
+
+    // Front-facing in window space (clockwise, y down), or not decidable from the snapped corners
+    // (clipping needed): drawn in the first pass over a leaf; the others, which a closed surface
+    // hides behind its front, in the second.
+    bool faces_viewer(const uint32_t* corner) const {
+        const uint32_t i0 = corner[0], i1 = corner[1], i2 = corner[2];
+        if ((geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2)) &
+            (raster::kNeedsClipping | raster::kNonFinite))
+            return true;
+        const raster::WindowVertex& v0 = geometry_.window_vertex(i0);
+        const raster::WindowVertex& v1 = geometry_.window_vertex(i1);
+        const raster::WindowVertex& v2 = geometry_.window_vertex(i2);
+        return int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y) < 0;
     }
 
     // Window depth held to [0, 1] over the pixel-centre rectangle [x0,x1]x[y0,y1] of a setup: its
@@ -660,6 +686,7 @@ private:
     int32_t width_ = 0, height_ = 0;
     double half_width_ = 0.0, half_height_ = 0.0;
     raster::PixelBuffers buffers_;
+    std::vector<uint32_t> back_faces_;  // of the leaf being drawn; kept to avoid allocating per leaf
 };
 
 }  // namespace
