@@ -507,11 +507,23 @@ private:
             case TriangleVisibility::kUntested: break;
         }
         uint32_t pieces = 0, culled = 0;
+        Rect mine;
         geometry_.process(t, [&](const raster::TriangleSetup& s) {
             ++pieces;
-            if (!draw_triangle<kCountTests>(s, id, instance_id, tested, written)) ++culled;
+            if (!draw_triangle<kCountTests>(s, id, instance_id, tested, mine)) ++culled;
         });
         if (pieces > 0 && culled == pieces) ++stats_.triangles_culled_after_setup;
+        if (!mine.empty()) {
+            // A large triangle's cells are marked at once: the leaf's next large triangles (a box's
+            // back faces behind its front) are then rejected by the block test on fresh cells,
+            // instead of tile by tile on the fine depths. Small ones wait for the end of the leaf.
+            if (int64_t(mine.x1 - mine.x0 + 1) * (mine.y1 - mine.y0 + 1) > kBlock * kBlock) {
+                pyramid_.mark_dirty(buffers_.depth, mine.x0, mine.y0, mine.x1, mine.y1);
+                ++stats_.pyramid_updates;
+            } else {
+                written.add(mine.x0, mine.y0, mine.x1, mine.y1);
+            }
+        }
     }
 
     // Front-facing in window space (clockwise, y down), or not decidable from the snapped corners
