@@ -173,7 +173,8 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
          "one more, with parameters: NAME[:key=value,...] (repeatable)")
         ("models", po::value(&models_list),
          "comma-separated: cube, monkey, bunny, NAME-loop (Loop-subdivided), deep-N[:NAME] (N layers of "
-         "NAME, default monkey), or file paths (default: cube,monkey,bunny,bunny-loop,deep-5,deep-20,deep-50)")
+         "NAME, default monkey), or file paths (default: cube,monkey,bunny,bunny-loop,deep-3,deep-24,deep-63, "
+         "the deep ones at depth complexity 4.7, 20.3, 49.8)")
         ("sizes", po::value(&sizes_list)->default_value("1024"), "image sizes, comma-separated: 512,1024 or 800x600")
         ("repetitions,r", po::value(&repetitions)->default_value(5), "timed runs of each measurement")
         ("warmup,w", po::value(&warmup)->default_value(1), "untimed runs first (caches, acceleration structures)")

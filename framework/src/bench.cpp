@@ -114,9 +114,12 @@ Summary summarize(std::vector<double> samples) {
 // ---------------------------------------------------------------------------------------------
 // Scenes
 
+// The deep scenes' layer counts are those whose measured depth complexity is nearest 5, 20 and 50
+// (4.7, 20.3, 49.8 at 1024x1024): a monkey counts twice where it covers a pixel, the gaps between
+// copies count nothing, and perspective shrinks the far layers.
 const std::vector<std::string>& default_models() {
     static const std::vector<std::string> models = {"cube", "monkey", "bunny", "bunny-loop",
-                                                    "deep-5", "deep-20", "deep-50"};
+                                                    "deep-3", "deep-24", "deep-63"};
     return models;
 }
 
