@@ -6,11 +6,12 @@
 // traversed front to back from the eye. A node whose box, projected to the screen, lies behind what
 // is already drawn (a z-pyramid query: the bounding rectangle of its projected corners against the
 // nearest corner depth) is culled with everything it holds, its vertices never transformed. The
-// triangles of visible leaves are tested against the pyramid (Greene's triangle-level rejection,
-// before triangle setup), go through the plain z-buffer's geometry stage (hsr/raster.hpp: the same
-// clipping, snapping, coverage and depth as the zbuffer plugin, bit for bit), larger ones are
-// rejected 8x8 tile by tile, and the rest is the z-buffer's own per-pixel depth test. After each
-// leaf the pyramid (hsr/zpyramid.hpp) is marked for a deferred update. Exact depth ties go to the surface the plain
+// triangles of visible leaves, front faces first, are tested against the pyramid (Greene's
+// triangle-level rejection, before triangle setup), go through the plain z-buffer's geometry stage
+// (hsr/raster.hpp: the same clipping, snapping, coverage and depth as the zbuffer plugin, bit for
+// bit), larger ones are rejected by 32x32 blocks and 8x8 tiles, and the rest is the z-buffer's own
+// per-pixel depth test. After each leaf (after each triangle larger than a block) the pyramid
+// (hsr/zpyramid.hpp) is marked for a deferred update. Exact depth ties go to the surface the plain
 // z-buffer draws first, so the picture is the zbuffer plugin's, pixel for pixel.
 //
 // Where a triangle goes and how the octree is laid out: octree.hpp. What it costs and when it
