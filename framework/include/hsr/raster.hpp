@@ -386,24 +386,29 @@ inline void for_each_covered_pixel(const TriangleSetup& s, Visit&& visit) {
     for_each_covered_pixel_in(s, s.min_x, s.min_y, s.max_x, s.max_y, visit);
 }
 
-// The rectangle [x0,x1] x [y0,y1] (inside the setup's bounds) holds no covered pixel centre: one
-// edge function is negative at all four of its corners.
+// The lowest and highest value of edge function k over the corners of the rectangle
+// [x0,x1] x [y0,y1] (inside the setup's bounds): being linear, its extremes over the rectangle.
+struct EdgeExtremes {
+    int64_t lowest, highest;
+};
+inline EdgeExtremes edge_extremes(const TriangleSetup& s, int k, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
+    const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
+    return {e00 + std::min<int64_t>(step_x, 0) + std::min<int64_t>(step_y, 0),
+            e00 + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0)};
+}
+
+// The rectangle holds no covered pixel centre: one edge function is negative at all four corners.
 inline bool misses(const TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-    for (int k = 0; k < 3; ++k) {
-        const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
-        const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
-        if (e00 + std::max<int64_t>(step_x, 0) + std::max<int64_t>(step_y, 0) < 0) return true;
-    }
+    for (int k = 0; k < 3; ++k)
+        if (edge_extremes(s, k, x0, y0, x1, y1).highest < 0) return true;
     return false;
 }
 
 // Every pixel centre of the rectangle is covered: each edge function is >= 0 at all four corners.
 inline bool covers(const TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-    for (int k = 0; k < 3; ++k) {
-        const int64_t e00 = s.edge_origin[k] + s.edge_dx[k] * (x0 - s.min_x) + s.edge_dy[k] * (y0 - s.min_y);
-        const int64_t step_x = s.edge_dx[k] * (x1 - x0), step_y = s.edge_dy[k] * (y1 - y0);
-        if (e00 + std::min<int64_t>(step_x, 0) + std::min<int64_t>(step_y, 0) < 0) return false;
-    }
+    for (int k = 0; k < 3; ++k)
+        if (edge_extremes(s, k, x0, y0, x1, y1).lowest < 0) return false;
     return true;
 }
 
