@@ -326,20 +326,27 @@ inline float depth_at(const TriangleSetup& s, double i, double j) {
     return float(std::max(0.0, std::min(s.depth.at(i, j), 1.0)));  // branch-free min/max
 }
 
-// Perspective-correct (b1, b2) of the original triangle at pixel (min_x + i, min_y + j), held inside
-// the triangle (b1, b2 >= 0, b1 + b2 <= 1) for the same reason.
-inline glm::vec2 barycentrics_at(const TriangleSetup& s, double i, double j) {
-    const double inv_w = s.inv_w.at(i, j);
+// Perspective-correct (b1, b2) from the planes of 1/w, b1/w and b2/w at (i, j), held inside the
+// triangle (b1, b2 >= 0, b1 + b2 <= 1) for the same reason. Shared by every rasterizer that keeps
+// these planes, so that all give the same barycentrics bit for bit.
+inline glm::vec2 perspective_barycentrics(const Plane& inv_w_plane, const Plane& b1_over_w, const Plane& b2_over_w,
+                                          double i, double j) {
+    const double inv_w = inv_w_plane.at(i, j);
     if (!(inv_w > 0.0)) return {0.0f, 0.0f};  // not reached: 1/w > 0 on and near the triangle
     const double w = 1.0 / inv_w;
-    double b1 = std::max(s.b1_over_w.at(i, j) * w, 0.0);
-    double b2 = std::max(s.b2_over_w.at(i, j) * w, 0.0);
+    double b1 = std::max(b1_over_w.at(i, j) * w, 0.0);
+    double b2 = std::max(b2_over_w.at(i, j) * w, 0.0);
     const double sum = b1 + b2;
     if (sum > 1.0) {
         b1 /= sum;
         b2 /= sum;
     }
     return {float(b1), float(b2)};
+}
+
+// Perspective-correct (b1, b2) of the original triangle at pixel (min_x + i, min_y + j) of a setup.
+inline glm::vec2 barycentrics_at(const TriangleSetup& s, double i, double j) {
+    return perspective_barycentrics(s.inv_w, s.b1_over_w, s.b2_over_w, i, j);
 }
 
 // Calls visit(x, y, i, j) for every covered pixel centre inside the rectangle [x0,x1] x [y0,y1]
