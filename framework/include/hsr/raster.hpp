@@ -619,6 +619,53 @@ public:
     // holds pixel centres inside the image (one piece unless clipping made a polygon).
     template <class Emit>
     void process(uint32_t t, Emit&& emit) {
+        if (!process_unclipped(t, emit)) process_to_clip(t, emit);
+    }
+
+    // process() for a triangle whose corners are finite and need no clipping (most of them), then
+    // true; false, having done and counted nothing, for any other. A rasterizer that handles the
+    // others apart (out of line) calls this, then process() for those.
+    template <class Emit>
+    bool process_unclipped(uint32_t t, Emit&& emit) {
+        const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
+        const uint32_t c0 = outcode_[i0], c1 = outcode_[i1], c2 = outcode_[i2];
+        if ((c0 | c1 | c2) & (kNeedsClipping | kNonFinite)) return false;
+        ++stats_.in;
+        if (culled(i0, i1, i2, c0 & c1 & c2)) return true;
+        WindowVertex v0 = window_[i0], v1 = window_[i1], v2 = window_[i2];
+        v1.b1 = 1.0;
+        v2.b2 = 1.0;
+        TriangleSetup setup;
+        switch (setup_triangle(v0, v1, v2, width_, height_, setup)) {
+            case SetupResult::kOk:
+                ++stats_.rasterized;
+                emit(setup);
+                break;
+            case SetupResult::kDegenerate: ++stats_.degenerate; break;
+            case SetupResult::kOffscreen: ++stats_.outside; break;
+        }
+        return true;
+    }
+
+    const TriangleStats& stats() const { return stats_; }
+
+private:
+    // Outside the view volume (all corners beyond one plane) or a culled back face: counted, true.
+    bool culled(uint32_t i0, uint32_t i1, uint32_t i2, uint32_t all_corners) {
+        if (all_corners & kOutsideFrustum) {
+            ++stats_.outside;
+            return true;
+        }
+        if (cull_backfaces_ && !is_front_facing(clip_[i0], clip_[i1], clip_[i2])) {
+            ++stats_.backface_culled;
+            return true;
+        }
+        return false;
+    }
+
+    // process() for a triangle with a non-finite corner or one that needs clipping.
+    template <class Emit>
+    void process_to_clip(uint32_t t, Emit&& emit) {
         ++stats_.in;
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t c0 = outcode_[i0], c1 = outcode_[i1], c2 = outcode_[i2];
@@ -627,30 +674,7 @@ public:
             ++stats_.degenerate;
             return;
         }
-        if (c0 & c1 & c2 & kOutsideFrustum) {
-            ++stats_.outside;
-            return;
-        }
-        if (cull_backfaces_ && !is_front_facing(clip_[i0], clip_[i1], clip_[i2])) {
-            ++stats_.backface_culled;
-            return;
-        }
-        TriangleSetup setup;
-        if (!(any & kNeedsClipping)) {
-            WindowVertex v0 = window_[i0], v1 = window_[i1], v2 = window_[i2];
-            v1.b1 = 1.0;
-            v2.b2 = 1.0;
-            switch (setup_triangle(v0, v1, v2, width_, height_, setup)) {
-                case SetupResult::kOk:
-                    ++stats_.rasterized;
-                    emit(setup);
-                    return;
-                case SetupResult::kDegenerate: ++stats_.degenerate; return;
-                case SetupResult::kOffscreen: ++stats_.outside; return;
-            }
-            return;
-        }
-
+        if (culled(i0, i1, i2, c0 & c1 & c2)) return;
         if (any & kOutsideNear) ++stats_.clipped;
         const ClipVertex corners[3] = {{clip_[i0], {0.0, 0.0}}, {clip_[i1], {1.0, 0.0}}, {clip_[i2], {0.0, 1.0}}};
         ClipVertex polygon[kMaxClipVertices];
@@ -667,6 +691,7 @@ public:
             }
         }
         bool drawn = false, degenerate_only = true;
+        TriangleSetup setup;
         for (int k = 1; k + 1 < count; ++k) {
             switch (setup_triangle(window[0], window[k], window[k + 1], width_, height_, setup)) {
                 case SetupResult::kOk:
@@ -686,9 +711,6 @@ public:
             ++stats_.outside;
     }
 
-    const TriangleStats& stats() const { return stats_; }
-
-private:
     std::vector<glm::dvec4> clip_;
     std::vector<uint32_t> outcode_;
     std::vector<WindowVertex> window_;  // valid where the outcode needs neither clipping nor skipping
