@@ -318,3 +318,43 @@ TEST_CASE("scanline-zbuffer: a deep scene of instances matches zbuffer", "[scanl
     CHECK(counter(frame, "triangles-in") == hsr::drawn_triangle_count(scene));
     CHECK(size_t(std::count(frame.instance.begin(), frame.instance.end(), 0u)) < frame.instance.size());
 }
+
+TEST_CASE("scanline-zbuffer: instances are set up lazily, scanline by scanline", "[scanline-zbuffer][deep]") {
+    // A tall grid: its rows of instances start on different scanlines, so most are transformed and
+    // set up only when the sweep reaches the top of their projected bounds. Some instances lie above
+    // or below the image, and in the views from inside the grid the near plane cuts some of them
+    // (their bounds reach w = 0: they start on the first scanline).
+    const hsr::SceneData grid = hsr::make_instance_grid(model("monkey.obj"), {3, 8, 4, 0.3f, 35.0f});
+    const hsr_scene scene = grid.view();
+    check_same_picture(scene, orbit(grid, 0, 0, 1, false, 256, 384));
+    check_same_picture(scene, orbit(grid, 15, 40, 2.5f, false, 300, 300));  // rows off the image
+    check_same_picture(scene, orbit(grid, -25, -20, 3, true, 240, 320), {{"cull-backfaces", "true"}});
+    const glm::vec3 lo = grid.bounds_min, hi = grid.bounds_max, middle = 0.5f * (lo + hi);
+    const float size = glm::length(hi - lo);
+    check_same_picture(scene, look(middle, middle + glm::vec3(0.1f, 0.8f, -0.6f), 1e-3f * size, 2 * size, 256, 256));
+    check_same_picture(scene, look(middle, middle + glm::vec3(0.2f, -0.9f, 0.4f), 1e-3f * size, 2 * size, 200, 256));
+
+    // Tiny triangles: most polygons cover at most 2 x 2 pixel centres (drawn from their spans) or
+    // none (left out of the table).
+    const hsr::SceneData bunnies = hsr::make_instance_grid(model("bunny.obj"), {4, 4, 3, 0.05f, 25.0f});
+    const hsr_camera small = orbit(bunnies, 10, 5, 1, false, 160, 120);
+    check_same_picture(bunnies.view(), small);
+    const hsr::Frame tiny = render("scanline-zbuffer", bunnies.view(), small, {}, true);
+    CHECK(counter(tiny, "polygons-empty") > 0);
+    CHECK(counter(tiny, "polygons-in-table") + counter(tiny, "polygons-empty") >= counter(tiny, "triangles-rasterized"));
+
+    // Records wait only between the top of their instance and their own first scanline, in blocks
+    // reused as the sweep goes: fewer at once than polygons in the frame. The same instance gives
+    // the same frame again, after another scene.
+    hsr::HiddenSurfaceRemover scanline(plugin("scanline-zbuffer"), {});
+    const hsr_camera camera = orbit(grid, 0, 0, 1, false, 256, 384);
+    const hsr::Frame first = render(scanline, scene, camera, true);
+    CHECK(counter(first, "polygon-records-max") < counter(first, "polygons-in-table"));
+    CHECK(counter(first, "triangles-in") == hsr::drawn_triangle_count(scene));
+    (void)render(scanline, bunnies.view(), small, true);
+    const hsr::Frame again = render(scanline, scene, camera, true);
+    CHECK(again.face == first.face);
+    CHECK(again.instance == first.instance);
+    CHECK(again.depth == first.depth);
+    CHECK(again.bary == first.bary);
+}

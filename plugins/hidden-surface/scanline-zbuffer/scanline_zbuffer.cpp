@@ -8,6 +8,13 @@
 // and from one scanline to the next (dz/dy = -B/C). The depth buffer is ONE row long, reused for
 // every scanline; the winners of a row are copied into the visibility buffer when the row is done.
 //
+// An instanced scene is not set up whole before the first scanline: its placements (instances)
+// are bucketed by the top scanline of their projected bounds, and a placement is transformed and
+// its triangles set up only when the sweep reaches that scanline. Each becomes a record in the
+// bucket of its own first scanline, in blocks recycled once that scanline is activated, so memory
+// follows what is pending near the sweep, not the triangles drawn. Polygons covering at most 2 x 2
+// pixel centres are given by their spans (no edge DDA), and those covering none are left out.
+//
 // Transform, clipping, culling and triangle setup are raster::GeometryStage's, as in zbuffer; the
 // edges step with exact integer DDAs derived from the snapped corners, so every scanline covers
 // exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
@@ -17,13 +24,19 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <new>
 #include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#endif
+#if defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 
 namespace {
@@ -35,6 +48,7 @@ constexpr int32_t kScale = raster::kSubpixelScale;
 constexpr int kBits = raster::kSubpixelBits;
 constexpr uint64_t kEmpty = ~uint64_t(0);   // an empty row-buffer entry: above every key
 constexpr uint32_t kNone = ~uint32_t(0);    // no piece / planes already made
+constexpr uint32_t kSmall = kNone - 1;      // PolygonRecord::piece of a small polygon, given by its spans
 
 // floor(a / b) and a - b * floor(a / b) for b > 0 and |a| < 2^50, given inverse = 1.0 / b: the
 // product is within 1/64 of a / b, so its truncation is at most one away from the floor, and the
@@ -93,11 +107,12 @@ struct ActivePlanes {
     raster::Plane inv_w, b1_over_w, b2_over_w;
 };
 
-// A polygon of the table whose setup was made in the first pass: every polygon of an instanced
-// scene (the next placement overwrites the geometry stage's vertices), and the pieces of clipped
-// triangles. It holds what its edge pair and its depth start from, in one cache line. The planes
-// of the barycentrics are not kept: most polygons of a deep scene are hidden, and those that win a
-// pixel have them made again, bit for bit, from their placement's vertices.
+// A polygon whose setup was made before its first scanline: a polygon of an instanced scene that
+// does not start on the scanline its placement is activated on (the next placement overwrites the
+// geometry stage's vertices), and the pieces of clipped triangles. It holds what its edge pair and
+// its depth start from, in one cache line. The planes of the barycentrics are not kept: most
+// polygons of a deep scene are hidden, and those that win a pixel have them made again, bit for
+// bit, from their placement's vertices.
 struct alignas(64) PolygonRecord {
     int32_t x[3], y[3];     // snapped corners, in the setup's corner order (interior on the left of
                             // each edge k, from corner k+1 to corner k+2, seen with y down)
@@ -105,8 +120,12 @@ struct alignas(64) PolygonRecord {
     double dzdx, dzdy;
     uint32_t face;
     uint32_t placement;
-    uint32_t piece;         // kNone, or the setup of a clipped piece in pieces_ (clipping is not repeated)
+    uint32_t piece;         // kNone, or the setup of a clipped piece in pieces_ (clipping is not repeated),
+                            // or kSmall: then x holds left, right and the left step, y the right
+                            // step and the last scanline (see small_spans)
+    uint32_t id;            // drawing order (instances only; with one placement it is the table index)
 };
+static_assert(sizeof(PolygonRecord) == 64);
 
 // With one placement, the table keeps only the triangle (culled, clipped and set up when it becomes
 // active: the geometry stage keeps the window vertices for the whole frame), or a record.
@@ -123,35 +142,60 @@ inline void set_planes(ActivePlanes& p, const raster::TriangleSetup& s) {
     p.b2_over_w = s.b2_over_w;
 }
 
-// Perspective-correct (b1, b2) at pixel (min_x + i, min_y + j): raster::barycentrics_at, the same
-// arithmetic, on the planes of the active polygon.
+// Perspective-correct (b1, b2) at pixel (min_x + i, min_y + j), on the planes of the active polygon.
 inline void barycentrics(const ActivePlanes& a, double i, double j, float* out) {
-    const double inv_w = a.inv_w.at(i, j);
-    if (!(inv_w > 0.0)) {
-        out[0] = out[1] = 0.0f;
-        return;
-    }
-    const double w = 1.0 / inv_w;
-    double b1 = std::max(a.b1_over_w.at(i, j) * w, 0.0);
-    double b2 = std::max(a.b2_over_w.at(i, j) * w, 0.0);
-    const double sum = b1 + b2;
-    if (sum > 1.0) {
-        b1 /= sum;
-        b2 /= sum;
-    }
-    out[0] = float(b1);
-    out[1] = float(b2);
+    const glm::vec2 b = raster::perspective_barycentrics(a.inv_w, a.b1_over_w, a.b2_over_w, i, j);
+    out[0] = b.x;
+    out[1] = b.y;
 }
 
-// Asks for transparent huge pages over the 2 MB pages inside [p, p + bytes). The records of a deep
-// scene take 100 MB and more, written fresh by a new instance and then read in y order: on 4 KB
-// pages that is a page fault per 64 records and a TLB miss per record.
+// Asks for transparent huge pages over the 2 MB pages inside [p, p + bytes). The record pool of a
+// deep scene grows to 100 MB and more, written fresh by a new instance: on 4 KB pages that is a
+// page fault per 64 records and many TLB misses.
 inline void advise_huge_pages([[maybe_unused]] const void* p, [[maybe_unused]] size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     constexpr uintptr_t kHuge = uintptr_t(2) << 20;
     const uintptr_t begin = (uintptr_t(p) + kHuge - 1) & ~(kHuge - 1);
     const uintptr_t end = (uintptr_t(p) + bytes) & ~(kHuge - 1);
     if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // only a hint
+#endif
+}
+
+// Which pixel centres a setup covers when its bounds hold at most 2 x 2 of them (most polygons of a
+// deep scene are that small): bit i + 2 j for pixel (min_x + i, min_y + j), found with its exact
+// integer edge functions, the fill rule included, as zbuffer tests them. kLarger for larger bounds.
+constexpr uint32_t kLarger = 16;
+inline uint32_t small_coverage(const raster::TriangleSetup& s) {
+    const int32_t w = s.max_x - s.min_x, h = s.max_y - s.min_y;
+    if ((w | h) > 1) return kLarger;
+    // A centre is covered when its three edge functions are >= 0, i.e. their OR is; centres outside
+    // the bounds start negative. No branch per centre: which are covered is not predictable.
+    int64_t c00 = 0, c10 = -int64_t(w == 0), c01 = -int64_t(h == 0), c11 = -int64_t((w & h) == 0);
+    for (int e = 0; e < 3; ++e) {
+        c00 |= s.edge_origin[e];
+        c10 |= s.edge_origin[e] + s.edge_dx[e];
+        c01 |= s.edge_origin[e] + s.edge_dy[e];
+        c11 |= s.edge_origin[e] + s.edge_dx[e] + s.edge_dy[e];
+    }
+    return uint32_t(c00 >= 0) | uint32_t(c10 >= 0) << 1 | uint32_t(c01 >= 0) << 2 | uint32_t(c11 >= 0) << 3;
+}
+
+// Writes a record past the caches. Records are written to the tails of a thousand buckets at once
+// and read back scanlines later: ordinary stores would first read every line from memory.
+inline void store_streaming(PolygonRecord& to, const PolygonRecord& from) {
+#if defined(__SSE2__)
+    const __m128i* const source = reinterpret_cast<const __m128i*>(&from);
+    __m128i* const target = reinterpret_cast<__m128i*>(&to);
+    for (int k = 0; k < 4; ++k) _mm_stream_si128(target + k, _mm_load_si128(source + k));
+#else
+    to = from;
+#endif
+}
+
+// Orders the streamed stores before the records are read.
+inline void end_streaming() {
+#if defined(__SSE2__)
+    _mm_sfence();
 #endif
 }
 
@@ -178,61 +222,53 @@ public:
         geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
         width_ = camera.width;
         height_ = camera.height;
+        scene_ = &scene.raw();
         indices_ = scene.raw().indices;
         positions_ = scene.raw().positions;
         viewport_ = raster::Viewport(width_, height_);
 
-        // 1. Geometry, and the polygon table in drawing order, counted per first scanline.
-        uint64_t drawn = 0;
-        for (uint32_t k = 0; k < scene.placement_count(); ++k) drawn += scene.placement(k).triangle_count;
-        table_.clear();
-        records_.clear();
-        first_row_.clear();
+        const uint32_t placements = scene.placement_count();
+        placement_instance_.resize(placements);
+        placement_matrix_.resize(placements);
         pieces_.clear();
-        first_row_.reserve(drawn);
-        bucket_start_.assign(size_t(height_) + 1, 0);
-        placement_instance_.resize(scene.placement_count());
-        placement_matrix_.resize(scene.placement_count());
-        records_only_ = scene.placement_count() > 1;
+        free_pieces_.clear();
+        polygons_ = 0;
+        polygons_empty_ = 0;
+        blocks_used_max_ = 0;
+        records_only_ = placements > 1;
         if (!records_only_) {
-            // One placement: its window vertices stay in the geometry stage for the whole frame, so
-            // a triangle is culled, clipped and set up only when its first scanline comes. Here it
-            // is only bucketed, by the first scanline its snapped corners reach.
+            // 1. One placement: its window vertices stay in the geometry stage for the whole frame,
+            //    so a triangle is culled, clipped and set up only when its first scanline comes.
+            //    Here it is only bucketed, by the first scanline its snapped corners reach.
             const hsr::sdk::Placement placement = scene.placement(0);
-            table_.reserve(drawn);
+            table_.clear();
+            records_.clear();
+            first_row_.clear();
+            table_.reserve(placement.triangle_count);
+            first_row_.reserve(placement.triangle_count);
+            bucket_start_.assign(size_t(height_) + 1, 0);
             geometry_.place(placement);
             placement_instance_[0] = placement.instance;
             bucket_triangles(placement);
-        } else {
-            // Several placements: each is set up now, while its vertices are at hand, into records.
-            if (records_.capacity() < drawn) {
-                records_.reserve(drawn);
-                advise_huge_pages(records_.data(), records_.capacity() * sizeof(PolygonRecord));
-            }
-            const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
-            for (uint32_t k = 0; k < scene.placement_count(); ++k) {
-                const hsr::sdk::Placement placement = scene.placement(k);
-                geometry_.place(placement);
-                placement_instance_[k] = placement.instance;
-                // As GeometryStage::place makes it, to transform a winner's corners again.
-                placement_matrix_[k] =
-                    placement.identity ? view_projection : view_projection * glm::dmat4(placement.transform);
-                record_triangles(placement, k);
-            }
-        }
 
-        // 2. The y-sorted polygon table: a counting sort of the ids by first scanline, stable, so
-        //    each bucket keeps the drawing order.
-        uint32_t largest_bucket = 0;
-        for (int32_t y = 0; y < height_; ++y) {
-            largest_bucket = std::max(largest_bucket, bucket_start_[y + 1]);
-            bucket_start_[y + 1] += bucket_start_[y];
+            // 2. The y-sorted polygon table: a counting sort of the ids by first scanline, stable,
+            //    so each bucket keeps the drawing order.
+            uint32_t largest_bucket = 0;
+            for (int32_t y = 0; y < height_; ++y) {
+                largest_bucket = std::max(largest_bucket, bucket_start_[y + 1]);
+                bucket_start_[y + 1] += bucket_start_[y];
+            }
+            order_.resize(first_row_.size());
+            for (uint32_t id = 0; id < uint32_t(first_row_.size()); ++id) order_[bucket_start_[first_row_[id]]++] = id;
+            for (int32_t y = height_ - 1; y > 0; --y) bucket_start_[y] = bucket_start_[y - 1];  // back to starts
+            bucket_start_[0] = 0;
+            if (staged_.size() < largest_bucket) staged_.resize(largest_bucket);
+            polygons_ = first_row_.size();
+        } else {
+            // 1-2. Several placements: each is bucketed by the top scanline of its projected bounds,
+            //      and transformed and set up only when the sweep gets there (activate_placement).
+            bucket_placements(scene, camera);
         }
-        order_.resize(first_row_.size());
-        for (uint32_t id = 0; id < uint32_t(first_row_.size()); ++id) order_[bucket_start_[first_row_[id]]++] = id;
-        for (int32_t y = height_ - 1; y > 0; --y) bucket_start_[y] = bucket_start_[y - 1];  // back to starts
-        bucket_start_[0] = 0;
-        if (staged_.size() < largest_bucket) staged_.resize(largest_bucket);
 
         // 3. The scanlines, top to bottom.
         Stats stats;
@@ -244,11 +280,14 @@ public:
         geometry_.stats().report(counters);
         counters.set("pixels-depth-tested", stats.depth_tested);
         counters.set("pixels-written", stats.written);
-        counters.set("polygons-in-table", first_row_.size());
+        counters.set("polygons-in-table", polygons_);
+        counters.set("polygons-empty", polygons_empty_);
         counters.set("scanlines", stats.scanlines);
         counters.set("edge-pairs-processed", stats.edge_pairs);
         counters.set("active-polygons-max", stats.active_max);
         counters.set("active-edges-max", 2 * stats.active_max);
+        counters.set("polygon-records-max",
+                     records_only_ ? blocks_used_max_ * kBlockRecords : uint64_t(records_.size()));
     }
 
 private:
@@ -287,7 +326,7 @@ private:
             }
             geometry_.process(t, [&](const raster::TriangleSetup& s) {
                 add_to_table({uint32_t(records_.size()), 1}, s.min_y);
-                add_record(s, t, 0);
+                fill_record(records_.emplace_back(), s, t, 0);
             });
         }
     }
@@ -304,28 +343,14 @@ private:
         ++bucket_start_[size_t(first_row) + 1];
     }
 
-    // Culls, clips and sets up the triangles of placement k into records (flattened: setup_triangle
-    // is inlined, and what it computes for the planes the records do not keep is left out).
-    [[gnu::flatten]] void record_triangles(const hsr::sdk::Placement& placement, uint32_t k) {
-        const uint32_t end = placement.first_triangle + placement.triangle_count;
-        for (uint32_t t = placement.first_triangle; t < end; ++t)
-            geometry_.process(t, [&](const raster::TriangleSetup& s) {
-                count_polygon(s.min_y);
-                add_record(s, t, k);
-            });
-    }
-
     // One emitted setup of triangle t of placement k as a record. The corners come from the
     // geometry stage's window vertices, or, for a piece of a clipped triangle, from the setup.
-    void add_record(const raster::TriangleSetup& s, uint32_t t, uint32_t k) {
-        PolygonRecord& r = records_.emplace_back();
+    void fill_record(PolygonRecord& r, const raster::TriangleSetup& s, uint32_t t, uint32_t k) {
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t codes = geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2);
         if (codes & raster::kNeedsClipping) {
-            if (pieces_.size() >= kNone) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
-            recover_corners(s, r);
-            r.piece = uint32_t(pieces_.size());
-            pieces_.push_back(s);
+            recover_corners(s, r.x, r.y);
+            r.piece = keep_piece(s);
         } else {
             corners_of(s, i0, i1, i2, r.x, r.y);
             r.piece = kNone;
@@ -335,6 +360,272 @@ private:
         r.dzdy = s.depth.dy;
         r.face = t;
         r.placement = k;
+    }
+
+    uint32_t keep_piece(const raster::TriangleSetup& s) {
+        if (!free_pieces_.empty()) {
+            const uint32_t piece = free_pieces_.back();
+            free_pieces_.pop_back();
+            pieces_[piece] = s;
+            return piece;
+        }
+        if (pieces_.size() >= kSmall) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
+        pieces_.push_back(s);
+        return uint32_t(pieces_.size() - 1);
+    }
+
+    // ---- Instances: placements activated lazily, in y order ----
+
+    // Buckets the placements by the top scanline of their projected bounds and counts the drawing
+    // order of their first triangles (for depth ties).
+    void bucket_placements(const hsr::sdk::Scene& scene, const hsr_camera& camera) {
+        const uint32_t placements = scene.placement_count();
+        const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
+        placement_first_id_.resize(placements);
+        placement_row_.resize(placements);
+        placement_start_.assign(size_t(height_) + 2, 0);
+        uint64_t id = 0;
+        uint32_t box_first = 0, box_count = 0;
+        glm::vec3 lo(0.0f), hi(0.0f);
+        bool box_known = false;
+        for (uint32_t k = 0; k < placements; ++k) {
+            const hsr::sdk::Placement placement = scene.placement(k);
+            placement_instance_[k] = placement.instance;
+            // As GeometryStage::place makes it: to find the bounds, and to transform a winner's
+            // corners again.
+            placement_matrix_[k] =
+                placement.identity ? view_projection : view_projection * glm::dmat4(placement.transform);
+            placement_first_id_[k] = uint32_t(id);
+            id += placement.triangle_count;
+            if (!box_known || box_first != placement.first_vertex || box_count != placement.vertex_count) {
+                object_bounds(placement.first_vertex, placement.vertex_count, lo, hi);
+                box_first = placement.first_vertex;
+                box_count = placement.vertex_count;
+                box_known = true;
+            }
+            const int32_t row = top_row(placement_matrix_[k], lo, hi);
+            placement_row_[k] = row;
+            ++placement_start_[size_t(row) + 1];
+        }
+        if (id > uint64_t(std::numeric_limits<uint32_t>::max()))
+            throw hsr::sdk::Unsupported("scanline-zbuffer: more than 2^32 - 1 triangles drawn in one frame");
+        for (int32_t y = 0; y <= height_; ++y) placement_start_[y + 1] += placement_start_[y];
+        placement_order_.resize(placements);
+        for (uint32_t k = 0; k < placements; ++k) placement_order_[placement_start_[placement_row_[k]]++] = k;
+        for (int32_t y = height_; y > 0; --y) placement_start_[y] = placement_start_[y - 1];  // back to starts
+        placement_start_[0] = 0;
+
+        rows_.assign(size_t(height_), RowChain{});
+        free_blocks_.clear();
+        for (uint32_t b = uint32_t(block_next_.size()); b-- > 0;) free_blocks_.push_back(b);
+    }
+
+    // The object-space bounding box of a placement's vertex range (a NaN coordinate is left out:
+    // its triangles are skipped as non-finite).
+    void object_bounds(uint32_t first, uint32_t count, glm::vec3& lo, glm::vec3& hi) const {
+        lo = glm::vec3(std::numeric_limits<float>::infinity());
+        hi = -lo;
+        for (size_t k = first; k < size_t(first) + count; ++k)
+            for (int c = 0; c < 3; ++c) {
+                const float v = positions_[3 * k + c];
+                lo[c] = v < lo[c] ? v : lo[c];
+                hi[c] = v > hi[c] ? v : hi[c];
+            }
+    }
+
+    // A scanline at or above the first scanline of every polygon of a placement, from the corners
+    // of its object-space box: in front of the eye (w > 0 on all of them) a projective map takes the
+    // box onto the convex hull of its projected corners. One scanline of margin covers rounding and
+    // the snapping of vertices. A box that reaches the plane w = 0, or is not finite, starts at the
+    // top; one below the image at `height_` (processed after the sweep, for the counters only).
+    int32_t top_row(const glm::dmat4& m, const glm::vec3& lo, const glm::vec3& hi) const {
+        if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return 0;
+        double top = std::numeric_limits<double>::infinity();
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
+            const glm::dvec4 c = raster::to_clip(m, p);
+            const double size = std::abs(c.x) + std::abs(c.y) + std::abs(c.z) + std::abs(c.w);
+            // Near w = 0 the rounding of y / w is no longer small against a pixel.
+            if (!std::isfinite(size) || !(c.w > 1e-6 * size)) return 0;
+            top = std::min(top, (1.0 - c.y / c.w) * (0.5 * double(height_)));
+        }
+        if (!(top >= 2.0)) return 0;
+        if (top >= double(height_) + 2.0) return height_;
+        return int32_t(top) - 1;  // top >= 2: truncation is the floor
+    }
+
+    // Transforms placement k and sets up its triangles on scanline y, at or above the first scanline
+    // of each. A polygon that starts on y joins the active list at once, the others become records
+    // in the bucket of their first scanline. Those that cover no pixel centre are left out.
+    // Flattened, so that setup_triangle is inlined and the compiler leaves out the planes the
+    // records do not keep; a triangle to clip goes through process, out of line.
+    [[gnu::flatten]] void activate_placement(const hsr::sdk::Scene& scene, uint32_t k, int32_t y) {
+        const hsr::sdk::Placement placement = scene.placement(k);
+        geometry_.place(placement);
+        const uint32_t end = placement.first_triangle + placement.triangle_count;
+        const uint32_t id_base = placement_first_id_[k] - placement.first_triangle;
+        for (uint32_t t = placement.first_triangle; t < end; ++t) {
+            const bool unclipped = geometry_.process_unclipped(t, [&](const raster::TriangleSetup& s) {
+                const uint32_t covered = small_coverage(s);
+                if (covered == 0) {
+                    ++polygons_empty_;
+                    return;
+                }
+                ++polygons_;
+                assert(s.min_y >= y && "top_row is conservative");
+                PolygonRecord r;
+                r.z_row = depth_at_row_start(s);
+                r.dzdx = s.depth.dx;
+                r.dzdy = s.depth.dy;
+                r.face = t;
+                r.placement = k;
+                r.id = id_base + t;
+                int32_t first = s.min_y;
+                if (covered != kLarger) {
+                    r.piece = kSmall;
+                    first = small_spans(covered, s.min_x, s.min_y, r);
+                } else {
+                    r.piece = kNone;
+                    corners_of(s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], r.x, r.y);
+                }
+                if (first > y)
+                    store_streaming(new_record(first), r);
+                else
+                    activate_record(r, r.id, y);
+            });
+            if (!unclipped) [[unlikely]]
+                process_clipped(t, k, id_base + t, y);
+        }
+        end_streaming();
+    }
+
+    // A triangle to clip (or to skip as non-finite): GeometryStage::process, kept out of line, or
+    // the compiler merges its setup with activate_placement's and makes the planes there too.
+    [[gnu::noinline, gnu::flatten]] void process_clipped(uint32_t t, uint32_t k, uint32_t id, int32_t y) {
+        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+            if (small_coverage(s) == 0)
+                ++polygons_empty_;
+            else
+                add_piece(s, t, k, id, y);
+        });
+    }
+
+    // The spans of a small polygon (small_coverage's `covered` over the pixels from (min_x, min_y))
+    // into its record: on its first scanline [left, right] = x[0], x[1]; on the next, if y[1] (its
+    // last scanline) is that one, moved by x[2] and y[0]. Its edges then step without error terms.
+    // Returns the first scanline; when that is below min_y, the depth is stepped there as the edge
+    // pair would have been.
+    static int32_t small_spans(uint32_t covered, int32_t min_x, int32_t min_y, PolygonRecord& r) {
+        const uint32_t top = covered & 3, bottom = covered >> 2;
+        const int32_t top_left = min_x + int32_t(~top & 1), top_right = min_x + int32_t(top >> 1);
+        const int32_t bottom_left = min_x + int32_t(~bottom & 1), bottom_right = min_x + int32_t(bottom >> 1);
+        r.y[1] = min_y + (bottom ? 1 : 0);
+        r.y[2] = 0;
+        if (top == 0) {
+            r.x[0] = bottom_left;
+            r.x[1] = bottom_right;
+            r.x[2] = 0;
+            r.y[0] = 0;
+            r.z_row += r.dzdy;
+            return min_y + 1;
+        }
+        r.x[0] = top_left;
+        r.x[1] = top_right;
+        r.x[2] = bottom_left - top_left;
+        r.y[0] = bottom_right - top_right;
+        return min_y;
+    }
+
+    // A piece of clipped triangle t of placement k, on scanline y: the same, with its setup kept
+    // (clipping is not repeated).
+    void add_piece(const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
+        ++polygons_;
+        assert(s.min_y >= y && "top_row is conservative");
+        PolygonRecord r;
+        recover_corners(s, r.x, r.y);
+        if (s.min_y > y) {
+            r.z_row = depth_at_row_start(s);
+            r.dzdx = s.depth.dx;
+            r.dzdy = s.depth.dy;
+            r.face = t;
+            r.placement = k;
+            r.piece = keep_piece(s);
+            r.id = id;
+            new_record(s.min_y) = r;
+            return;
+        }
+        const uint32_t slot = start_polygon(r.x, r.y, depth_at_row_start(s), s.depth.dx, s.depth.dy, y);
+        if (slot == kNone) return;
+        set_info(slot, id, t, placement_instance_[k], kNone);
+        set_planes(planes_[slot], s);
+    }
+
+    // The records waiting for their first scanline, by scanline, in chains of blocks taken from a
+    // pool; a scanline's blocks go back to the pool when it is activated, so the pool holds only
+    // what is pending below the current scanline.
+    static constexpr uint32_t kBlockRecords = 32;   // 2 KB
+    static constexpr uint32_t kChunkBlocks = 2048;  // 4 MB, allocated as the pool grows
+    static constexpr size_t kChunkAlign = size_t(2) << 20;
+    struct RowChain {
+        uint32_t head = kNone, tail = kNone;
+        uint32_t fill = kBlockRecords;  // records in the tail block
+    };
+    struct ChunkDelete {
+        void operator()(PolygonRecord* p) const { ::operator delete[](p, std::align_val_t(kChunkAlign)); }
+    };
+
+    PolygonRecord* block(uint32_t b) {
+        return chunks_[b / kChunkBlocks].get() + size_t(b % kChunkBlocks) * kBlockRecords;
+    }
+
+    PolygonRecord& new_record(int32_t row) {
+        RowChain& c = rows_[size_t(row)];
+        if (c.fill == kBlockRecords) {
+            if (free_blocks_.empty()) [[unlikely]]
+                grow_pool();
+            const uint32_t b = free_blocks_.back();
+            free_blocks_.pop_back();
+            blocks_used_max_ = std::max(blocks_used_max_, block_next_.size() - free_blocks_.size());
+            if (c.head == kNone)
+                c.head = b;
+            else
+                block_next_[c.tail] = b;
+            c.tail = b;
+            c.fill = 0;
+        }
+        return block(c.tail)[c.fill++];
+    }
+
+    [[gnu::noinline]] void grow_pool() {
+        constexpr size_t bytes = size_t(kChunkBlocks) * kBlockRecords * sizeof(PolygonRecord);
+        if (block_next_.size() + kChunkBlocks > kNone)
+            throw hsr::sdk::Unsupported("scanline-zbuffer: too many polygons waiting for their first scanline");
+        auto* p = static_cast<PolygonRecord*>(::operator new[](bytes, std::align_val_t(kChunkAlign)));
+        chunks_.emplace_back(p);
+        advise_huge_pages(p, bytes);
+        const uint32_t first = uint32_t(block_next_.size());
+        block_next_.resize(block_next_.size() + kChunkBlocks, kNone);
+        for (uint32_t b = first + kChunkBlocks; b-- > first;) free_blocks_.push_back(b);
+    }
+
+    // Placements whose bounds start on scanline y are set up; then the records of y join the active
+    // list, read block after block (each in order: the hardware prefetcher follows). Out of line,
+    // so that it does not change how scan's span loop is compiled.
+    [[gnu::noinline]] void activate_instanced(const hsr::sdk::Scene& scene, int32_t y) {
+        for (uint32_t i = placement_start_[y]; i < placement_start_[y + 1]; ++i)
+            activate_placement(scene, placement_order_[i], y);
+        RowChain& c = rows_[size_t(y)];
+        for (uint32_t b = c.head; b != kNone;) {
+            const bool last = b == c.tail;
+            const uint32_t next = last ? kNone : block_next_[b];
+            const uint32_t count = last ? c.fill : kBlockRecords;
+            if (!last) __builtin_prefetch(block(next));
+            const PolygonRecord* const records = block(b);
+            for (uint32_t k = 0; k < count; ++k) activate_record(records[k], records[k].id, y);
+            free_blocks_.push_back(b);
+            b = next;
+        }
+        c = RowChain{};
     }
 
     // The snapped corners of an unclipped triangle in the setup's order: setup_triangle swapped
@@ -352,7 +643,7 @@ private:
     // vector d_k; the unbiased edge functions E_k at the origin O (the centre of pixel (min_x, min_y))
     // are the barycentric weights of O times the doubled area 2A = E_0 + E_1 + E_2, so
     // 2A (O - v0) = E_1 d_2 - E_2 d_1 (an exact division), v1 = v0 + d_2 and v2 = v0 - d_1.
-    static void recover_corners(const raster::TriangleSetup& s, PolygonRecord& r) {
+    static void recover_corners(const raster::TriangleSetup& s, int32_t (&x)[3], int32_t (&y)[3]) {
         __extension__ using int128 = __int128;
         int64_t dx[3], dy[3], e[3];
         for (int k = 0; k < 3; ++k) {
@@ -365,12 +656,12 @@ private:
         const int64_t oy = int64_t(s.min_y) * kScale + raster::kHalfPixel;
         const int64_t x0 = ox - int64_t((int128(e[1]) * dx[2] - int128(e[2]) * dx[1]) / area2);
         const int64_t y0 = oy - int64_t((int128(e[1]) * dy[2] - int128(e[2]) * dy[1]) / area2);
-        r.x[0] = int32_t(x0);
-        r.x[1] = int32_t(x0 + dx[2]);
-        r.x[2] = int32_t(x0 - dx[1]);
-        r.y[0] = int32_t(y0);
-        r.y[1] = int32_t(y0 + dy[2]);
-        r.y[2] = int32_t(y0 - dy[1]);
+        x[0] = int32_t(x0);
+        x[1] = int32_t(x0 + dx[2]);
+        x[2] = int32_t(x0 - dx[1]);
+        y[0] = int32_t(y0);
+        y[1] = int32_t(y0 + dy[2]);
+        y[2] = int32_t(y0 - dy[1]);
     }
 
     // Makes triangle t active on its first scanline (one placement): culled, clipped (never: see
@@ -389,12 +680,19 @@ private:
     // Makes a record active on its first scanline. A piece's planes come from its setup; those of a
     // triangle are made when it first wins a pixel (make_planes).
     void activate_record(const PolygonRecord& r, uint32_t id, int32_t first) {
+        if (r.piece == kSmall) {
+            const uint32_t slot = start_small(r.x[0], r.x[1], r.x[2], r.y[0], r.y[1], r.z_row, r.dzdx, r.dzdy);
+            set_info(slot, id, r.face, placement_instance_[r.placement], r.placement);
+            return;
+        }
         const uint32_t slot = start_polygon(r.x, r.y, r.z_row, r.dzdx, r.dzdy, first);
-        if (slot == kNone) return;
-        if (r.piece != kNone) {
-            set_info(slot, id, r.face, placement_instance_[r.placement], kNone);
-            set_planes(planes_[slot], pieces_[r.piece]);
-        } else {
+        if (r.piece != kNone) [[unlikely]] {
+            if (slot != kNone) {
+                set_info(slot, id, r.face, placement_instance_[r.placement], kNone);
+                set_planes(planes_[slot], pieces_[r.piece]);
+            }
+            free_pieces_.push_back(r.piece);
+        } else if (slot != kNone) {
             set_info(slot, id, r.face, placement_instance_[r.placement], r.placement);
         }
     }
@@ -424,6 +722,38 @@ private:
         raster::setup_triangle(v[0], v[1], v[2], width_, height_, s);  // kOk, as in the first pass
         set_planes(planes_[slot], s);
         info.placement = kNone;
+    }
+
+    uint32_t take_slot() {
+        if (free_slots_.empty()) {
+            infos_.emplace_back();
+            planes_.emplace_back();
+            return uint32_t(infos_.size() - 1);
+        }
+        const uint32_t slot = free_slots_.back();
+        free_slots_.pop_back();
+        return slot;
+    }
+
+    // Adds a small polygon, whose covered pixel centres small_coverage() found, to the active list: on
+    // its first scanline the span [left, right], on the next (if `last` is that one) the span moved
+    // by (left_step, right_step). Its edges are DDAs without error terms. Returns its slot.
+    uint32_t start_small(int32_t left, int32_t right, int32_t left_step, int32_t right_step, int32_t last,
+                         double z_row, double dzdx, double dzdy) {
+        const uint32_t slot = take_slot();
+        ActivePolygon a;
+        a.left = EdgeWalk{left, 0, 1, 0, left_step};
+        a.right = EdgeWalk{right, 0, 1, 0, right_step};
+        a.lower = EdgeWalk{};
+        a.lower_left = 0;
+        a.last_row = int16_t(last);
+        a.switch_row = -1;
+        a.slot = slot;
+        a.dzdx = dzdx;
+        a.dzdy = dzdy;
+        a.z_row = z_row;
+        active_.push_back(a);
+        return slot;
     }
 
     // Orders the corners (on the subpixel grid, in the setup's corner order) by y, takes the long
@@ -489,15 +819,7 @@ private:
         const EdgeWalk short_walk = start(switch_row <= first ? lower : upper, first);
         const bool switches = switch_row > first && switch_row <= last;
 
-        uint32_t slot;
-        if (free_slots_.empty()) {
-            slot = uint32_t(infos_.size());
-            infos_.emplace_back();
-            planes_.emplace_back();
-        } else {
-            slot = free_slots_.back();
-            free_slots_.pop_back();
-        }
+        const uint32_t slot = take_slot();
         ActivePolygon a;  // built whole, then copied: emplace_back() would clear it first
         a.lower = switches ? start(lower, switch_row) : EdgeWalk{};
         a.lower_left = long_is_left ? 0 : 1;
@@ -521,16 +843,6 @@ private:
         const uint32_t begin = bucket_start_[y], count = bucket_start_[y + 1] - begin;
         if (count == 0) return;
         const uint32_t* const ids = order_.data() + begin;
-        if (records_only_) {
-            constexpr uint32_t kAhead = 8;
-            const PolygonRecord* const records = records_.data();
-            for (uint32_t k = 0; k < std::min(count, kAhead); ++k) __builtin_prefetch(records + ids[k]);
-            for (uint32_t k = 0; k < count; ++k) {
-                if (k + kAhead < count) __builtin_prefetch(records + ids[k + kAhead]);
-                activate_record(records[ids[k]], ids[k], y);
-            }
-            return;
-        }
         TableEntry* const staged = staged_.data();
         for (uint32_t k = 0; k < count; ++k) staged[k] = table_[ids[k]];
         constexpr uint32_t kAhead = 4;
@@ -568,8 +880,12 @@ private:
         uint64_t tested = 0, written = 0, edge_pairs = 0, scanlines = 0;
         size_t active_max = 0;
 
+        const hsr::sdk::Scene scene(*scene_);
         for (int32_t y = 0; y < height_; ++y) {
-            activate_bucket(y);
+            if (records_only_)
+                activate_instanced(scene, y);
+            else
+                activate_bucket(y);
             if (active_.empty()) continue;
             ++scanlines;
             edge_pairs += active_.size();
@@ -658,6 +974,9 @@ private:
             free_slots_.insert(free_slots_.end(), released_.begin(), released_.end());
             released_.clear();
         }
+        if (records_only_)  // below the image: nothing to draw, but counted as zbuffer counts them
+            for (uint32_t i = placement_start_[height_]; i < placement_start_[height_ + 1]; ++i)
+                activate_placement(scene, placement_order_[i], height_);
         stats.depth_tested = tested;
         stats.written = written;
         stats.edge_pairs = edge_pairs;
@@ -670,14 +989,30 @@ private:
     int32_t height_ = 0;
     raster::GeometryStage geometry_;                 // keeps its vertex buffers between frames
     raster::Viewport viewport_;
+    const hsr_scene* scene_ = nullptr;
     const uint32_t* indices_ = nullptr;
     const float* positions_ = nullptr;
     std::vector<uint32_t> placement_instance_;
     std::vector<glm::dmat4> placement_matrix_;       // object to clip space, per placement
-    bool records_only_ = false;                      // several placements: every polygon is a record
-    std::vector<TableEntry> table_;                  // one placement: the polygon table, in drawing order
-    std::vector<PolygonRecord> records_;             // several: the polygon table, in drawing order
+    bool records_only_ = false;                      // several placements: activated lazily, in y order
+    uint64_t polygons_ = 0;                          // emitted setups (polygons-in-table)
+    uint64_t polygons_empty_ = 0;                    // small setups covering no pixel centre, dropped
+    // One placement:
+    std::vector<TableEntry> table_;                  // the polygon table, in drawing order
+    std::vector<PolygonRecord> records_;             // pieces of clipped triangles, and what is offscreen
+    // Several placements:
+    std::vector<uint32_t> placement_first_id_;       // drawing order of its first triangle
+    std::vector<int32_t> placement_row_;             // the scanline it is activated on (height_: after)
+    std::vector<uint32_t> placement_start_;          // bucket y is placement_order_[start[y], start[y + 1])
+    std::vector<uint32_t> placement_order_;          // placements sorted by that scanline
+    std::vector<RowChain> rows_;                     // per scanline, its pending records
+    std::vector<std::unique_ptr<PolygonRecord[], ChunkDelete>> chunks_;  // the pool of record blocks
+    std::vector<uint32_t> block_next_;               // per block: the next of its scanline's chain
+    std::vector<uint32_t> free_blocks_;
+    size_t blocks_used_max_ = 0;
+    // Both:
     std::vector<raster::TriangleSetup> pieces_;      // setups of the pieces of clipped triangles
+    std::vector<uint32_t> free_pieces_;              // of pieces_, once their polygon is active
     std::vector<uint16_t> first_row_;                // per polygon: its bucket
     std::vector<uint32_t> bucket_start_;             // bucket y is order_[start[y], start[y + 1])
     std::vector<uint32_t> order_;                    // polygon ids sorted by first scanline
