@@ -740,14 +740,20 @@ private:
     // by (left_step, right_step). Its edges are DDAs without error terms. Returns its slot.
     uint32_t start_small(int32_t left, int32_t right, int32_t left_step, int32_t right_step, int32_t last,
                          double z_row, double dzdx, double dzdy) {
-        const uint32_t slot = take_slot();
         ActivePolygon a;
         a.left = EdgeWalk{left, 0, 1, 0, left_step};
         a.right = EdgeWalk{right, 0, 1, 0, right_step};
         a.lower = EdgeWalk{};
         a.lower_left = 0;
-        a.last_row = int16_t(last);
         a.switch_row = -1;
+        return push_active(a, last, z_row, dzdx, dzdy);
+    }
+
+    // Adds a polygon whose edges are set to the active list, in a free slot, with its last scanline
+    // and depth steps; returns the slot.
+    uint32_t push_active(ActivePolygon& a, int32_t last, double z_row, double dzdx, double dzdy) {
+        const uint32_t slot = take_slot();
+        a.last_row = int16_t(last);
         a.slot = slot;
         a.dzdx = dzdx;
         a.dzdy = dzdy;
@@ -819,20 +825,13 @@ private:
         const EdgeWalk short_walk = start(switch_row <= first ? lower : upper, first);
         const bool switches = switch_row > first && switch_row <= last;
 
-        const uint32_t slot = take_slot();
         ActivePolygon a;  // built whole, then copied: emplace_back() would clear it first
         a.lower = switches ? start(lower, switch_row) : EdgeWalk{};
         a.lower_left = long_is_left ? 0 : 1;
         a.left = long_is_left ? long_walk : short_walk;
         a.right = long_is_left ? short_walk : long_walk;
-        a.last_row = int16_t(last);
         a.switch_row = switches ? int16_t(switch_row) : int16_t(-1);
-        a.slot = slot;
-        a.dzdx = dzdx;
-        a.dzdy = dzdy;
-        a.z_row = z_row;
-        active_.push_back(a);
-        return slot;
+        return push_active(a, last, z_row, dzdx, dzdy);
     }
 
     // Polygons whose first scanline is y join the active list. Their table entries lie scattered in
