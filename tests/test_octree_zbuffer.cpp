@@ -7,6 +7,7 @@
 #include "hsr/camera.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
+#include "hsr/raster.hpp"
 #include "hsr/scene.hpp"
 #include "surface_test_support.hpp"
 
@@ -14,6 +15,7 @@
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <bit>
@@ -204,6 +206,51 @@ TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves hold exact
     }
 }
 
+TEST_CASE("octree-zbuffer: leaf planes tell front faces from back faces as the rasterizer does", "[octree-zbuffer]") {
+    // The plugin draws a leaf's back faces, and leaves with no front face, after the rest of their
+    // placement, judging facing in object space from LeafMesh::planes. A wrong sign would not change
+    // the picture, only the cost, so it is checked here against the clip-space test of hsr/raster.hpp,
+    // under a plain, a mirrored and a sheared placement transform, in perspective and orthographic.
+    using namespace octree_zbuffer;
+    const hsr::SceneData& data = model("bunny.obj");
+    const hsr_scene scene = data.view();
+    OctreeForest forest;
+    forest.add_object(scene, 0, scene.triangle_count, 0, scene.vertex_count, BuildParams{8, 64});
+    REQUIRE(forest.mesh.planes.size() == forest.mesh.face.size());
+    const glm::dmat4 transforms[] = {glm::dmat4(1.0), glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0)),
+                                     glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0.4, 0.8, 0, 0), glm::dvec4(0, 0.3, 1.5, 0),
+                                                glm::dvec4(0.1, 0, 0, 1))};
+    for (const bool ortho : {false, true}) {
+        for (int k = 0; k < 3; ++k) {
+            INFO((ortho ? "orthographic" : "perspective") << ", transform " << k);
+            const hsr_camera camera = orbit(data, 35, 20, 1, ortho, 256);
+            const glm::dmat4 view(hsr::sdk::load_matrix(camera.view));
+            const glm::dmat4 clip_from_object = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection)) * transforms[k];
+            const glm::dmat4 object_from_world = glm::inverse(transforms[k]);
+            const double mirror = glm::determinant(glm::dmat3(transforms[k])) < 0.0 ? -1.0 : 1.0;
+            const glm::dvec4 viewer =
+                mirror * (ortho ? object_from_world * glm::dvec4(view[0][2], view[1][2], view[2][2], 0.0)
+                                : object_from_world * glm::inverse(view)[3]);
+            size_t front = 0, disagree = 0;
+            for (size_t t = 0; t < forest.mesh.face.size(); ++t) {
+                glm::dvec4 clip[3];
+                for (int c = 0; c < 3; ++c) {
+                    const float* p = &forest.mesh.positions[3 * size_t(forest.mesh.indices[3 * t + c])];
+                    clip[c] = clip_from_object * glm::dvec4(p[0], p[1], p[2], 1.0);
+                }
+                const bool rasterizer = hsr::raster::is_front_facing(clip[0], clip[1], clip[2]);
+                const bool plane = glm::dot(glm::dvec4(forest.mesh.planes[t]), viewer) > 0.0;
+                front += rasterizer;
+                disagree += rasterizer != plane;
+            }
+            INFO(front << " front faces, " << disagree << " judged otherwise by the planes");
+            CHECK(front > forest.mesh.face.size() / 4);
+            CHECK(front < 3 * forest.mesh.face.size() / 4);
+            CHECK(disagree * 1000 < forest.mesh.face.size());  // only triangles seen edge-on
+        }
+    }
+}
+
 TEST_CASE("octree-zbuffer: built once, reused, rebuilt for another scene", "[octree-zbuffer]") {
     const hsr::SceneData& bunny = model("bunny.obj");
     const hsr::SceneData& monkey = model("monkey.obj");
@@ -283,6 +330,7 @@ TEST_CASE("octree-zbuffer: a deep scene is culled, not drawn", "[octree-zbuffer]
 
     CHECK(counter(octree, "octree-nodes-culled") + counter(octree, "instance-nodes-culled") > 0);
     CHECK(counter(octree, "triangles-in-culled-nodes") > counter(octree, "triangles-in") / 2);
+    CHECK(counter(octree, "octree-leaves-deferred") > 0);  // leaves facing away, drawn after their placement's front
     const uint64_t octree_tests = counter(octree, "pixels-depth-tested");
     const uint64_t zbuffer_tests = counter(reference, "pixels-depth-tested");
     INFO("depth tests: octree " << octree_tests << ", zbuffer " << zbuffer_tests);

@@ -167,10 +167,21 @@ private:
                 mesh.indices.push_back(remap_[local]);
             }
             mesh.face.push_back(t);
+            mesh.planes.push_back(plane_of(t));
         }
         n.vertex_count = uint32_t(mesh.positions.size() / 3) - n.first_vertex;
         ++object_.leaf_count;
         object_.depth = std::max(object_.depth, depth);
+    }
+
+    glm::vec4 plane_of(uint32_t t) const {
+        glm::dvec3 p[3];
+        for (int c = 0; c < 3; ++c) {
+            const float* v = scene_.positions + 3 * size_t(scene_.indices[3 * size_t(t) + c]);
+            p[c] = glm::dvec3(v[0], v[1], v[2]);
+        }
+        const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+        return glm::vec4(glm::vec3(n), float(-glm::dot(n, p[0])));
     }
 
     const hsr_scene& scene_;
@@ -201,6 +212,7 @@ void OctreeForest::clear() {
     mesh.positions.clear();
     mesh.indices.clear();
     mesh.face.clear();
+    mesh.planes.clear();
     objects.clear();
 }
 

@@ -43,6 +43,11 @@ struct LeafMesh {
     std::vector<float> positions;  // 3 per vertex, object space: bit-identical copies of the scene's
     std::vector<uint32_t> indices; // 3 per triangle, corners in the scene's order
     std::vector<uint32_t> face;    // per triangle: the scene's triangle id
+    // Per triangle: its object-space plane (n, -n . p0) with n = (p1 - p0) x (p2 - p0), so that
+    // dot(plane, (eye, 1)) > 0 when the eye sees the corners counter-clockwise (the front), and
+    // dot(plane, (direction toward the viewer, 0)) likewise for an orthographic camera. Used only to
+    // choose the drawing order, never to cull, so float precision is enough.
+    std::vector<glm::vec4> planes;
 };
 
 // One distinct triangle range of the scene (an object that one or more placements draw).

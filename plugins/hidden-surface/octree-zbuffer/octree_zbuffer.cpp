@@ -6,11 +6,11 @@
 // traversed front to back from the eye. A node whose box, projected to the screen, lies behind what
 // is already drawn (a z-pyramid query: the bounding rectangle of its projected corners against the
 // nearest corner depth) is culled with everything it holds, its vertices never transformed. The
-// triangles of visible leaves, front faces first, are tested against the pyramid (Greene's
-// triangle-level rejection, before triangle setup), go through the plain z-buffer's geometry stage
-// (hsr/raster.hpp: the same clipping, snapping, coverage and depth as the zbuffer plugin, bit for
-// bit), larger ones are rejected by 32x32 blocks and 8x8 tiles, and the rest is the z-buffer's own
-// per-pixel depth test. After each leaf (after each triangle larger than a block) the pyramid
+// front faces of visible leaves (back faces, and leaves with no front face, wait until the rest of
+// their placement is drawn) are tested against the pyramid (Greene's triangle-level rejection,
+// before triangle setup), go through the plain z-buffer's geometry stage (hsr/raster.hpp: the same
+// clipping, snapping, coverage and depth as the zbuffer plugin, bit for bit), larger ones are
+// rejected by 32x32 blocks and 8x8 tiles, and the rest is the z-buffer's own per-pixel depth test. After each leaf (after each triangle larger than a block) the pyramid
 // (hsr/zpyramid.hpp) is marked for a deferred update. Exact depth ties go to the surface the plain
 // z-buffer draws first, so the picture is the zbuffer plugin's, pixel for pixel.
 //
@@ -122,7 +122,7 @@ constexpr int32_t kTile = 8;  // tile-level rejection works on 8x8 tiles aligned
 constexpr int32_t kBlock = 32;  // ... inside 32x32 blocks, each tested first ...
 constexpr int64_t kLargeTriangle = 4 * kBlock * kBlock;  // ... when the triangle's bounds exceed 4 blocks
 // A triangle whose pixel bounds hold at most this many pixels is tested once, as a whole.
-constexpr int64_t kSmallTriangle = 2 * kTile * kTile;
+constexpr int64_t kSmallTriangle = 4 * kTile * kTile;
 // Node boxes are widened by this much (in pixels) before their pixel-centre rectangle is taken:
 // snapping moves a vertex by up to 1/512 pixel, and the box corners are projected in another order
 // of operations than the vertices.
@@ -149,7 +149,7 @@ struct Rect {
 struct FrameStats {
     uint64_t nodes_visited = 0, nodes_culled = 0, nodes_outside = 0, leaves_drawn = 0;
     uint64_t instance_nodes_visited = 0, instance_nodes_culled = 0, instance_nodes_outside = 0;
-    uint64_t placements_visited = 0;
+    uint64_t placements_visited = 0, leaves_deferred = 0;
     uint64_t triangles_in_culled_nodes = 0, triangles_in_outside_nodes = 0;
     uint64_t triangles_culled_before_setup = 0, triangles_culled_after_setup = 0;
     uint64_t tiles_tested = 0, tiles_culled = 0;
@@ -208,6 +208,7 @@ public:
         counters.set("octree-nodes-culled", stats_.nodes_culled);
         counters.set("octree-nodes-outside", stats_.nodes_outside);
         counters.set("octree-leaves-drawn", stats_.leaves_drawn);
+        counters.set("octree-leaves-deferred", stats_.leaves_deferred);
         counters.set("instance-nodes", bvh_.size());
         counters.set("instance-nodes-visited", stats_.instance_nodes_visited);
         counters.set("instance-nodes-culled", stats_.instance_nodes_culled);
@@ -404,6 +405,9 @@ private:
         glm::dmat4 clip_from_object;
         glm::dvec3 eye;            // object space (perspective)
         glm::dvec3 toward_viewer;  // object space (orthographic)
+        // (eye, 1) or (direction toward the viewer, 0) in object space, negated when the transform
+        // mirrors: dot(LeafMesh::planes[t], viewer) > 0 for a triangle facing the camera.
+        glm::vec4 viewer;
     };
 
     template <bool kCountTests>
@@ -413,6 +417,8 @@ private:
         if (!object.has_root) return;
         PlacementFrame frame;
         frame.placement = scene_->placement(k);
+        double mirror = 1.0;
+        glm::dvec3 viewer_direction = toward_viewer_;
         if (frame.placement.identity) {
             frame.clip_from_object = view_projection_;
             frame.eye = eye_;
@@ -424,8 +430,66 @@ private:
             const glm::dvec4 e = inverse * glm::dvec4(eye_, 1.0);
             frame.eye = glm::dvec3(e) / e.w;
             frame.toward_viewer = glm::transpose(glm::dmat3(transform)) * toward_viewer_;
+            viewer_direction = glm::dmat3(inverse) * toward_viewer_;
+            if (glm::determinant(glm::dmat3(transform)) < 0.0) mirror = -1.0;
         }
+        frame.viewer = perspective_ ? glm::vec4(glm::dvec4(frame.eye, 1.0) * mirror)
+                                    : glm::vec4(glm::dvec4(viewer_direction, 0.0) * mirror);
+
+        deferred_back_faces_.clear();
+        deferred_leaves_.clear();
         draw_node<kCountTests>(frame, object.root);
+        draw_deferred<kCountTests>(frame);
+    }
+
+    // What draw_leaf put off until the placement's front is in the pyramid: the back faces of the
+    // leaves it drew (their vertices are still transformed: leaves have their own vertex copies, and
+    // nothing else is placed over them before the placement ends), then the leaves facing wholly
+    // away, box-tested again. On a closed surface most of both are now hidden behind its front.
+    template <bool kCountTests>
+    void draw_deferred(PlacementFrame& frame) {
+        const uint32_t instance_id = frame.placement.instance;
+        const uint32_t* const faces = forest_.mesh.face.data();
+        Rect written;
+        for (const uint32_t t : deferred_back_faces_) draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
+        mark_written(written);
+        for (const uint32_t index : deferred_leaves_) {
+            const OctreeNode& node = forest_.nodes[index];
+            ++stats_.nodes_visited;
+            switch (test_box(frame.clip_from_object, node.lo, node.hi)) {
+                case BoxVisibility::kOutside:  // not reached: the box was inside a moment ago
+                    ++stats_.nodes_outside;
+                    stats_.triangles_in_outside_nodes += node.triangle_count;
+                    continue;
+                case BoxVisibility::kHidden:
+                    ++stats_.nodes_culled;
+                    stats_.triangles_in_culled_nodes += node.triangle_count;
+                    continue;
+                case BoxVisibility::kVisible: break;
+            }
+            place_leaf(frame, node);
+            Rect leaf_written;
+            const uint32_t end = node.first_triangle + node.triangle_count;
+            for (uint32_t t = node.first_triangle; t < end; ++t)
+                draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, leaf_written);
+            mark_written(leaf_written);
+        }
+    }
+
+    void place_leaf(PlacementFrame& frame, const OctreeNode& node) {
+        ++stats_.leaves_drawn;
+        frame.placement.first_vertex = node.first_vertex;
+        frame.placement.vertex_count = node.vertex_count;
+        geometry_.place(frame.placement);  // this leaf's own vertex copies only
+        stats_.vertices_transformed += node.vertex_count;
+    }
+
+    // Deferred pyramid update: the cells over the rectangle are recomputed at the next large query
+    // (hsr/zpyramid.hpp); valid because depths here only ever decrease.
+    void mark_written(const Rect& written) {
+        if (written.empty()) return;
+        pyramid_.mark_dirty(buffers_.depth, written.x0, written.y0, written.x1, written.y1);
+        ++stats_.pyramid_updates;
     }
 
     template <bool kCountTests>
@@ -444,7 +508,7 @@ private:
             case BoxVisibility::kVisible: break;
         }
         if (node.is_leaf()) {
-            draw_leaf<kCountTests>(frame, node);
+            draw_leaf<kCountTests>(frame, node, index);
             return;
         }
         // Greene's order: the child octant holding the eye first, then those across one splitting
@@ -465,36 +529,33 @@ private:
         }
     }
 
+    // A visible leaf: its front faces now; its back faces, which a closed surface hides behind its
+    // front, once the whole placement's front is drawn (draw_deferred), when the pyramid rejects
+    // most of them before setup instead of after rasterizing them; a leaf with no front face is put
+    // off whole, before its vertices are transformed. Any order gives the same picture (see the tie
+    // rule in fill); facing is judged in object space from the leaf mesh's planes.
     template <bool kCountTests>
-    void draw_leaf(PlacementFrame& frame, const OctreeNode& node) {
-        ++stats_.leaves_drawn;
-        frame.placement.first_vertex = node.first_vertex;
-        frame.placement.vertex_count = node.vertex_count;
-        geometry_.place(frame.placement);  // this leaf's own vertex copies only
-        stats_.vertices_transformed += node.vertex_count;
-
+    void draw_leaf(PlacementFrame& frame, const OctreeNode& node, uint32_t index) {
+        const uint32_t end = node.first_triangle + node.triangle_count;
+        const glm::vec4* const planes = forest_.mesh.planes.data();
+        uint32_t front = 0;
+        for (uint32_t t = node.first_triangle; t < end; ++t) front += glm::dot(planes[t], frame.viewer) > 0.0f;
+        if (front == 0) {
+            ++stats_.leaves_deferred;
+            deferred_leaves_.push_back(index);
+            return;
+        }
+        place_leaf(frame, node);
         Rect written;
         const uint32_t instance_id = frame.placement.instance;
-        const uint32_t end = node.first_triangle + node.triangle_count;
         const uint32_t* const faces = forest_.mesh.face.data();
-        const uint32_t* const indices = forest_.mesh.indices.data();
-        // Front faces first, then the others (back_faces_), which a closed surface hides behind its
-        // front: drawn after it they are rejected by tile tests instead of being written and then
-        // overwritten. Any order gives the same picture (see the tie rule in fill).
-        back_faces_.clear();
         for (uint32_t t = node.first_triangle; t < end; ++t) {
-            if (faces_viewer(indices + 3 * size_t(t)))
+            if (glm::dot(planes[t], frame.viewer) > 0.0f)
                 draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
             else
-                back_faces_.push_back(t);
+                deferred_back_faces_.push_back(t);
         }
-        for (const uint32_t t : back_faces_) draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
-        if (!written.empty()) {
-            // Deferred: the cells over the rectangle are recomputed at the next large query
-            // (hsr/zpyramid.hpp); valid because depths here only ever decrease.
-            pyramid_.mark_dirty(buffers_.depth, written.x0, written.y0, written.x1, written.y1);
-            ++stats_.pyramid_updates;
-        }
+        mark_written(written);
     }
 
     template <bool kCountTests>
@@ -525,20 +586,6 @@ private:
                 written.add(mine.x0, mine.y0, mine.x1, mine.y1);
             }
         }
-    }
-
-    // Front-facing in window space (clockwise, y down), or not decidable from the snapped corners
-    // (clipping needed): drawn in the first pass over a leaf; the others, which a closed surface
-    // hides behind its front, in the second.
-    bool faces_viewer(const uint32_t* corner) const {
-        const uint32_t i0 = corner[0], i1 = corner[1], i2 = corner[2];
-        if ((geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2)) &
-            (raster::kNeedsClipping | raster::kNonFinite))
-            return true;
-        const raster::WindowVertex& v0 = geometry_.window_vertex(i0);
-        const raster::WindowVertex& v1 = geometry_.window_vertex(i1);
-        const raster::WindowVertex& v2 = geometry_.window_vertex(i2);
-        return int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y) < 0;
     }
 
     // Window depth held to [0, 1] over the pixel-centre rectangle [x0,x1]x[y0,y1] of a setup: its
@@ -699,7 +746,9 @@ private:
     int32_t width_ = 0, height_ = 0;
     double half_width_ = 0.0, half_height_ = 0.0;
     raster::PixelBuffers buffers_;
-    std::vector<uint32_t> back_faces_;  // of the leaf being drawn; kept to avoid allocating per leaf
+    // Of the placement being drawn, for draw_deferred; kept to avoid allocating per placement.
+    std::vector<uint32_t> deferred_back_faces_;  // triangles of LeafMesh
+    std::vector<uint32_t> deferred_leaves_;      // node indices
 };
 
 }  // namespace
