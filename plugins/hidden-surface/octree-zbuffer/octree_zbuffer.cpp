@@ -373,6 +373,33 @@ private:
         return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? BoxVisibility::kHidden : BoxVisibility::kVisible;
     }
 
+    // Where a box test is counted: the placement hierarchy's counters or the octrees'.
+    struct BoxCounts {
+        uint64_t &visited, &culled, &outside;
+    };
+    BoxCounts instance_node_counts() {
+        return {stats_.instance_nodes_visited, stats_.instance_nodes_culled, stats_.instance_nodes_outside};
+    }
+    BoxCounts octree_node_counts() { return {stats_.nodes_visited, stats_.nodes_culled, stats_.nodes_outside}; }
+
+    // test_box, counted: false (and the node's triangles counted as culled or outside) when nothing
+    // in the box can show.
+    bool box_may_show(const glm::dmat4& m, const float* lo, const float* hi, uint64_t triangles, BoxCounts counts) {
+        ++counts.visited;
+        switch (test_box(m, lo, hi)) {
+            case BoxVisibility::kOutside:
+                ++counts.outside;
+                stats_.triangles_in_outside_nodes += triangles;
+                return false;
+            case BoxVisibility::kHidden:
+                ++counts.culled;
+                stats_.triangles_in_culled_nodes += triangles;
+                return false;
+            case BoxVisibility::kVisible: break;
+        }
+        return true;
+    }
+
     // The top level: placements, nearest first.
     template <bool kCountTests>
     void draw_instances(uint32_t index) {
@@ -381,18 +408,7 @@ private:
             draw_placement<kCountTests>(node.first);
             return;
         }
-        ++stats_.instance_nodes_visited;
-        switch (test_box(view_projection_, node.lo, node.hi)) {
-            case BoxVisibility::kOutside:
-                ++stats_.instance_nodes_outside;
-                stats_.triangles_in_outside_nodes += node.triangles;
-                return;
-            case BoxVisibility::kHidden:
-                ++stats_.instance_nodes_culled;
-                stats_.triangles_in_culled_nodes += node.triangles;
-                return;
-            case BoxVisibility::kVisible: break;
-        }
+        if (!box_may_show(view_projection_, node.lo, node.hi, node.triangles, instance_node_counts())) return;
         const double toward = perspective_ ? double(node.split) - eye_[node.axis] : -toward_viewer_[node.axis];
         // toward >= 0: the eye is on the low side of the split (or looks from -axis): left first.
         const uint32_t first = toward >= 0.0 ? node.first : node.first + 1;
@@ -455,18 +471,8 @@ private:
         mark_written(written);
         for (const uint32_t index : deferred_leaves_) {
             const OctreeNode& node = forest_.nodes[index];
-            ++stats_.nodes_visited;
-            switch (test_box(frame.clip_from_object, node.lo, node.hi)) {
-                case BoxVisibility::kOutside:  // not reached: the box was inside a moment ago
-                    ++stats_.nodes_outside;
-                    stats_.triangles_in_outside_nodes += node.triangle_count;
-                    continue;
-                case BoxVisibility::kHidden:
-                    ++stats_.nodes_culled;
-                    stats_.triangles_in_culled_nodes += node.triangle_count;
-                    continue;
-                case BoxVisibility::kVisible: break;
-            }
+            if (!box_may_show(frame.clip_from_object, node.lo, node.hi, node.triangle_count, octree_node_counts()))
+                continue;
             place_leaf(frame, node);
             Rect leaf_written;
             const uint32_t end = node.first_triangle + node.triangle_count;
@@ -495,18 +501,7 @@ private:
     template <bool kCountTests>
     void draw_node(PlacementFrame& frame, uint32_t index) {
         const OctreeNode& node = forest_.nodes[index];
-        ++stats_.nodes_visited;
-        switch (test_box(frame.clip_from_object, node.lo, node.hi)) {
-            case BoxVisibility::kOutside:
-                ++stats_.nodes_outside;
-                stats_.triangles_in_outside_nodes += node.triangle_count;
-                return;
-            case BoxVisibility::kHidden:
-                ++stats_.nodes_culled;
-                stats_.triangles_in_culled_nodes += node.triangle_count;
-                return;
-            case BoxVisibility::kVisible: break;
-        }
+        if (!box_may_show(frame.clip_from_object, node.lo, node.hi, node.triangle_count, octree_node_counts())) return;
         if (node.is_leaf()) {
             draw_leaf<kCountTests>(frame, node, index);
             return;
