@@ -217,15 +217,17 @@ TEST_CASE("octree-zbuffer: leaf planes tell front faces from back faces as the r
     OctreeForest forest;
     forest.add_object(scene, 0, scene.triangle_count, 0, scene.vertex_count, BuildParams{8, 64});
     REQUIRE(forest.mesh.planes.size() == forest.mesh.face.size());
-    const glm::dmat4 transforms[] = {glm::dmat4(1.0), glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0)),
-                                     glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0.4, 0.8, 0, 0), glm::dvec4(0, 0.3, 1.5, 0),
-                                                glm::dvec4(0.1, 0, 0, 1))};
+    const glm::dmat4 mirrored = glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0));
+    const glm::dmat4 sheared(glm::dvec4(1, 0, 0, 0), glm::dvec4(0.4, 0.8, 0, 0), glm::dvec4(0, 0.3, 1.5, 0),
+                             glm::dvec4(0.1, 0, 0, 1));
+    const glm::dmat4 transforms[] = {glm::dmat4(1.0), mirrored, sheared};
     for (const bool ortho : {false, true}) {
         for (int k = 0; k < 3; ++k) {
             INFO((ortho ? "orthographic" : "perspective") << ", transform " << k);
             const hsr_camera camera = orbit(data, 35, 20, 1, ortho, 256);
             const glm::dmat4 view(hsr::sdk::load_matrix(camera.view));
-            const glm::dmat4 clip_from_object = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection)) * transforms[k];
+            const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
+            const glm::dmat4 clip_from_object = view_projection * transforms[k];
             const glm::dmat4 object_from_world = glm::inverse(transforms[k]);
             const double mirror = glm::determinant(glm::dmat3(transforms[k])) < 0.0 ? -1.0 : 1.0;
             const glm::dvec4 viewer =

@@ -17,11 +17,12 @@
 // are as large as the rectangle, where it meets at most 2 x 2 cells; a cell nearer than z settles
 // its part at once. Small rectangles (at most set_direct_area pixels, default 256) that this does
 // not settle are checked on the fine depths directly, four at a time, stopping at the first group
-// holding a pixel that is not nearer. Larger ones refine each cell that is not nearer than z through its children inside the
-// rectangle, down to the fine pixels; since a cell is the maximum of its children, some child of a
-// failing cell fails too, so a visible rectangle is found in a few steps. Refining stops after a
-// budget of cells and pixels (set_refine_budget, default 256) and then answers "not hidden":
-// answers are conservative, never "hidden" for a rectangle that brute force finds visible.
+// holding a pixel that is not nearer. Larger ones refine each cell that is not nearer than z
+// through its children inside the rectangle, down to the fine pixels; since a cell is the maximum
+// of its children, some child of a failing cell fails too, so a visible rectangle is found in a few
+// steps. Refining stops after a budget of cells and pixels (set_refine_budget, default 256) and
+// then answers "not hidden": answers are conservative, never "hidden" for a rectangle that brute
+// force finds visible.
 //
 // Update: after depths were written inside a rectangle of the fine buffer, update() recomputes the
 // base cells over that rectangle, then the cells above level by level, and stops as soon as a level

@@ -10,8 +10,9 @@
 // their placement is drawn) are tested against the pyramid (Greene's triangle-level rejection,
 // before triangle setup), go through the plain z-buffer's geometry stage (hsr/raster.hpp: the same
 // clipping, snapping, coverage and depth as the zbuffer plugin, bit for bit), larger ones are
-// rejected by 32x32 blocks and 8x8 tiles, and the rest is the z-buffer's own per-pixel depth test. After each leaf (after each triangle larger than a block) the pyramid
-// (hsr/zpyramid.hpp) is marked for a deferred update. Exact depth ties go to the surface the plain
+// rejected by 32x32 blocks and 8x8 tiles, and the rest is the z-buffer's own per-pixel depth test.
+// After each leaf (after each triangle larger than a block) the pyramid (hsr/zpyramid.hpp) is
+// marked for a deferred update. Exact depth ties go to the surface the plain
 // z-buffer draws first, so the picture is the zbuffer plugin's, pixel for pixel.
 //
 // Where a triangle goes and how the octree is laid out: octree.hpp. What it costs and when it
@@ -467,7 +468,8 @@ private:
         const uint32_t instance_id = frame.placement.instance;
         const uint32_t* const faces = forest_.mesh.face.data();
         Rect written;
-        for (const uint32_t t : deferred_back_faces_) draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
+        for (const uint32_t t : deferred_back_faces_)
+            draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
         mark_written(written);
         for (const uint32_t index : deferred_leaves_) {
             const OctreeNode& node = forest_.nodes[index];
