@@ -86,8 +86,16 @@ int run_plugins(const std::vector<std::string>& args) {
     options.add_options()("help,h", "show this help")(
         "plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
     po::variables_map vm;
-    po::store(po::command_line_parser(args).options(options).run(), vm);
+    std::vector<std::string> unexpected;
+    po::options_description hidden;
+    hidden.add_options()("unexpected", po::value(&unexpected));
+    po::options_description all;
+    all.add(options).add(hidden);
+    po::positional_options_description positional;
+    positional.add("unexpected", -1);
+    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
     po::notify(vm);
+    if (!unexpected.empty()) throw UsageError("plugins: unexpected argument '{}'", unexpected.front());
     if (vm.count("help")) {
         std::cout << options;
         return 0;
@@ -143,9 +151,13 @@ hsr::InstanceGrid parse_repeat(const std::string& text, float gap, float jitter)
     hsr::InstanceGrid grid;
     unsigned long long c = 0, r = 0, l = 0;
     char x1 = 0, x2 = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%llu%c%llu%c%llu%c", &c, &x1, &r, &x2, &l, &extra) != 5 || x1 != 'x' || x2 != 'x' ||
-        c == 0 || r == 0 || l == 0 || c > 100000 || r > 100000 || l > 100000)
+    if (text.find_first_not_of("0123456789x") != std::string::npos ||
+        std::sscanf(text.c_str(), "%llu%c%llu%c%llu%c", &c, &x1, &r, &x2, &l, &extra) != 5 || x1 != 'x' || x2 != 'x' ||
+        c == 0 || r == 0 || l == 0)
         throw UsageError("--repeat '{}': expected COLUMNSxROWSxLAYERS, each at least 1, e.g. 4x3x20", text);
+    constexpr unsigned long long max_side = 100000;
+    if (c > max_side || r > max_side || l > max_side)
+        throw UsageError("--repeat '{}': at most {} along each side", text, max_side);
     if (!(gap >= 0.0f) || !std::isfinite(gap)) throw UsageError("--repeat-gap must be 0 or more");
     if (!(jitter >= 0.0f) || !(jitter <= 180.0f)) throw UsageError("--repeat-jitter must be between 0 and 180 degrees");
     grid.columns = uint32_t(c);
@@ -166,25 +178,27 @@ void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remov
         std::fprintf(stderr, " (%u instances of %u stored)", scene.instance_count, scene.triangle_count);
     std::fprintf(stderr, ", %ux%u\n", frame.width, frame.height);
     const double build_ms = double(frame.counter("build-time-us")) / 1000.0;
-    std::fprintf(stderr, "  %-28s %10.2f ms\n", "visibility time", frame.visibility_ms);
+    int w = 28;  // the name column: as wide as the longest name a plugin reports
+    for (const auto& counter : frame.counters) w = std::max(w, int(counter.first.size()));
+    std::fprintf(stderr, "  %-*s %10.2f ms\n", w, "visibility time", frame.visibility_ms);
     if (build_ms > 0.0) {
-        std::fprintf(stderr, "    %-26s %10.2f ms\n", "of which build", build_ms);
-        std::fprintf(stderr, "    %-26s %10.2f ms\n", "of which render", frame.visibility_ms - build_ms);
+        std::fprintf(stderr, "    %-*s %10.2f ms\n", w - 2, "of which build", build_ms);
+        std::fprintf(stderr, "    %-*s %10.2f ms\n", w - 2, "of which render", frame.visibility_ms - build_ms);
     }
-    std::fprintf(stderr, "  %-28s %10.2f ms\n", "shading time", frame.shading_ms);
+    std::fprintf(stderr, "  %-*s %10.2f ms\n", w, "shading time", frame.shading_ms);
     for (const auto& [name, value] : frame.counters)
-        std::fprintf(stderr, "  %-28s %10llu\n", name.c_str(), static_cast<unsigned long long>(value));
+        std::fprintf(stderr, "  %-*s %10llu\n", w, name.c_str(), static_cast<unsigned long long>(value));
     if (depth_complexity) {
-        std::fprintf(stderr, "  %-28s %10.2f (max %u, over %llu covered pixels)\n", "depth complexity",
+        std::fprintf(stderr, "  %-*s %10.2f (max %u, over %llu covered pixels)\n", w, "depth complexity",
                      depth_complexity->mean_over_covered(), depth_complexity->max,
                      static_cast<unsigned long long>(depth_complexity->covered_pixels));
         const uint64_t written = frame.counter("pixels-written");
         if (depth_complexity->covered_pixels > 0 && written > 0)
-            std::fprintf(stderr, "  %-28s %10.3f\n", "overdraw (writes / pixel)",
+            std::fprintf(stderr, "  %-*s %10.3f\n", w, "overdraw (writes / pixel)",
                          double(written) / double(depth_complexity->covered_pixels));
         const uint64_t tested = frame.counter("pixels-depth-tested");
         if (depth_complexity->fragments > 0)
-            std::fprintf(stderr, "  %-28s %10.3f\n", "depth tests / surface samples",
+            std::fprintf(stderr, "  %-*s %10.3f\n", w, "depth tests / surface samples",
                          double(tested) / double(depth_complexity->fragments));
     }
 }
@@ -272,17 +286,22 @@ int run_render(const std::vector<std::string>& args) {
         throw UsageError("--heightmap-height goes with --heightmap");
     if (o.width <= 0 || o.height <= 0 || o.width > hsr::max_image_side || o.height > hsr::max_image_side)
         throw UsageError("image size {}x{}: each side must be between 1 and {}", o.width, o.height, hsr::max_image_side);
-    for (float v : {o.yaw, o.pitch, o.zoom, o.crease_angle})
-        if (!std::isfinite(v)) throw UsageError("camera and crease angles must be finite numbers");
+    for (const auto& [option, value] :
+         {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
+        if (!std::isfinite(value)) throw UsageError("--{} must be a finite number", option);
     if (!(o.zoom > 0)) throw UsageError("--zoom must be positive");
     const glm::vec3 background = parse_color_option(o.background, "background");
 
     auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
+    if (o.repeat.empty())
+        for (const char* option : {"repeat-gap", "repeat-jitter"})
+            if (given(option)) throw UsageError("--{} goes with --repeat", option);
     // Plugins first: a typo in a plugin name should not wait for a large mesh to load.
     hsr::PluginRegistry registry = scan_plugins(o.plugin_dirs);
     const hsr::PluginSpec algorithm = hsr::parse_plugin_spec(o.algorithm);
     const bool line_drawing = !registry.contains(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name) &&
-                              registry.contains(HSR_KIND_HIDDEN_LINE_REMOVER, algorithm.name);
+                              registry.find_any({HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_HIDDEN_LINE_REMOVER},
+                                                algorithm.name).descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER;
     std::optional<hsr::LineSettings> line_settings;
     std::optional<hsr::LineStyle> line_style;
     std::unique_ptr<hsr::HiddenLineRemover> line_remover;
@@ -308,8 +327,6 @@ int run_render(const std::vector<std::string>& args) {
             throw UsageError("--hidden '{}': expected 'dashed' or 'hidden'", o.hidden_lines);
         line_settings->want_hidden = line_style->hidden == hsr::HiddenLines::kDashed;
         line_settings->crease_angle_degrees = o.crease_angle;
-        if (!o.output.empty() && !hsr::is_line_drawing_path(o.output))
-            throw UsageError("--output '{}': a line drawing is written as .svg or .png", o.output);
         line_remover = std::make_unique<hsr::HiddenLineRemover>(
             registry.find(HSR_KIND_HIDDEN_LINE_REMOVER, algorithm.name), algorithm.settings);
     } else {
@@ -322,10 +339,28 @@ int run_render(const std::vector<std::string>& args) {
             registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
         lighting = std::make_unique<hsr::LightingModel>(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name),
                                                         lighting_spec.settings);
+        if (!o.depth_tests_out.empty() && surface_remover->plugin().descriptor.abi_minor < 1)
+            throw hsr::Error("--depth-tests-out: plugin '{}' does not report per-pixel depth tests (ABI 1.0)",
+                             algorithm.name);
+    }
+
+    // Every file to write, checked before the work: a mistyped folder should not cost a long render.
+    const fs::path model_path(!o.model.empty() ? o.model : !o.heightmap.empty() ? o.heightmap : "surface");
+    const fs::path output = !o.output.empty() ? fs::path(o.output)
+                                              : fs::path(model_path.stem().string() + (line_drawing ? ".svg" : ".png"));
+    {
+        std::vector<hsr::host::OutputFile> outputs;
+        outputs.push_back({"output", output, line_drawing ? std::vector<std::string>{".svg", ".png"}
+                                                          : std::vector<std::string>{".png"}});
+        for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"depth-out", o.depth_out},
+                                           {"overdraw-out", o.overdraw_out},
+                                           {"depth-tests-out", o.depth_tests_out}})
+            if (!path.empty()) outputs.push_back({option, path, {".png"}});
+        if (!o.trace.empty()) outputs.push_back({"trace", o.trace, {}});
+        hsr::host::check_outputs(outputs);
     }
 
     // Scene and camera. What the command line says explicitly wins over what a scene file says.
-    const fs::path model_path(!o.model.empty() ? o.model : !o.heightmap.empty() ? o.heightmap : "surface");
     hsr::SceneData scene;
     std::vector<hsr::LightSpec> light_specs;
     std::optional<glm::vec3> scene_background;
@@ -363,7 +398,12 @@ int run_render(const std::vector<std::string>& args) {
         if (!o.color.empty()) mesh_options.color = parse_color_option(o.color, "color");
         scene = hsr::load_model(model_path, mesh_options);
     }
-    if (!o.repeat.empty()) scene = hsr::make_instance_grid(scene, parse_repeat(o.repeat, o.repeat_gap, o.repeat_jitter));
+    if (!o.repeat.empty()) {
+        if (!scene.instances.empty())
+            throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line); use one or the other",
+                             model_path.string());
+        scene = hsr::make_instance_grid(scene, parse_repeat(o.repeat, o.repeat_gap, o.repeat_jitter));
+    }
     for (const std::string& warning : scene.warnings) std::fprintf(stderr, "hsr: warning: %s\n", warning.c_str());
     hsr::check_image_size(width, height);
     settings.width = width;
@@ -386,7 +426,6 @@ int run_render(const std::vector<std::string>& args) {
             trace_file.close();
             if (!trace_file) throw hsr::Error("--trace {}: writing failed", o.trace);
         }
-        const fs::path output = o.output.empty() ? fs::path(model_path.stem().string() + ".svg") : fs::path(o.output);
         line_style->background = vm["background"].defaulted() ? glm::vec3(1.0f) : background;
         const hsr::LineImageStats drawn = hsr::write_line_drawing(output, drawing, *line_style);
         if (o.stats) {
@@ -427,7 +466,6 @@ int run_render(const std::vector<std::string>& args) {
     hsr::HiddenSurfaceRemover& remover = *surface_remover;
     hsr::Frame frame = hsr::render_frame(scene_view, camera, remover, *lighting, context, frame_settings);
 
-    const fs::path output = o.output.empty() ? fs::path(model_path.stem().string() + ".png") : fs::path(o.output);
     hsr::write_png(output, frame.width, frame.height, 3, frame.rgb);
     if (!o.depth_out.empty()) hsr::write_depth_png(o.depth_out, frame.width, frame.height, frame.depth);
     std::optional<hsr::DepthComplexity> depth_complexity;
@@ -439,14 +477,14 @@ int run_render(const std::vector<std::string>& args) {
                      o.overdraw_out.c_str(), depth_complexity->max);
     }
     if (!o.depth_tests_out.empty()) {
-        if (remover.plugin().descriptor.abi_minor < 1)  // ABI 1.0 has no per-pixel depth-test counts
-            throw hsr::Error("--depth-tests-out: plugin '{}' does not report per-pixel depth tests",
-                             remover.plugin().descriptor.name);
         hsr::write_heat_map_png(o.depth_tests_out, frame.width, frame.height, frame.depth_tests, depth_complexity->max);
         std::fprintf(stderr, "wrote %s (depth tests heat map: black 0 ... pale yellow %u)\n",
                      o.depth_tests_out.c_str(), depth_complexity->max);
     }
     if (o.stats) print_stats(frame, remover, *lighting, scene_view, depth_complexity);
+    if (frame.counter("fragments-shaded") == 0)
+        std::fprintf(stderr, "hsr: warning: no triangle covers a pixel centre: the picture is empty (is the model "
+                             "too small, too far away or flat edge-on at this size?)\n");
     std::fprintf(stderr, "wrote %s (%ux%u, %llu triangles, %.1f ms visibility + %.1f ms shading)\n",
                  output.string().c_str(), frame.width, frame.height,
                  static_cast<unsigned long long>(hsr::drawn_triangle_count(scene_view)), frame.visibility_ms,

@@ -245,6 +245,29 @@ TEST_CASE("orbit camera: degenerate bounds and bad settings", "[camera]") {
     CHECK_THAT(error([&] { hsr::make_orbit_camera(box_max, box_min, s); }), Contains("bounds"));
     CHECK_THAT(error([&] { hsr::make_pixel_camera(0, 10, 0, 1); }), Contains("image size"));
     CHECK_THAT(error([&] { hsr::make_pixel_camera(10, 10, 2, 1); }), Contains("depth range"));
+    // Bounds near the largest float: the eye and the matrices would overflow single precision.
+    CHECK_THAT(error([&] { hsr::make_orbit_camera(glm::vec3(-3e38f), glm::vec3(3e38f), s); }), Contains("too large"));
+    CHECK_THAT(error([&] { hsr::make_pixel_camera(10, 10, -3e38f, 3e38f); }), Contains("too large"));
+}
+
+TEST_CASE("orbit camera: a tiny model fills the view as a large one does", "[camera]") {
+    // The box of the other tests scaled down: its corners land where the full-size box's do.
+    hsr::CameraSettings s;
+    s.yaw_degrees = 30;
+    s.pitch_degrees = 20;
+    const hsr_camera large = hsr::make_orbit_camera(box_min, box_max, s);
+    for (double scale : {1e-6, 1e-12, 1e-18}) {
+        INFO("scale " << scale);
+        const hsr_camera tiny = hsr::make_orbit_camera(glm::vec3(glm::dvec3(box_min) * scale),
+                                                       glm::vec3(glm::dvec3(box_max) * scale), s);
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::dvec3 p(corner & 1 ? box_max.x : box_min.x, corner & 2 ? box_max.y : box_min.y,
+                               corner & 4 ? box_max.z : box_min.z);
+            const Window a = project(large, p), b = project(tiny, p * scale);
+            CHECK(b.x == Approx(a.x).margin(0.01));
+            CHECK(b.y == Approx(a.y).margin(0.01));
+        }
+    }
 }
 
 TEST_CASE("pixel camera: (x, y, z) lands on window (x, H - y), larger z nearer", "[camera][pixel]") {

@@ -92,10 +92,62 @@ TEST_CASE("cli: NaN vertices", "[cli]") {
 
 TEST_CASE("cli: an unknown plugin says where it looked and what it found", "[cli]") {
     const Run r = run_hsr("render " + model("cube.obj") + " --algorithm no-such-algorithm -o x.png", "unknown-plugin");
-    require_one_line_error(r, "no hidden-surface plugin named 'no-such-algorithm'");
-    CHECK_THAT(r.err, Catch::Contains("searched:") && Catch::Contains("zbuffer"));
+    require_one_line_error(r, "no hidden-surface or hidden-line plugin named 'no-such-algorithm'");
+    CHECK_THAT(r.err, Catch::Contains("searched:") && Catch::Contains("zbuffer") && Catch::Contains("appel"));
     require_one_line_error(run_hsr("render " + model("cube.obj") + " --lighting toon -o x.png", "unknown-lighting"),
                            "no lighting plugin named 'toon'");
+}
+
+TEST_CASE("cli: output files are checked before the render, and nothing is written when one is wrong", "[cli]") {
+    const fs::path picture = scratch_dir() / "outputs-ok.png";
+    fs::remove(picture);
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " -o " + picture.string() +
+                                       " --overdraw-out /nonexistent/folder/o.png", "outputs-folder"),
+                           "the folder '/nonexistent/folder' does not exist");
+    CHECK_FALSE(fs::exists(picture));
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " -o " + scratch_dir().string(), "outputs-dir"),
+                           "is a folder");
+    // A hidden-surface plugin writes PNG: another name would lie about the format.
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " -o cube.svg", "outputs-ext"),
+                           "--output 'cube.svg': the name must end in .png");
+    // The same file twice: one would overwrite the other.
+    const std::string same = (scratch_dir() / "same.png").string();
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " -o " + same + " --depth-out " + same, "outputs-same"),
+                           "--output and --depth-out name the same file");
+    // A line drawing may be SVG or PNG, nothing else.
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " -a appel -o cube.pdf", "outputs-lines"),
+                           "must end in .svg or .png");
+}
+
+TEST_CASE("cli: options that need another, and numbers out of range, are named", "[cli]") {
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --repeat-gap 0.5 -o x.png", "gap-alone"),
+                           "--repeat-gap goes with --repeat");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --repeat 99999999999x1x1 -o x.png", "repeat-big"),
+                           "at most 100000 along each side");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --zoom nan -o x.png", "zoom-nan"),
+                           "--zoom must be a finite number");
+    require_one_line_error(run_hsr("plugins extra", "plugins-extra"), "extra");
+    const fs::path scene = write_file("repeated.scene", "mesh " + model("cube.obj") + "\nrepeat 2 2 2\n");
+    require_one_line_error(run_hsr("render " + scene.string() + " --repeat 2x2x2 -o x.png", "repeat-twice"),
+                           "use one or the other");
+    // Coordinates near the largest float: the camera cannot be made in single precision.
+    const fs::path huge = write_file("huge.off", "OFF\n3 1 0\n-3e38 0 0\n3e38 0 0\n0 3e38 0\n3 0 1 2\n");
+    require_one_line_error(run_hsr("render " + huge.string() + " -o x.png", "huge"), "too large");
+}
+
+TEST_CASE("cli: an empty picture is rendered with a warning", "[cli]") {
+    // A triangle seen exactly edge-on covers no pixel centre.
+    const fs::path edge_on = write_file("edge-on.off", "OFF\n3 1 0\n0 0 0\n0 1 0\n0 0 1\n3 0 1 2\n");
+    const Run r = run_hsr("render " + edge_on.string() + " -o " + (scratch_dir() / "edge-on.png").string(), "edge-on");
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Catch::Contains("hsr: warning: no triangle covers a pixel centre"));
+    // A tiny model is not empty: the camera frames it whatever its size.
+    const fs::path tiny = write_file("tiny.off", "OFF\n3 1 0\n0 0 0\n1e-12 0 0\n0 1e-12 0\n3 0 1 2\n");
+    const Run t = run_hsr("render " + tiny.string() + " -o " + (scratch_dir() / "tiny.png").string(), "tiny");
+    INFO("stderr: " << t.err);
+    CHECK(t.status == 0);
+    CHECK_THAT(t.err, !Catch::Contains("warning"));
 }
 
 TEST_CASE("cli: unknown and out-of-range plugin parameters", "[cli]") {

@@ -62,11 +62,27 @@ TEST_CASE("user values are parsed by type", "[params]") {
     CHECK(v.values()[4].color[1] == Approx(128.0 / 255.0));
 }
 
+TEST_CASE("a number may carry a plus sign", "[params]") {
+    const hsr_plugin_descriptor d = make_descriptor();
+    CHECK(hsr::resolve_params(d, {{"depth", "+3"}}).values()[1].number == 3);
+    CHECK_THROWS_WITH(hsr::resolve_params(d, {{"depth", "+-3"}}), Catch::Contains("not a number"));
+}
+
+TEST_CASE("a setting without '=' is named, with the colour hint only where it fits", "[params]") {
+    using Catch::Contains;
+    CHECK_THROWS_WITH(hsr::parse_plugin_spec("octree-zbuffer:max-depth"),
+                      Contains("'max-depth' in 'octree-zbuffer:max-depth' is not key=value") && !Contains("colour"));
+    CHECK_THROWS_WITH(hsr::parse_plugin_spec("phong:tint=1,0.5,0"), Contains("(a colour is written r/g/b)"));
+}
+
 TEST_CASE("bad settings are errors that name the plugin and the key", "[params]") {
     const hsr_plugin_descriptor d = make_descriptor();
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"colour", "1/1/1"}}),
                       Catch::Contains("plugin 'demo' has no parameter 'colour'") && Catch::Contains("tint"));
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"depth", "9"}}), Catch::Contains("out of range [1, 8]"));
+    // The value as the user wrote it, not as a double prints it (1e+11).
+    CHECK_THROWS_WITH(hsr::resolve_params(d, {{"depth", "99999999999"}}),
+                      Catch::Contains("99999999999 is out of range"));
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"depth", "2.5"}}), Catch::Contains("not a whole number"));
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"shininess", "shiny"}}), Catch::Contains("not a number"));
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"shininess", "nan"}}), Catch::Contains("not a number"));

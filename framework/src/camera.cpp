@@ -53,6 +53,13 @@ void check_size(uint32_t width, uint32_t height) {
 
 bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+bool is_finite(const hsr_camera& c) {
+    auto all_finite = [](const float* v, size_t n) { return std::all_of(v, v + n, [](float x) { return std::isfinite(x); }); };
+    return all_finite(c.view, 16) && all_finite(c.projection, 16) && all_finite(c.view_projection, 16) &&
+           all_finite(c.eye, 3) && all_finite(c.view_direction, 3) && std::isfinite(c.near_plane) &&
+           std::isfinite(c.far_plane);
+}
+
 }  // namespace
 
 hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& s) {
@@ -68,7 +75,9 @@ hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const C
     const glm::dvec3 lo(bounds_min), hi(bounds_max);
     const glm::dvec3 centre = 0.5 * (lo + hi);
     double radius = 0.5 * glm::length(hi - lo);
-    if (!(radius > 1e-9 * std::max(1.0, glm::length(centre)))) radius = std::max(1.0, 1e-3 * glm::length(centre));
+    // A scene too small to tell from a point beside its distance from the origin (float positions
+    // carry 7 digits) is framed as a point; anything larger, however small, fills the view.
+    if (!(radius > std::max(1e-9 * glm::length(centre), 1e-20))) radius = std::max(1.0, 1e-3 * glm::length(centre));
 
     const double yaw = glm::radians(static_cast<double>(s.yaw_degrees));
     const double pitch = glm::radians(static_cast<double>(s.pitch_degrees));
@@ -97,8 +106,12 @@ hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const C
         const double fov_y = 2.0 * std::atan(tan_half_y / zoom);
         projection = glm::perspective(fov_y, aspect, near_plane, far_plane);
     }
-    return assemble(s.width, s.height, s.orthographic ? HSR_PROJECTION_ORTHOGRAPHIC : HSR_PROJECTION_PERSPECTIVE,
-                    view, projection, eye, -toward_eye, near_plane, far_plane);
+    const hsr_camera camera =
+        assemble(s.width, s.height, s.orthographic ? HSR_PROJECTION_ORTHOGRAPHIC : HSR_PROJECTION_PERSPECTIVE, view,
+                 projection, eye, -toward_eye, near_plane, far_plane);
+    if (!is_finite(camera))
+        throw Error("the scene is too large to view in single precision (its bounding sphere has radius {:.3g})", radius);
+    return camera;
 }
 
 hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max) {
@@ -114,8 +127,10 @@ hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float
     const double far_plane = eye.z - z_min + pad;
     const glm::dmat4 view = glm::translate(glm::dmat4(1.0), -eye);
     const glm::dmat4 projection = glm::ortho(-w / 2.0, w / 2.0, -h / 2.0, h / 2.0, near_plane, far_plane);
-    return assemble(width, height, HSR_PROJECTION_ORTHOGRAPHIC, view, projection, eye, glm::dvec3(0, 0, -1),
-                    near_plane, far_plane);
+    const hsr_camera camera = assemble(width, height, HSR_PROJECTION_ORTHOGRAPHIC, view, projection, eye,
+                                       glm::dvec3(0, 0, -1), near_plane, far_plane);
+    if (!is_finite(camera)) throw Error("pixel camera: depth range [{}, {}] is too large for single precision", z_min, z_max);
+    return camera;
 }
 
 hsr_light resolve_light(const LightSpec& light, const hsr_camera& camera) {

@@ -20,6 +20,7 @@ std::string_view trim(std::string_view s) {
 
 bool parse_double(std::string_view text, double& out) {
     text = trim(text);
+    if (text.size() > 1 && text.front() == '+' && text[1] != '-') text.remove_prefix(1);  // from_chars takes no '+'
     if (text.empty()) return false;
     const char* end = text.data() + text.size();
     auto [ptr, ec] = std::from_chars(text.data(), end, out);
@@ -90,8 +91,11 @@ PluginSpec parse_plugin_spec(std::string_view text) {
         rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
         if (item.empty()) continue;
         size_t eq = item.find('=');
-        if (eq == std::string_view::npos)
-            throw Error("'{}' in '{}' is not key=value (a colour is written r/g/b)", item, text);
+        if (eq == std::string_view::npos) {
+            // A bare number is most likely the middle of a colour written with commas.
+            const bool number_like = std::isdigit(static_cast<unsigned char>(item.front())) || item.front() == '.';
+            throw Error("'{}' in '{}' is not key=value{}", item, text, number_like ? " (a colour is written r/g/b)" : "");
+        }
         std::string key(trim(item.substr(0, eq)));
         if (key.empty()) throw Error("empty key in '{}'", text);
         spec.settings.emplace_back(key, std::string(trim(item.substr(eq + 1))));
@@ -112,7 +116,7 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
         else if (t == "false" || t == "0" || t == "no" || t == "off")
             v.number = 0;
         else
-            throw Error("'{}' is not a boolean (true or false)", text);
+            throw Error("'{}' is not a boolean (true or false; also yes/no, on/off, 1/0)", text);
         break;
     }
     case HSR_PARAM_INT:
@@ -123,8 +127,7 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
         if (desc.type == HSR_PARAM_INT && number != std::floor(number))
             throw Error("'{}' is not a whole number", text);
         if (number < desc.min || number > desc.max)
-            throw Error("{} is out of range [{}, {}]", format_number(number), format_number(desc.min),
-                        format_number(desc.max));
+            throw Error("{} is out of range [{}, {}]", trim(text), format_number(desc.min), format_number(desc.max));
         v.number = number;
         break;
     }

@@ -204,18 +204,29 @@ bool PluginRegistry::contains(hsr_plugin_kind kind, const std::string& name) con
 }
 
 const Plugin& PluginRegistry::find(hsr_plugin_kind kind, const std::string& name) const {
-    for (const Plugin& p : plugins_)
-        if (p.descriptor.kind == kind && name == p.descriptor.name) return p;
-    std::string found;
-    for (const Plugin& p : plugins_)
-        if (p.descriptor.kind == kind) found += (found.empty() ? "" : ", ") + std::string(p.descriptor.name);
+    return find_any({kind}, name);
+}
+
+const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> kinds, const std::string& name) const {
+    for (hsr_plugin_kind kind : kinds)
+        for (const Plugin& p : plugins_)
+            if (p.descriptor.kind == kind && name == p.descriptor.name) return p;
+    std::string kinds_text, found;
+    for (hsr_plugin_kind kind : kinds) {
+        kinds_text += (kinds_text.empty() ? "" : " or ") + std::string(kind_name(kind));
+        std::string names;
+        for (const Plugin& p : plugins_)
+            if (p.descriptor.kind == kind) names += (names.empty() ? "" : ", ") + std::string(p.descriptor.name);
+        if (kinds.size() > 1) names = std::string(kind_name(kind)) + ": " + (names.empty() ? "none" : names);
+        if (!names.empty()) found += (found.empty() ? "" : "; ") + names;
+    }
     std::string where;
     for (const fs::path& d : searched_) where += (where.empty() ? "" : ", ") + d.string();
     std::string refused;
     for (const RejectedLibrary& r : rejected_) {
         if (r.reason.find("'" + name + "'") != std::string::npos) refused = "; refused: " + r.reason;
     }
-    throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kind_name(kind), name,
+    throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kinds_text, name,
                 where.empty() ? "nowhere" : where, found.empty() ? "none" : found, refused);
 }
 

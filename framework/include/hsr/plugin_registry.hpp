@@ -6,6 +6,7 @@
 #include "hsr/params.hpp"
 
 #include <filesystem>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,6 +51,8 @@ public:
 
     // The plugin of that kind and name; throws hsr::Error listing where it looked and what it found.
     const Plugin& find(hsr_plugin_kind kind, const std::string& name) const;
+    // The first plugin of that name among the kinds, tried in order; the error lists every kind's.
+    const Plugin& find_any(std::initializer_list<hsr_plugin_kind> kinds, const std::string& name) const;
     // Whether a plugin of that kind and name was found.
     bool contains(hsr_plugin_kind kind, const std::string& name) const;
 

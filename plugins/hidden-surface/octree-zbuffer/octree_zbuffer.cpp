@@ -162,7 +162,7 @@ class OctreeZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "octree-zbuffer", "1.0.0",
-        "hierarchical z-buffer (Greene, Kass & Miller 1993): object-space octrees culled against a z-pyramid"};
+        "octree z-buffer (Greene, Kass & Miller 1993): object-space octrees, front to back, culled against a z-pyramid"};
     static inline const ParamSpec params[] = {
         ParamSpec::integer("max-depth", "8", 0, 20, "deepest octree level (the root is level 0)"),
         ParamSpec::integer("leaf-triangles", "64", 1, 65536,

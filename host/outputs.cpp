@@ -1,0 +1,56 @@
+// Output paths, checked before a command starts its work (commands.hpp).
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <system_error>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
+std::string joined(const std::vector<std::string>& items, const char* last_separator) {
+    std::string out;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        if (i > 0) out += i + 1 == items.size() ? last_separator : ", ";
+        out += items[i];
+    }
+    return out;
+}
+
+}  // namespace
+
+void hsr::host::check_outputs(const std::vector<OutputFile>& outputs) {
+    std::vector<std::pair<fs::path, const OutputFile*>> seen;
+    for (const OutputFile& out : outputs) {
+        const std::string name = out.path.string();
+        if (name.empty()) throw UsageError("--{}: no file name given", out.option);
+        std::error_code ec;
+        const fs::file_status status = fs::status(out.path, ec);
+        if (fs::is_directory(status)) throw hsr::Error("--{} '{}': is a folder, not a file", out.option, name);
+        if (!out.extensions.empty()) {
+            const std::string extension = lowercase(out.path.extension().string());
+            if (std::find(out.extensions.begin(), out.extensions.end(), extension) == out.extensions.end())
+                throw UsageError("--{} '{}': the name must end in {} (the format written)", out.option, name,
+                                 joined(out.extensions, " or "));
+        }
+        const fs::path folder = out.path.has_parent_path() ? out.path.parent_path() : fs::path(".");
+        if (!fs::is_directory(folder, ec))
+            throw hsr::Error("--{} '{}': the folder '{}' does not exist", out.option, name, folder.string());
+        if (fs::exists(status) ? ::access(out.path.c_str(), W_OK) != 0 : ::access(folder.c_str(), W_OK) != 0)
+            throw hsr::Error("--{} '{}': cannot write there (permission denied)", out.option, name);
+
+        const fs::path resolved = fs::weakly_canonical(fs::absolute(out.path, ec), ec);
+        for (const auto& [other_path, other] : seen)
+            if (other_path == resolved)
+                throw UsageError("--{} and --{} name the same file '{}'", other->option, out.option, name);
+        seen.emplace_back(resolved, &out);
+    }
+}
