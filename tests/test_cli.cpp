@@ -234,9 +234,15 @@ TEST_CASE("cli: --repeat makes a deep scene; --stats, --overdraw-out and --depth
     CHECK_THAT(r.err, Catch::Contains("depth complexity") && Catch::Contains("10.00 (max 10"));
     const hsr::Image heat = hsr::read_png_rgb(overdraw);
     CHECK(heat.width == 64);
-    CHECK(heat.height == 48 + 16);  // the picture and the legend strip below it
+    CHECK(heat.height == 48 + hsr::heat_map_legend_height);  // the picture and the legend strip below it
     const hsr::Image work = hsr::read_png_rgb(tests);
-    CHECK(work.height == 48 + 16);
+    CHECK(work.height == 48 + hsr::heat_map_legend_height);
+    // Under the ramp, tick marks in white at its ends (and labels, when a font is installed).
+    auto heat_pixel = [&](uint32_t x, uint32_t y) { return heat.pixels[3 * (size_t(y) * heat.width + x)]; };
+    const uint32_t label_row = 48 + hsr::heat_map_legend_height - 15;
+    CHECK(heat_pixel(0, label_row) == 255);
+    CHECK(heat_pixel(62, label_row) == 255);
+    CHECK(heat_pixel(30, label_row) == 0);
     // zbuffer depth-tests every covered sample: its work map equals the depth complexity map.
     CHECK(work.pixels == heat.pixels);
 }

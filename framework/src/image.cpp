@@ -2,11 +2,14 @@
 
 #include "hsr/error.hpp"
 
+#include <cairo.h>
+#include <fmt/format.h>
 #include <png.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace hsr {
@@ -85,25 +88,83 @@ void heat_color(float t, uint8_t* rgb) {
         rgb[c] = static_cast<uint8_t>(std::lround(255.0f * (stops[i][c] + f * (stops[i + 1][c] - stops[i][c]))));
 }
 
+// Counts to label on a ramp from 0 to scale_max that is `width` pixels wide: 0, scale_max, and the
+// multiples of a round step (1, 2 or 5 times a power of ten) between them.
+std::vector<uint32_t> legend_ticks(uint32_t scale_max, uint32_t width) {
+    std::vector<uint32_t> ticks{0};
+    if (scale_max == 0) return ticks;
+    const double wanted = std::clamp(double(width) / 80.0, 1.0, 6.0);  // labels about 80 pixels apart
+    double step = 1.0;
+    while (double(scale_max) / step > wanted) {
+        for (double factor : {2.0, 2.5, 2.0}) {  // 1, 2, 5, 10, 20, 50, ...
+            step *= factor;
+            if (double(scale_max) / step <= wanted) break;
+        }
+    }
+    for (double v = step; v < double(scale_max); v += step) ticks.push_back(uint32_t(v));
+    ticks.push_back(scale_max);
+    return ticks;
+}
+
+// White labels and tick marks on black, drawn with Cairo into rows [top, top + rows) of an RGB image.
+void draw_legend_labels(std::vector<uint8_t>& rgb, uint32_t width, uint32_t top, uint32_t rows, uint32_t scale_max) {
+    std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
+        cairo_image_surface_create(CAIRO_FORMAT_A8, int(width), int(rows)), &cairo_surface_destroy);
+    std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()), &cairo_destroy);
+    if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS) return;  // no labels rather than no picture
+    cairo_select_font_face(cr.get(), "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr.get(), 11.0);
+    const double last = double(std::max<uint32_t>(width, 2) - 1), baseline = double(rows) - 3.0;
+    double taken = -1e9;  // right end of the last label drawn
+    const std::vector<uint32_t> ticks = legend_ticks(scale_max, width);
+    for (size_t i = 0; i < ticks.size(); ++i) {
+        const std::string text = fmt::format("{}", ticks[i]);
+        cairo_text_extents_t extents;
+        cairo_text_extents(cr.get(), text.c_str(), &extents);
+        const double x = scale_max > 0 ? last * double(ticks[i]) / double(scale_max) : 0.0;
+        // The ends are aligned inward; a label in between is centred on its tick, and left out
+        // where it would run into its neighbours.
+        const bool is_last = i + 1 == ticks.size();
+        const double left = i == 0 ? 1.0 : is_last ? last + 1.0 - extents.x_advance : x - extents.x_advance / 2.0;
+        if (left < taken + 6.0 && i > 0) continue;
+        if (!is_last && i > 0 && ticks.size() > 1) {
+            cairo_text_extents_t end;
+            cairo_text_extents(cr.get(), fmt::format("{}", ticks.back()).c_str(), &end);
+            if (left + extents.x_advance + 6.0 > last + 1.0 - end.x_advance) continue;
+        }
+        cairo_rectangle(cr.get(), std::round(x) - (is_last ? 1.0 : 0.0), 0.0, 1.0, 3.0);
+        cairo_fill(cr.get());
+        cairo_move_to(cr.get(), left, baseline);
+        cairo_show_text(cr.get(), text.c_str());
+        taken = left + extents.x_advance;
+    }
+    cairo_surface_flush(surface.get());
+    const unsigned char* data = cairo_image_surface_get_data(surface.get());
+    const int stride = cairo_image_surface_get_stride(surface.get());
+    for (uint32_t y = 0; y < rows; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+            std::fill_n(&rgb[3 * ((size_t(top) + y) * width + x)], 3, data[size_t(y) * size_t(stride) + x]);
+}
+
 }  // namespace
 
 void write_heat_map_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
                         std::span<const uint32_t> counts, uint32_t scale_max) {
     if (counts.size() != size_t(width) * height) throw Error("heat map: {} counts for a {}x{} image", counts.size(), width, height);
-    constexpr uint32_t legend_height = 16;
+    // Below the picture: a black gap, the ramp, and the row of labels.
+    constexpr uint32_t gap = 3, ramp = 10, labels = heat_map_legend_height - gap - ramp;
     const float scale = float(std::max<uint32_t>(scale_max, 1));
-    std::vector<uint8_t> rgb(size_t(width) * (height + legend_height) * 3, 0);
+    std::vector<uint8_t> rgb(size_t(width) * (height + heat_map_legend_height) * 3, 0);
     for (size_t i = 0; i < counts.size(); ++i)
         if (counts[i] > 0) heat_color(0.08f + 0.92f * float(counts[i]) / scale, &rgb[3 * i]);
-    for (uint32_t y = 0; y < legend_height; ++y) {
+    for (uint32_t y = height + gap; y < height + gap + ramp; ++y) {
         for (uint32_t x = 0; x < width; ++x) {
-            uint8_t* out = &rgb[3 * ((size_t(height) + y) * width + x)];
-            if (y < 3) continue;  // a black gap between picture and legend
             const float count = std::round(scale * float(x) / float(std::max<uint32_t>(width - 1, 1)));
-            if (count > 0.0f) heat_color(0.08f + 0.92f * count / scale, out);
+            if (count > 0.0f) heat_color(0.08f + 0.92f * count / scale, &rgb[3 * (size_t(y) * width + x)]);
         }
     }
-    write_png(path, width, height + legend_height, 3, rgb);
+    draw_legend_labels(rgb, width, height + gap + ramp, labels, scale_max);
+    write_png(path, width, height + heat_map_legend_height, 3, rgb);
 }
 
 }  // namespace hsr

@@ -29,8 +29,9 @@ void write_depth_png(const std::filesystem::path& path, uint32_t width, uint32_t
 
 // Per-pixel counts (depth complexity, depth tests) as a heat map: 0 black, then dark blue through
 // red and orange to yellow-white at scale_max (counts above it saturate). Below the image, a strip
-// 16 pixels high shows the ramp from 0 (left) to scale_max (right), so pictures with the same
-// scale_max compare directly.
+// heat_map_legend_height pixels high shows the ramp from 0 (left) to scale_max (right), labelled
+// with counts, so pictures with the same scale_max compare directly.
+constexpr uint32_t heat_map_legend_height = 28;
 void write_heat_map_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
                         std::span<const uint32_t> counts, uint32_t scale_max);
 
