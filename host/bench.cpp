@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -36,7 +37,9 @@ using hsr::host::UsageError;
 
 constexpr const char* default_light = "dir:-0.5,0.6,1";
 
-std::vector<std::string> split_list(const std::string& text) {
+// The items of a comma-separated option. An option given with no item ("", ",") is a mistake, not a
+// request for the default list.
+std::vector<std::string> split_list(const std::string& text, const char* option) {
     std::vector<std::string> items;
     std::size_t start = 0;
     while (start <= text.size()) {
@@ -48,7 +51,15 @@ std::vector<std::string> split_list(const std::string& text) {
         if (!item.empty()) items.push_back(item);
         start = comma + 1;
     }
+    if (items.empty()) throw UsageError("--{}: the list is empty (leave the option out for the default)", option);
     return items;
+}
+
+// Each item once: a repeat would only measure the same thing twice. what(item) names it.
+template <class Item, class Describe>
+void refuse_repeats(const std::vector<Item>& items, Describe what) {
+    for (auto it = items.begin(); it != items.end(); ++it)
+        if (std::find(items.begin(), it, *it) != it) throw UsageError("{} is named twice", what(*it));
 }
 
 // "1024" (square) or "800x600".
@@ -100,6 +111,8 @@ std::vector<std::string> all_algorithms(const hsr::PluginRegistry& registry) {
 class Progress {
 public:
     Progress(std::size_t total_calls) : total_(total_calls), tty_(isatty(STDERR_FILENO) == 1) {}
+    // An error thrown mid-run is then printed on a line of its own, not after the bar.
+    ~Progress() { clear(); }
 
     void loading(const std::string& model) {
         if (tty_) draw(fmt::format("loading {}", model));
@@ -152,6 +165,22 @@ private:
 
 std::string ms(double v) { return fmt::format("{:.{}f}", v, v < 10 ? 2 : 1); }
 
+// A model ready to time: loaded, with its camera at every size.
+struct PreparedModel {
+    hsr::bench::BenchScene scene;
+    std::vector<hsr_camera> cameras;  // one per size
+};
+
+// Written only once the results are ready, so that a run that fails leaves an existing file as it was.
+void write_output(const std::string& path, const std::function<void(std::ostream&)>& write) {
+    std::ofstream out(path);
+    if (!out) throw hsr::Error("cannot write {}", path);
+    write(out);
+    out.close();
+    if (!out) throw hsr::Error("could not finish writing {}", path);
+    std::fprintf(stderr, "wrote %s\n", path.c_str());
+}
+
 }  // namespace
 
 int hsr::host::run_bench(const std::vector<std::string>& args) {
@@ -187,12 +216,16 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
         ("models-dir", po::value(&models_dir_text), "folder of the named models (default: ./models or the source tree's)")
         ("plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
     po::variables_map vm;
-    po::store(po::command_line_parser(args).options(options).run(), vm);
+    const po::parsed_options parsed = po::command_line_parser(args).options(options).run();
+    po::store(parsed, vm);
     po::notify(vm);
     if (vm.count("help")) {
         std::cout << options;
         return 0;
     }
+    // Words that are not options: program_options would drop them silently and run the default study.
+    for (const std::string& word : po::collect_unrecognized(parsed.options, po::include_positional))
+        throw UsageError("bench: unexpected argument '{}' (models go in --models)", word);
     auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
     if (quick) {
         if (!given("sizes")) sizes_list = "128";
@@ -202,20 +235,24 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     if (warmup < 0 || warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
     if (threads < 0 || threads > 1024) throw UsageError("--threads must be between 0 and 1024");
     std::vector<std::pair<uint32_t, uint32_t>> sizes;
-    for (const std::string& s : split_list(sizes_list)) sizes.push_back(parse_size(s));
-    if (sizes.empty()) throw UsageError("--sizes: no size given");
+    for (const std::string& s : split_list(sizes_list, "sizes")) sizes.push_back(parse_size(s));
+    refuse_repeats(sizes, [](const auto& size) { return fmt::format("size {}x{}", size.first, size.second); });
+    std::vector<hsr::host::OutputFile> outputs;
+    if (given("csv")) outputs.push_back({"csv", csv_path, {".csv"}});
+    if (given("svg")) outputs.push_back({"svg", svg_path, {".svg"}});
+    check_outputs(outputs);
 
     // Plugins, then models: every name is checked before anything large is loaded.
     hsr::PluginRegistry registry = scan_plugins(plugin_dirs);
     std::vector<hsr::PluginSpec> algorithms;
-    std::vector<std::string> labels;  // as shown: the name, with its parameters when given
-    for (const std::string& name : split_list(algorithms_list)) labels.push_back(name);
-    for (const std::string& spec : algorithm_specs) labels.push_back(spec);
+    // As shown: the name, with its parameters when given.
+    std::vector<std::string> labels = given("algorithms") ? split_list(algorithms_list, "algorithms")
+                                                          : std::vector<std::string>{};
+    labels.insert(labels.end(), algorithm_specs.begin(), algorithm_specs.end());
     if (labels.empty()) labels = all_algorithms(registry);
     if (labels.empty()) throw hsr::Error("no hidden-surface plugins found (see hsr plugins)");
+    refuse_repeats(labels, [](const std::string& label) { return fmt::format("algorithm '{}'", label); });
     for (const std::string& label : labels) {
-        if (std::count(labels.begin(), labels.end(), label) > 1)
-            throw UsageError("algorithm '{}' is named twice", label);
         algorithms.push_back(hsr::parse_plugin_spec(label));
         // Unknown names and bad parameters fail here, before any model is loaded.
         hsr::HiddenSurfaceRemover check(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms.back().name),
@@ -224,26 +261,13 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(lighting_text);
     hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
 
-    std::vector<std::string> model_names = split_list(models_list);
-    if (model_names.empty()) model_names = quick ? hsr::bench::quick_models() : hsr::bench::default_models();
+    const std::vector<std::string> model_names = given("models") ? split_list(models_list, "models")
+                                                 : quick                ? hsr::bench::quick_models()
+                                                                        : hsr::bench::default_models();
+    refuse_repeats(model_names, [](const std::string& name) { return fmt::format("model '{}'", name); });
     const fs::path models_dir = find_models_dir(models_dir_text);
     std::vector<hsr::bench::ModelSpec> models;
-    for (const std::string& name : model_names) {
-        for (const auto& m : models)
-            if (m.name == name) throw UsageError("model '{}' is named twice", name);
-        models.push_back(hsr::bench::parse_model_spec(name, models_dir));
-    }
-
-    // Open the outputs now, so that a bad path fails before a long run rather than after it.
-    std::ofstream csv, svg;
-    if (!csv_path.empty()) {
-        csv.open(csv_path);
-        if (!csv) throw hsr::Error("cannot write {}", csv_path);
-    }
-    if (!svg_path.empty()) {
-        svg.open(svg_path);
-        if (!svg) throw hsr::Error("cannot write {}", svg_path);
-    }
+    for (const std::string& name : model_names) models.push_back(hsr::bench::parse_model_spec(name, models_dir));
 
     hsr::bench::TimingSettings timing_settings;
     timing_settings.warmup = unsigned(warmup);
@@ -255,20 +279,29 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::size_t row = 0, scene_index = 0;
     const std::size_t scenes = models.size() * sizes.size();
 
+    // Every model is loaded and its cameras made before any timing, so that a bad file fails in a
+    // moment rather than after the models before it have been timed. Holding them all is cheap: the
+    // peak is Loop-subdividing the bunny (96 MB alone), the loaded meshes are a few MB and a deep
+    // scene stores its mesh once (`hsr bench -r 1 -w 0`: 121 MB peak when each model was loaded in
+    // turn, 110 MB now). Each is dropped once measured.
+    std::vector<PreparedModel> prepared;
     for (const hsr::bench::ModelSpec& spec : models) {
         progress.loading(spec.name);
-        const hsr::bench::BenchScene bench_scene = hsr::bench::load_bench_scene(spec);
-        for (const std::string& w : bench_scene.scene.warnings) progress.message("hsr: warning: " + w);
-        const hsr_scene view = bench_scene.scene.view();
-        for (const auto& [width, height] : sizes) {
-            hsr::CameraSettings camera_settings = bench_scene.camera;
-            camera_settings.width = width;
-            camera_settings.height = height;
-            const hsr_camera camera =
-                hsr::make_orbit_camera(bench_scene.scene.bounds_min, bench_scene.scene.bounds_max, camera_settings);
+        PreparedModel& model = prepared.emplace_back(PreparedModel{hsr::bench::load_bench_scene(spec), {}});
+        for (const std::string& w : model.scene.scene.warnings) progress.message("hsr: warning: " + w);
+        for (const auto& [width, height] : sizes)
+            model.cameras.push_back(hsr::bench::make_bench_camera(model.scene, width, height));
+    }
+
+    for (PreparedModel& model : prepared) {
+        const std::string& name = model.scene.name;
+        const hsr_scene view = model.scene.scene.view();
+        for (std::size_t size = 0; size < sizes.size(); ++size) {
+            const auto [width, height] = sizes[size];
+            const hsr_camera& camera = model.cameras[size];
             const std::vector<hsr_light> lights = {hsr::resolve_light(hsr::parse_light_spec(default_light), camera)};
             const hsr_shading_context context = hsr::make_shading_context(camera, lights);
-            progress.measuring(fmt::format("depth complexity of {} at {}x{}", spec.name, width, height));
+            progress.measuring(fmt::format("depth complexity of {} at {}x{}", name, width, height));
             const std::optional<hsr::DepthComplexity> depth_complexity = hsr::measure_depth_complexity(view, camera);
 
             // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
@@ -283,7 +316,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
                 const unsigned calls = timing_settings.warmup + timing_settings.repetitions;
                 for (unsigned i = 0; i < calls; ++i) {
                     const bool warm = i < timing_settings.warmup;
-                    progress.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index, scenes, spec.name, width,
+                    progress.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index, scenes, name, width,
                                               height, labels[a], warm ? "warm-up" : "run",
                                               warm ? i + 1 : i + 1 - timing_settings.warmup,
                                               warm ? timing_settings.warmup : timing_settings.repetitions));
@@ -295,33 +328,27 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
 
             for (std::size_t a = 0; a < algorithms.size(); ++a) {
                 ++row;
-                hsr::bench::Result result = hsr::bench::make_result(labels[a], spec.name, view, camera, timings[a],
+                hsr::bench::Result result = hsr::bench::make_result(labels[a], name, view, camera, timings[a],
                                                                     timing_settings.warmup, depth_complexity);
-                result.layers = bench_scene.layers;
-                result.zoom = camera_settings.zoom;
-                progress.row(fmt::format("[{}/{}] {} on {} {}x{}: {} ms [{}-{}]{}", row, rows, labels[a], spec.name, width,
+                result.layers = model.scene.layers;
+                result.zoom = model.scene.camera.zoom;
+                progress.row(fmt::format("[{}/{}] {} on {} {}x{}: {} ms [{}-{}]{}", row, rows, labels[a], name, width,
                                          height, ms(result.visibility.median), ms(result.visibility.min),
                                          ms(result.visibility.max),
                                          result.build_ms > 0 ? fmt::format(" + {} ms build", ms(result.build_ms)) : ""));
                 results.push_back(std::move(result));
             }
         }
+        model = {};
     }
     progress.finish();
 
     std::cout << hsr::bench::format_table(results);
     std::cout.flush();
-    if (csv.is_open()) {
-        hsr::bench::write_csv(csv, results);
-        csv.close();
-        if (!csv) throw hsr::Error("could not finish writing {}", csv_path);
-        std::fprintf(stderr, "wrote %s\n", csv_path.c_str());
-    }
-    if (svg.is_open()) {
-        hsr::bench::write_svg(svg, hsr::bench::plot_results(results));
-        svg.close();
-        if (!svg) throw hsr::Error("could not finish writing {}", svg_path);
-        std::fprintf(stderr, "wrote %s\n", svg_path.c_str());
+    if (given("csv")) write_output(csv_path, [&](std::ostream& out) { hsr::bench::write_csv(out, results); });
+    if (given("svg")) {
+        const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(results);
+        write_output(svg_path, [&](std::ostream& out) { hsr::bench::write_svg(out, plots); });
     }
     return 0;
 }

@@ -452,6 +452,41 @@ TEST_CASE("bench: a deep scene is a grid of instances whose front layer fills th
     CHECK(scene.camera.zoom > 1.0f);
 }
 
+TEST_CASE("bench: an unknown model's message names the folder it looked in", "[bench][models]") {
+    using hsr::bench::parse_model_spec;
+    CHECK_THROWS_WITH(parse_model_spec("nonesuch", models_dir),
+                      Contains("unknown model 'nonesuch' (known in folder " + models_dir.string() + "/: ") &&
+                          Contains("cube, ") && Contains("also NAME-loop"));
+    // As hsr bench names its default folder, and with a slash already at the end.
+    CHECK_THROWS_WITH(parse_model_spec("nonesuch", "models"), Contains("(known in folder models/: "));
+    CHECK_THROWS_WITH(parse_model_spec("nonesuch", models_dir.string() + "/"),
+                      Contains("(known in folder " + models_dir.string() + "/: "));
+    TempDir empty;
+    CHECK_THROWS_WITH(parse_model_spec("nonesuch", empty.path), Contains("/: none; "));
+}
+
+TEST_CASE("bench: a model's camera at each size, refused by name when coordinates overflow it", "[bench][models]") {
+    using hsr::bench::load_bench_scene;
+    using hsr::bench::parse_model_spec;
+    const hsr::bench::BenchScene deep = load_bench_scene(parse_model_spec("deep-3:cube", models_dir));
+    const hsr_camera camera = hsr::bench::make_bench_camera(deep, 80, 60);
+    hsr::CameraSettings settings = deep.camera;  // the deep scene's zoom, the size asked for
+    settings.width = 80;
+    settings.height = 60;
+    const hsr_camera expected = hsr::make_orbit_camera(deep.scene.bounds_min, deep.scene.bounds_max, settings);
+    CHECK(camera.width == 80);
+    CHECK(camera.height == 60);
+    CHECK(std::equal(std::begin(camera.view_projection), std::end(camera.view_projection),
+                     std::begin(expected.view_projection)));
+
+    TempDir dir;
+    const fs::path huge = dir.path / "huge.obj";
+    std::ofstream(huge) << "v 0 0 0\nv 1e38 1e38 0\nv -1e38 0 1e38\nf 1 2 3\n";
+    const hsr::bench::BenchScene scene = load_bench_scene(parse_model_spec(huge.string(), models_dir));
+    CHECK_THROWS_WITH(hsr::bench::make_bench_camera(scene, 64, 64),
+                      Contains("model '" + huge.string() + "': ") && Contains("too large"));
+}
+
 TEST_CASE("bench: the timing loop, through the zbuffer plugin", "[bench][timing]") {
     hsr::PluginRegistry registry;
     registry.scan_directory(HSR_PLUGIN_DIR);

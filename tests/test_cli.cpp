@@ -314,3 +314,101 @@ TEST_CASE("cli: --surface draws a formula, bad formulas and ranges are one-line 
     require_one_line_error(run_hsr("render --heightmap /nonexistent/h.png", "heightmap-missing"), "/nonexistent/h.png");
     require_one_line_error(run_hsr("render --range 0:1,0:1 " + model("cube.obj"), "range-alone"), "--range goes with");
 }
+
+// ---------------------------------------------------------------------------------------------
+// hsr bench: bad input fails before anything is timed, and leaves existing files as they were.
+
+namespace {
+
+const std::string bench_models = std::string(" --models-dir ") + HSR_MODELS_DIR;
+
+// A model that fails to load or to be viewed: its error is the last line, after nothing but the
+// progress lines of loading, so nothing was timed.
+void require_bench_error_before_timing(const Run& r, const std::string& expected) {
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 1);
+    const std::size_t error = r.err.find("hsr: error: ");
+    REQUIRE(error != std::string::npos);
+    CHECK(r.err.find('\n', error) + 1 == r.err.size());
+    CHECK_THAT(r.err.substr(error), Catch::Contains(expected));
+    std::istringstream before(r.err.substr(0, error));
+    for (std::string line; std::getline(before, line);) CHECK(line.rfind("hsr bench: loading ", 0) == 0);
+}
+
+void require_bench_usage_error(const std::string& args, const std::string& tag, const std::string& expected) {
+    const Run r = run_hsr("bench --quick" + bench_models + " " + args, tag);
+    require_one_line_error(r, expected);
+    CHECK(r.status == 2);
+}
+
+}  // namespace
+
+TEST_CASE("cli: bench loads every model and makes its cameras before timing any", "[cli][bench]") {
+    const fs::path csv = write_file("bench-kept.csv", "keep\n");
+    const fs::path nan = write_file("bench-nan.obj", "v 0 0 0\nv nan 1 0\nv 1 0 0\nf 1 2 3\n");
+    require_bench_error_before_timing(
+        run_hsr("bench --models deep-63:cube," + nan.string() + bench_models + " --csv " + csv.string(), "bench-nan"),
+        "bench-nan.obj:2: vertex coordinate 'nan' is not a finite number");
+    // Loads, but no camera can view it in single precision.
+    const fs::path huge = write_file("bench-huge.obj", "v 0 0 0\nv 1e38 1e38 0\nv -1e38 0 1e38\nf 1 2 3\n");
+    require_bench_error_before_timing(
+        run_hsr("bench --models deep-63:cube," + huge.string() + bench_models + " --csv " + csv.string(), "bench-huge"),
+        "model '" + huge.string() + "': ");
+    CHECK(slurp(csv) == "keep\n");
+}
+
+TEST_CASE("cli: bench writes its CSV and SVG only once the results are ready", "[cli][bench]") {
+    const fs::path csv = write_file("bench-outputs.csv", "keep\n"), svg = scratch_dir() / "bench-outputs.svg";
+    fs::remove(svg);
+    const fs::path empty = write_file("bench-empty.obj", "");
+    require_bench_error_before_timing(run_hsr("bench --csv " + csv.string() + " --svg " + svg.string() + " --models " +
+                                                  empty.string() + bench_models, "bench-empty"),
+                                      "bench-empty.obj");
+    CHECK(slurp(csv) == "keep\n");
+    CHECK_FALSE(fs::exists(svg));
+
+    // Checked up front: one file for both (the SVG used to overwrite the CSV), or the other format's name.
+    const fs::path same = write_file("bench-one-file.dat", "keep\n");
+    require_bench_usage_error("--csv " + same.string() + " --svg " + same.string(), "bench-same",
+                              "the name must end in .csv");
+    CHECK(slurp(same) == "keep\n");
+    require_bench_usage_error("--csv " + csv.string() + " --svg " + csv.string(), "bench-csv-svg",
+                              "the name must end in .svg");
+
+    const Run r = run_hsr("bench --quick --algorithms zbuffer --models cube --sizes 32 -r 1" + bench_models + " --csv " +
+                              csv.string() + " --svg " + svg.string(), "bench-written");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(slurp(csv).rfind("algorithm,model,", 0) == 0);
+    CHECK(slurp(svg).rfind("<svg", 0) == 0);
+}
+
+TEST_CASE("cli: bench refuses arguments, an empty list and a size named twice", "[cli][bench]") {
+    require_bench_usage_error("extra", "bench-extra", "unexpected argument 'extra'");
+    require_bench_usage_error("bunny", "bench-bunny", "unexpected argument 'bunny'");
+    require_bench_usage_error("--models ''", "bench-no-models", "--models: the list is empty");
+    require_bench_usage_error("--models ,", "bench-comma", "--models: the list is empty");
+    require_bench_usage_error("--algorithms ''", "bench-no-algorithms", "--algorithms: the list is empty");
+    require_bench_usage_error("--sizes 64,64", "bench-size-twice", "size 64x64 is named twice");
+    require_bench_usage_error("--sizes 512,512x512", "bench-square-twice", "size 512x512 is named twice");
+}
+
+TEST_CASE("cli: in a terminal, a bench error is printed on a line of its own, not after the progress bar",
+          "[cli][bench]") {
+    if (std::system("command -v script > /dev/null") != 0) {
+        WARN("no script(1) to give hsr a terminal");
+        return;
+    }
+    const fs::path nan = write_file("bench-terminal-nan.obj", "v 0 0 0\nv nan 1 0\nv 1 0 0\nf 1 2 3\n");
+    const fs::path out = scratch_dir() / "bench-terminal.out";
+    const std::string command = "timeout 60 script -qec '" + std::string(HSR_BINARY_DIR) + "/hsr bench --models cube," +
+                                nan.string() + bench_models + "' /dev/null > " + out.string() + " < /dev/null";
+    const int raw = std::system(command.c_str());
+    CHECK((WIFEXITED(raw) && WEXITSTATUS(raw) == 1));  // script -e: hsr's status
+    const std::string terminal = slurp(out);  // the bar is redrawn in place: "\r\033[K[###...] ..."
+    INFO(terminal);
+    const std::size_t error = terminal.find("hsr: error: ");
+    REQUIRE(error != std::string::npos);
+    REQUIRE(terminal.substr(0, error).find("loading") != std::string::npos);
+    CHECK(terminal.compare(error - 4, 4, "\r\033[K") == 0);  // the bar cleared first
+}

@@ -187,8 +187,8 @@ ModelSpec parse_model_spec(const std::string& text, const fs::path& models_dir) 
     if (text == "monkey" || text == "bunny")
         throw Error("model '{}': {} is missing (models/fetch-models.sh fetches it)", text,
                     (models_dir / (text + ".obj")).string());
-    throw Error("unknown model '{}' (models in {}: {}; also NAME-loop, deep-N[:NAME] or a file path)", text,
-                models_dir.string(), known_models(models_dir));
+    throw Error("unknown model '{}' (known in folder {}: {}; also NAME-loop, deep-N[:NAME] or a file path)", text,
+                (models_dir / "").string(), known_models(models_dir));
 }
 
 SceneData make_deep_scene(const SceneData& model, uint32_t layers, const DeepGrid& grid) {
@@ -261,6 +261,17 @@ BenchScene load_bench_scene(const ModelSpec& spec, const DeepGrid& grid) {
         out.camera.zoom = front_layer_zoom(out.scene, out.camera);
     }
     return out;
+}
+
+hsr_camera make_bench_camera(const BenchScene& scene, uint32_t width, uint32_t height) {
+    CameraSettings settings = scene.camera;
+    settings.width = width;
+    settings.height = height;
+    try {
+        return make_orbit_camera(scene.scene.bounds_min, scene.scene.bounds_max, settings);
+    } catch (const Error& e) {
+        throw Error("model '{}': {}", scene.name, e.what());
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

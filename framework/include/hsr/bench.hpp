@@ -77,6 +77,9 @@ struct BenchScene {
     uint32_t layers = 0;    // deep scenes: the layer count
 };
 BenchScene load_bench_scene(const ModelSpec& spec, const DeepGrid& grid = {});
+// The scene's orbit camera at one image size. Throws hsr::Error naming the model when no camera
+// can view it (coordinates so large, ~1e38, that its matrices would overflow).
+hsr_camera make_bench_camera(const BenchScene& scene, uint32_t width, uint32_t height);
 
 // The deep scene of `layers` layers, and the zoom at which its front layer fills the view (the
 // nearest copies touch the image border; farther ones recede toward the centre).
