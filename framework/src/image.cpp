@@ -115,29 +115,32 @@ void draw_legend_labels(std::vector<uint8_t>& rgb, uint32_t width, uint32_t top,
     cairo_select_font_face(cr.get(), "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr.get(), 11.0);
     const double last = double(std::max<uint32_t>(width, 2) - 1), baseline = double(rows) - 3.0;
-    double taken = -1e9;  // right end of the last label drawn
-    const std::vector<uint32_t> ticks = legend_ticks(scale_max, width);
-    for (size_t i = 0; i < ticks.size(); ++i) {
-        const std::string text = fmt::format("{}", ticks[i]);
+    auto text_width = [&](const std::string& text) {
         cairo_text_extents_t extents;
         cairo_text_extents(cr.get(), text.c_str(), &extents);
-        const double x = scale_max > 0 ? last * double(ticks[i]) / double(scale_max) : 0.0;
-        // The ends are aligned inward; a label in between is centred on its tick, and left out
-        // where it would run into its neighbours.
-        const bool is_last = i + 1 == ticks.size();
-        const double left = i == 0 ? 1.0 : is_last ? last + 1.0 - extents.x_advance : x - extents.x_advance / 2.0;
-        if (left < taken + 6.0 && i > 0) continue;
-        if (!is_last && i > 0 && ticks.size() > 1) {
-            cairo_text_extents_t end;
-            cairo_text_extents(cr.get(), fmt::format("{}", ticks.back()).c_str(), &end);
-            if (left + extents.x_advance + 6.0 > last + 1.0 - end.x_advance) continue;
-        }
-        cairo_rectangle(cr.get(), std::round(x) - (is_last ? 1.0 : 0.0), 0.0, 1.0, 3.0);
+        return extents.x_advance;
+    };
+    auto draw = [&](double tick_x, double left, const std::string& text) {
+        cairo_rectangle(cr.get(), tick_x, 0.0, 1.0, 3.0);
         cairo_fill(cr.get());
         cairo_move_to(cr.get(), left, baseline);
         cairo_show_text(cr.get(), text.c_str());
-        taken = left + extents.x_advance;
+    };
+    // The ends are aligned inward, 0 at the left and scale_max at the right; a label in between is
+    // centred on its tick, and left out where it would come within 6 pixels of a neighbour.
+    const std::vector<uint32_t> ticks = legend_ticks(scale_max, width);
+    const std::string end_text = fmt::format("{}", ticks.back());
+    const double end_left = ticks.size() == 1 ? 1.0 : last + 1.0 - text_width(end_text);
+    double taken = -1e9;  // right end of the last label drawn
+    for (size_t i = 0; i + 1 < ticks.size(); ++i) {
+        const std::string text = fmt::format("{}", ticks[i]);
+        const double w = text_width(text), x = last * double(ticks[i]) / double(scale_max);
+        const double left = i == 0 ? 1.0 : x - w / 2.0;
+        if (i > 0 && (left < taken + 6.0 || left + w + 6.0 > end_left)) continue;
+        draw(std::round(x), left, text);
+        taken = left + w;
     }
+    if (end_left >= taken + 6.0) draw(ticks.size() == 1 ? 0.0 : last - 1.0, end_left, end_text);
     cairo_surface_flush(surface.get());
     const unsigned char* data = cairo_image_surface_get_data(surface.get());
     const int stride = cairo_image_surface_get_stride(surface.get());
