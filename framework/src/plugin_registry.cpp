@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // The part of the descriptor every ABI version shares, and the part 1.0 requires.
-constexpr size_t frozen_descriptor_size = offsetof(hsr_plugin_descriptor, kind) + sizeof(hsr_plugin_kind);
+constexpr size_t frozen_descriptor_size = offsetof(hsr_plugin_descriptor, kind) + sizeof(hsr_plugin_descriptor::kind);
 constexpr size_t descriptor_size_1_0 = sizeof(hsr_plugin_descriptor);
 constexpr size_t remover_size_1_0 = offsetof(IHiddenSurfaceRemover, extension);
 constexpr size_t lighting_size_1_0 = offsetof(ILightingModel, extension);
@@ -82,7 +82,7 @@ void require_functions(const Plugin& plugin, const Table& table) {
 
 }  // namespace
 
-const char* kind_name(hsr_plugin_kind kind) {
+const char* kind_name(uint32_t kind) {
     switch (kind) {
     case HSR_KIND_HIDDEN_SURFACE_REMOVER: return "hidden-surface";
     case HSR_KIND_LIGHTING_MODEL: return "lighting";

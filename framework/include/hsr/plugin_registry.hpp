@@ -23,7 +23,7 @@ namespace hsr {
 std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major = HSR_ABI_MAJOR,
                              uint32_t host_minor = HSR_ABI_MINOR);
 
-const char* kind_name(hsr_plugin_kind kind);  // "hidden-surface" / "lighting" / "hidden-line"
+const char* kind_name(uint32_t kind);  // an hsr_plugin_kind: "hidden-surface" / "lighting" / "hidden-line"
 
 // One plugin found in a library. Keeps the library loaded for as long as it (or any instance made
 // from it) lives.

@@ -20,6 +20,9 @@
  *  - Nothing C++ crosses: no exceptions (a plugin catches everything and returns a status), no RTTI,
  *    no STL types, no memory allocated on one side and freed on the other. Strings handed across are
  *    NUL-terminated UTF-8 and stay owned by the side that made them.
+ *  - Every struct field has a fixed size: fields holding one of the enums below are uint32_t (C
+ *    leaves an enum's size to the compiler); the enums name their values. Static assertions at the
+ *    end of this file pin the frozen descriptor prefix.
  *  - Errors come back as an hsr_status; on failure the callee writes a one-line message into the
  *    caller's hsr_error buffer.
  *  - The host MUST NOT unload a library while any instance created from it is alive, and MUST NOT
@@ -100,7 +103,7 @@ typedef enum hsr_param_type {
 typedef struct hsr_param_desc {
     uint32_t struct_size;
     const char* name;          /* lower-case, words joined by '-', e.g. "depth-test" */
-    hsr_param_type type;
+    uint32_t type;             /* an hsr_param_type */
     const char* default_value; /* text form, parsed by the host like a user's value */
     double min;                /* INT and FLOAT: inclusive range */
     double max;
@@ -113,7 +116,7 @@ typedef struct hsr_param_desc {
 typedef struct hsr_param_value {
     uint32_t struct_size;
     const char* name;
-    hsr_param_type type;
+    uint32_t type;  /* an hsr_param_type */
     double number;  /* BOOL, INT, FLOAT, ENUM (choice index) */
     float color[3]; /* COLOR */
 } hsr_param_value;
@@ -182,7 +185,7 @@ typedef struct hsr_camera {
     uint32_t struct_size;
     uint32_t width;  /* image size in pixels, equal to the visibility buffer's */
     uint32_t height;
-    hsr_projection projection_type;
+    uint32_t projection_type; /* an hsr_projection */
     float view[16];
     float projection[16];
     float view_projection[16]; /* projection * view */
@@ -199,7 +202,7 @@ typedef enum hsr_light_type {
 
 typedef struct hsr_light {
     uint32_t struct_size;
-    hsr_light_type type;
+    uint32_t type;    /* an hsr_light_type */
     float vector[3];  /* POINT: world-space position. DIRECTIONAL: unit world-space direction from
                          the surface toward the light. */
     float color[3];   /* RGB in [0, 1] */
@@ -264,7 +267,7 @@ typedef struct hsr_shading_context {
     uint32_t struct_size;
     const hsr_light* lights;
     uint32_t light_count;
-    hsr_projection projection_type;
+    uint32_t projection_type; /* an hsr_projection */
     float eye[3];            /* PERSPECTIVE: the view vector at P is normalize(eye - P) */
     float view_direction[3]; /* ORTHOGRAPHIC: the view vector is -view_direction everywhere */
 } hsr_shading_context;
@@ -397,7 +400,7 @@ typedef struct hsr_plugin_descriptor {
     const char* api;    /* HSR_API_NAME */
     uint32_t abi_major; /* HSR_ABI_MAJOR the plugin was built with */
     uint32_t abi_minor; /* HSR_ABI_MINOR the plugin was built with */
-    hsr_plugin_kind kind;
+    uint32_t kind;      /* an hsr_plugin_kind */
     /* Since 1.0: */
     const char* name;        /* unique per kind, lower-case words joined by '-' */
     const char* version;     /* the plugin's own version, e.g. "1.0.0" */
@@ -412,6 +415,34 @@ typedef struct hsr_plugin_descriptor {
 /* The one symbol a plugin library exports. Returns descriptor `index`, or NULL past the last one.
  * MUST NOT fail otherwise; the pointers stay valid while the library is loaded. */
 typedef const hsr_plugin_descriptor* (*hsr_entry_fn)(uint32_t index);
+
+/* ---------------------------------------------------------------------------------------------- */
+/* Layout checks: the frozen descriptor prefix may never move, on any compiler that reads this file.
+ * C++ and C11 use their static assertions; strict C99 gets an array whose size is -1 if a check
+ * fails. */
+
+#if defined(__cplusplus)
+#define HSR_ABI_CHECK(condition, message) static_assert(condition, message)
+#elif defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
+#define HSR_ABI_CHECK(condition, message) _Static_assert(condition, message)
+#else
+#define HSR_ABI_CHECK(condition, message) extern char hsr_abi_check[(condition) ? 1 : -1]
+#endif
+
+HSR_ABI_CHECK(sizeof(uint32_t) == 4 && sizeof(float) == 4 && sizeof(double) == 8, "fixed-size scalars");
+HSR_ABI_CHECK(offsetof(hsr_plugin_descriptor, struct_size) == 0, "frozen: descriptor struct_size");
+HSR_ABI_CHECK(offsetof(hsr_plugin_descriptor, api) == sizeof(void*), "frozen: descriptor api");
+HSR_ABI_CHECK(offsetof(hsr_plugin_descriptor, abi_major) == 2 * sizeof(void*), "frozen: descriptor abi_major");
+HSR_ABI_CHECK(offsetof(hsr_plugin_descriptor, abi_minor) == 2 * sizeof(void*) + 4, "frozen: descriptor abi_minor");
+HSR_ABI_CHECK(offsetof(hsr_plugin_descriptor, kind) == 2 * sizeof(void*) + 8, "frozen: descriptor kind");
+HSR_ABI_CHECK(sizeof(((hsr_plugin_descriptor*)0)->kind) == 4, "frozen: descriptor kind is 4 bytes");
+HSR_ABI_CHECK(sizeof(hsr_error) == HSR_ERROR_MESSAGE_SIZE, "hsr_error is the message buffer alone");
+HSR_ABI_CHECK(sizeof(((hsr_param_desc*)0)->type) == 4 && sizeof(((hsr_param_value*)0)->type) == 4 &&
+                  sizeof(((hsr_camera*)0)->projection_type) == 4 && sizeof(((hsr_light*)0)->type) == 4 &&
+                  sizeof(((hsr_shading_context*)0)->projection_type) == 4,
+              "enum-valued fields are uint32_t");
+
+#undef HSR_ABI_CHECK
 
 #ifdef __cplusplus
 }
