@@ -1,5 +1,5 @@
-// What the host's subcommands share. Each subcommand lives in its own file (main.cpp: render and
-// plugins; bench.cpp: bench); main() dispatches.
+// The host's commands, which main() (main.cpp) dispatches to, and what they share. Each command lives
+// in its own files: render.cpp (with render.hpp and render_*.cpp), plugins_command.cpp, bench.cpp.
 #pragma once
 
 #include "hsr/error.hpp"
@@ -19,6 +19,11 @@ struct UsageError : hsr::Error {
 // Every plugin in the default folders (beside the executable, $HSR_PLUGIN_PATH) and extra_dirs.
 hsr::PluginRegistry scan_plugins(const std::vector<std::string>& extra_dirs);
 
+// One block per plugin (kind, name, version, ABI, description, then its parameters), each line
+// prefixed with indent: hidden-surface plugins first, then hidden-line, then lighting; within a kind
+// in the order found.
+std::string describe_plugins(const hsr::PluginRegistry& registry, const std::string& indent);
+
 // A file a command will write, named by the option that gave it. Extensions: what its name may end
 // with (".png"), any when empty.
 struct OutputFile {
@@ -34,6 +39,10 @@ struct OutputFile {
 // written. Nothing is created.
 void check_outputs(const std::vector<OutputFile>& outputs);
 
+// Each takes the arguments after its name and returns the exit status; a mistake is thrown as
+// UsageError (or a boost::program_options::error), anything else that fails as hsr::Error.
+int run_render(const std::vector<std::string>& args);
+int run_plugins(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 
 }  // namespace hsr::host

@@ -1,0 +1,257 @@
+// hsr render: its options, parsed, then checked on their own, then the plugins they name found and
+// the files to write checked, all before the scene is loaded and rendered (render.hpp).
+#include "commands.hpp"
+#include "render.hpp"
+
+#include "hsr/error.hpp"
+#include "hsr/params.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/plugin_registry.hpp"
+
+#include <boost/program_options.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+using hsr::host::RenderOptions;
+using hsr::host::UsageError;
+
+// The options shown by --help; parsing stores their values into o.
+po::options_description render_option_descriptions(RenderOptions& o) {
+    using hsr::host::default_algorithm;
+    using hsr::host::default_background;
+    using hsr::host::default_lighting;
+    po::options_description general("hsr render MODEL [options]: render a mesh or .scene file to PNG");
+    general.add_options()
+        ("help,h", "show this help, with every plugin's parameters")
+        ("output,o", po::value(&o.output),
+         "file to write: PNG for a hidden-surface plugin (default <model name>.png); SVG or PNG for a "
+         "hidden-line plugin (default <model name>.svg)")
+        ("algorithm,a", po::value(&o.algorithm)->default_value(default_algorithm),
+         "hidden-surface or hidden-line plugin: NAME[:key=value,...]")
+        ("lighting,l", po::value(&o.lighting)->default_value(default_lighting),
+         "lighting plugin: NAME[:key=value,...]")
+        ("width", po::value(&o.width)->default_value(1024), "image width in pixels")
+        ("height", po::value(&o.height)->default_value(1024), "image height in pixels")
+        ("yaw", po::value(&o.yaw)->default_value(0), "turn the model about the vertical axis, degrees")
+        ("pitch", po::value(&o.pitch)->default_value(0), "tilt: positive looks from above, degrees")
+        ("zoom", po::value(&o.zoom)->default_value(1), "magnification; 1 fits the model to the view")
+        ("ortho", po::bool_switch(&o.orthographic), "orthographic instead of perspective projection")
+        ("light", po::value(&o.lights)->composing(),
+         "light, repeatable: point:x,y,z or dir:x,y,z (toward the light), camera space (x right, y up, "
+         "z toward you), optionally followed by ,intensity=I,color=r/g/b (docs/scene-format.md). "
+         "Default: dir:-0.5,0.6,1")
+        ("background", po::value(&o.background)->default_value(default_background), "background colour r/g/b or #rrggbb")
+        ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
+        ("crease-angle", po::value(&o.crease_angle)->default_value(40),
+         "degrees: shading normals are not smoothed across edges sharper than this (and, for "
+         "hidden-line plugins, such edges are creases)")
+        ("depth-out", po::value(&o.depth_out), "also write the depth buffer as a greyscale PNG (near = white)")
+        ("overdraw-out", po::value(&o.overdraw_out),
+         "also write the scene's depth complexity (surfaces over each pixel) as a heat-map PNG")
+        ("depth-tests-out", po::value(&o.depth_tests_out),
+         "also write where the algorithm made depth tests (per pixel) as a heat map on the same scale "
+         "as --overdraw-out: what a hierarchy saves shows as darker")
+        ("repeat", po::value(&o.repeat),
+         "CxRxL: place the model C across, R up and L layers deep (a deep scene; the mesh is stored once)")
+        ("repeat-gap", po::value(&o.repeat_gap)->default_value(0.25f, "0.25"),
+         "space between repeated copies, as a fraction of the model's size")
+        ("repeat-jitter", po::value(&o.repeat_jitter)->default_value(0.0f, "0"),
+         "turn each copy about the vertical by a random angle up to this many degrees")
+        ("edges", po::value(&o.edges)->default_value("features"),
+         "hidden-line plugins: which edges to draw: 'features' (silhouettes, creases sharper than "
+         "--crease-angle, boundaries) or 'all' (every edge but the diagonals inside flat polygons)")
+        ("hidden", po::value(&o.hidden_lines)->default_value("hidden"),
+         "hidden-line plugins: 'hidden' leaves hidden lines out, 'dashed' draws them dashed")
+        ("trace", po::value(&o.trace),
+         "hidden-line plugins: write the algorithm's steps to this file, one JSON object per line")
+        ("surface", po::value(&o.surface),
+         "instead of MODEL: the surface z = f(x, y) of this formula (muparser: sin cos sqrt exp ^ pi ...), "
+         "e.g. \"sin(x)*cos(y)\"")
+        ("range", po::value(&o.range),
+         "with --surface: X0:X1,Y0:Y1[,CxR] (default -1:1,-1:1,64x64), e.g. -3:3,-3:3,80x80")
+        ("heightmap", po::value(&o.heightmap),
+         "instead of MODEL: a surface from a greyscale PNG, one grid sample per pixel")
+        ("heightmap-height", po::value(&o.heightmap_height)->default_value(0.0, "auto"),
+         "with --heightmap: the height of a white pixel (pixels are 1 apart); auto = a fifth of the larger side")
+        ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
+        ("threads", po::value(&o.threads)->default_value(0), "shading threads (0 = one per core)")
+        ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
+    return general;
+}
+
+// Malformed options and values of the wrong type are po::error.
+RenderOptions parse_render_options(const std::vector<std::string>& args) {
+    RenderOptions o;
+    po::options_description hidden;
+    hidden.add_options()("model", po::value(&o.model));
+    po::options_description all;
+    all.add(render_option_descriptions(o)).add(hidden);
+    po::positional_options_description positional;
+    positional.add("model", 1);
+
+    po::variables_map vm;
+    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+    for (const auto& [name, value] : vm)
+        if (!value.defaulted()) o.given.insert(name);
+    o.help = vm.count("help") > 0;
+    return o;
+}
+
+// The options, then every plugin found with its parameters.
+void print_render_help(const std::vector<std::string>& plugin_dirs) {
+    RenderOptions unused;  // the descriptions need somewhere to store values; none are parsed here
+    std::cout << render_option_descriptions(unused)
+              << "\nplugins (parameters go after the name: --algorithm zbuffer:cull-backfaces=true):\n";
+    hsr::PluginRegistry registry = hsr::host::scan_plugins(plugin_dirs);
+    std::cout << hsr::host::describe_plugins(registry, "  ");
+}
+
+// What can be checked without plugins or files: one source of the scene, the options that go with
+// another, numbers in range, the background colour.
+void check_render_options(const RenderOptions& o) {
+    const int sources = int(!o.model.empty()) + int(!o.surface.empty()) + int(!o.heightmap.empty());
+    if (sources == 0) throw UsageError("render: no model given (or --surface FORMULA, or --heightmap FILE.png)");
+    if (sources > 1) throw UsageError("render: give one of MODEL, --surface and --heightmap");
+    if (!o.range.empty() && o.surface.empty()) throw UsageError("--range goes with --surface");
+    if (o.was_given("heightmap-height") && o.heightmap.empty())
+        throw UsageError("--heightmap-height goes with --heightmap");
+    if (o.width <= 0 || o.height <= 0 || o.width > hsr::max_image_side || o.height > hsr::max_image_side)
+        throw UsageError("image size {}x{}: each side must be between 1 and {}", o.width, o.height, hsr::max_image_side);
+    for (const auto& [option, value] :
+         {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
+        if (!std::isfinite(value)) throw UsageError("--{} must be a finite number", option);
+    if (!(o.zoom > 0)) throw UsageError("--zoom must be positive");
+    hsr::host::parse_color_option(o.background, "background");  // parsed again where it is used
+    if (o.repeat.empty())
+        for (const char* option : {"repeat-gap", "repeat-jitter"})
+            if (o.was_given(option)) throw UsageError("--{} goes with --repeat", option);
+}
+
+// Exactly one of the two is set: --algorithm names a hidden-line plugin (a line drawing) or a
+// hidden-surface one (a shaded picture).
+struct RenderPlugins {
+    std::optional<hsr::host::LineDrawingPlugin> line_drawing;
+    std::optional<hsr::host::PicturePlugins> picture;
+};
+
+hsr::host::LineDrawingPlugin make_line_drawing_plugin(const RenderOptions& o, const hsr::PluginRegistry& registry,
+                                                      const hsr::PluginSpec& algorithm) {
+    for (const char* option : {"lighting", "depth-out", "overdraw-out", "depth-tests-out", "threads"})
+        if (o.was_given(option))
+            throw UsageError("--{} is for hidden-surface plugins; '{}' draws lines", option, algorithm.name);
+    hsr::host::LineDrawingPlugin plugin;
+    if (o.edges == "features")
+        plugin.settings.edges = hsr::EdgeSelection::kFeatures;
+    else if (o.edges == "all")
+        plugin.settings.edges = hsr::EdgeSelection::kAll;
+    else
+        throw UsageError("--edges '{}': expected 'all' or 'features'", o.edges);
+    if (o.hidden_lines == "hidden")
+        plugin.style.hidden = hsr::HiddenLines::kHidden;
+    else if (o.hidden_lines == "dashed")
+        plugin.style.hidden = hsr::HiddenLines::kDashed;
+    else
+        throw UsageError("--hidden '{}': expected 'dashed' or 'hidden'", o.hidden_lines);
+    plugin.settings.want_hidden = plugin.style.hidden == hsr::HiddenLines::kDashed;
+    plugin.settings.crease_angle_degrees = o.crease_angle;
+    plugin.remover = std::make_unique<hsr::HiddenLineRemover>(
+        registry.find(HSR_KIND_HIDDEN_LINE_REMOVER, algorithm.name), algorithm.settings);
+    return plugin;
+}
+
+hsr::host::PicturePlugins make_picture_plugins(const RenderOptions& o, const hsr::PluginRegistry& registry,
+                                               const hsr::PluginSpec& algorithm) {
+    for (const char* option : {"edges", "hidden", "trace"})
+        if (o.was_given(option))
+            throw UsageError("--{} is for hidden-line plugins (appel, roberts, ...); '{}' removes hidden surfaces",
+                             option, algorithm.name);
+    const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(o.lighting);
+    hsr::host::PicturePlugins plugins;
+    plugins.remover = std::make_unique<hsr::HiddenSurfaceRemover>(
+        registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
+    plugins.lighting = std::make_unique<hsr::LightingModel>(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name),
+                                                            lighting_spec.settings);
+    if (!o.depth_tests_out.empty() && plugins.remover->plugin().descriptor.abi_minor < 1)
+        throw hsr::Error("--depth-tests-out: plugin '{}' does not report per-pixel depth tests (ABI 1.0)",
+                         algorithm.name);
+    return plugins;
+}
+
+// The plugins are created, and the options that belong to the other kind refused, before the model is
+// loaded: a typo in a plugin name should not wait for a large mesh. A hidden-surface plugin wins over
+// a hidden-line plugin of the same name.
+RenderPlugins make_render_plugins(const RenderOptions& o, const hsr::PluginRegistry& registry) {
+    const hsr::PluginSpec algorithm = hsr::parse_plugin_spec(o.algorithm);
+    const bool line_drawing = !registry.contains(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name) &&
+                              registry.find_any({HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_HIDDEN_LINE_REMOVER},
+                                                algorithm.name).descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER;
+    RenderPlugins plugins;
+    if (line_drawing)
+        plugins.line_drawing = make_line_drawing_plugin(o, registry, algorithm);
+    else
+        plugins.picture = make_picture_plugins(o, registry, algorithm);
+    return plugins;
+}
+
+// Every file to write, checked before the work: a mistyped folder should not cost a long render.
+// Returns the main output, <model name>.png or .svg unless --output names it.
+fs::path check_render_outputs(const RenderOptions& o, bool line_drawing) {
+    const fs::path output = !o.output.empty()
+        ? fs::path(o.output)
+        : fs::path(hsr::host::model_path(o).stem().string() + (line_drawing ? ".svg" : ".png"));
+    std::vector<hsr::host::OutputFile> outputs;
+    outputs.push_back({"output", output, line_drawing ? std::vector<std::string>{".svg", ".png"}
+                                                      : std::vector<std::string>{".png"}});
+    for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"depth-out", o.depth_out},
+                                       {"overdraw-out", o.overdraw_out},
+                                       {"depth-tests-out", o.depth_tests_out}})
+        if (!path.empty()) outputs.push_back({option, path, {".png"}});
+    if (!o.trace.empty()) outputs.push_back({"trace", o.trace, {}});
+    hsr::host::check_outputs(outputs);
+    return output;
+}
+
+}  // namespace
+
+glm::vec3 hsr::host::parse_color_option(const std::string& text, const char* option) {
+    hsr_param_desc desc{sizeof(hsr_param_desc), option, HSR_PARAM_COLOR, "", 0, 1, nullptr, ""};
+    try {
+        hsr_param_value v = hsr::parse_param_value(desc, text);
+        return {v.color[0], v.color[1], v.color[2]};
+    } catch (const hsr::Error& e) {
+        throw UsageError("--{}: {}", option, e.what());
+    }
+}
+
+fs::path hsr::host::model_path(const RenderOptions& o) {
+    return fs::path(!o.model.empty() ? o.model : !o.heightmap.empty() ? o.heightmap : "surface");
+}
+
+int hsr::host::run_render(const std::vector<std::string>& args) {
+    const RenderOptions options = parse_render_options(args);
+    if (options.help) {
+        print_render_help(options.plugin_dirs);
+        return 0;
+    }
+    check_render_options(options);
+    const hsr::PluginRegistry registry = scan_plugins(options.plugin_dirs);
+    RenderPlugins plugins = make_render_plugins(options, registry);
+    const fs::path output = check_render_outputs(options, plugins.line_drawing.has_value());
+    RenderScene scene = load_render_scene(options);
+    if (plugins.line_drawing)
+        render_line_drawing(options, std::move(scene), *plugins.line_drawing, output);
+    else
+        render_picture(options, scene, *plugins.picture, output);
+    return 0;
+}

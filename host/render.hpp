@@ -1,0 +1,101 @@
+// The steps of hsr render, which render.cpp runs in order: its options, the scene they describe, and
+// the two ways to render it (render_picture.cpp: a shaded picture; render_line_drawing.cpp: the
+// visible edges).
+#pragma once
+
+#include "hsr/abi.h"
+#include "hsr/line_image.hpp"
+#include "hsr/lines.hpp"
+#include "hsr/plugin_registry.hpp"
+#include "hsr/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace hsr::host {
+
+constexpr const char* default_algorithm = "zbuffer";
+constexpr const char* default_lighting = "blinn-phong";
+constexpr const char* default_light = "dir:-0.5,0.6,1";
+constexpr const char* default_background = "0.15/0.15/0.17";
+
+// The options of hsr render as the command line gave them, not yet checked.
+struct RenderOptions {
+    bool help = false;
+    std::string model;
+    std::string output;
+    std::string algorithm = default_algorithm;
+    std::string lighting = default_lighting;
+    std::vector<std::string> lights;
+    std::vector<std::string> plugin_dirs;
+    std::string background = default_background;
+    std::string color;
+    std::string depth_out;
+    std::string overdraw_out;
+    std::string depth_tests_out;
+    std::string repeat;
+    std::string edges = "features";
+    std::string hidden_lines = "hidden";
+    std::string trace;
+    std::string surface, range, heightmap;
+    double heightmap_height = 0.0;
+    float repeat_gap = 0.25f, repeat_jitter = 0.0f;
+    float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40;
+    bool orthographic = false;
+    bool stats = false;
+    uint32_t threads = 0;
+    int64_t width = 1024, height = 1024;
+    // The options named on the command line, as opposed to left at their defaults.
+    std::set<std::string> given;
+
+    bool was_given(const std::string& option) const { return given.count(option) > 0; }
+};
+
+// A colour option's value, "r/g/b" or "#rrggbb"; a mistake is a UsageError naming the option.
+glm::vec3 parse_color_option(const std::string& text, const char* option);
+
+// The file the scene comes from: MODEL, or --heightmap's PNG, or "surface" for --surface. Its stem
+// names the default output.
+std::filesystem::path model_path(const RenderOptions& options);
+
+// The scene to render and its camera, with what a .scene file asks for besides its meshes.
+struct RenderScene {
+    hsr::SceneData scene;
+    hsr_camera camera{};
+    std::vector<hsr::LightSpec> lights;   // a .scene file's lights
+    std::optional<glm::vec3> background;  // a .scene file's background
+};
+
+// Builds the scene (mesh, .scene file, --surface or --heightmap, then --repeat), prints its warnings
+// and makes the camera. What the command line gives explicitly wins over what a .scene file says.
+RenderScene load_render_scene(const RenderOptions& options);
+
+// A shaded picture: a hidden-surface plugin and a lighting model.
+struct PicturePlugins {
+    std::unique_ptr<hsr::HiddenSurfaceRemover> remover;
+    std::unique_ptr<hsr::LightingModel> lighting;
+};
+
+// Renders the picture and writes it to output, with the depth and heat maps the options ask for.
+void render_picture(const RenderOptions& options, const RenderScene& scene, PicturePlugins& plugins,
+                    const std::filesystem::path& output);
+
+// A line drawing: a hidden-line plugin, which edges it is given and how its lines are drawn.
+struct LineDrawingPlugin {
+    std::unique_ptr<hsr::HiddenLineRemover> remover;
+    hsr::LineSettings settings;
+    hsr::LineStyle style;
+};
+
+// Draws the scene's visible edges to output (SVG or PNG), and writes the --trace file.
+void render_line_drawing(const RenderOptions& options, RenderScene scene, LineDrawingPlugin& plugin,
+                         const std::filesystem::path& output);
+
+}  // namespace hsr::host

@@ -1,0 +1,57 @@
+// hsr render with a hidden-line plugin: the visible edges drawn as SVG or PNG, optionally the
+// algorithm's steps as a JSON-lines trace, and with --stats its counters (render.hpp).
+#include "render.hpp"
+
+#include "hsr/error.hpp"
+#include "hsr/line_image.hpp"
+#include "hsr/lines.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <fstream>
+
+namespace {
+
+void print_line_stats(const hsr::LineDrawing& drawing, const hsr::HiddenLineRemover& remover,
+                      const hsr_scene& scene) {
+    std::fprintf(stderr, "%s, %u triangles, %zu edges asked for, %ux%u\n", remover.plugin().descriptor.name,
+                 scene.triangle_count, drawing.edges.size(), drawing.width, drawing.height);
+    std::fprintf(stderr, "  %-28s %10.2f ms\n", "hidden-line time", drawing.lines_ms);
+    for (const auto& [name, value] : drawing.counters)
+        std::fprintf(stderr, "  %-28s %10llu\n", name.c_str(), static_cast<unsigned long long>(value));
+}
+
+}  // namespace
+
+void hsr::host::render_line_drawing(const RenderOptions& o, RenderScene scene, LineDrawingPlugin& plugin,
+                                    const std::filesystem::path& output) {
+    if (!scene.scene.instances.empty()) scene.scene = hsr::flatten_instances(scene.scene);
+    const hsr_scene scene_view = scene.scene.view();
+    hsr::LineSettings settings = plugin.settings;
+    std::ofstream trace_file;
+    if (!o.trace.empty()) {
+        trace_file.open(o.trace, std::ios::binary);
+        if (!trace_file) throw hsr::Error("--trace {}: cannot write the file", o.trace);
+        settings.trace = &trace_file;
+    }
+    const hsr::LineDrawing drawing = hsr::render_lines(scene_view, scene.camera, *plugin.remover, settings);
+    if (trace_file.is_open()) {
+        trace_file.close();
+        if (!trace_file) throw hsr::Error("--trace {}: writing failed", o.trace);
+    }
+    hsr::LineStyle style = plugin.style;
+    // Lines are drawn on white unless --background says otherwise; a .scene file's background is for
+    // shaded pictures.
+    if (o.was_given("background")) style.background = parse_color_option(o.background, "background");
+    const hsr::LineImageStats drawn = hsr::write_line_drawing(output, drawing, style);
+    if (o.stats) print_line_stats(drawing, *plugin.remover, scene_view);
+    if (!o.trace.empty())
+        std::fprintf(stderr, "wrote %s (%llu steps)\n", o.trace.c_str(),
+                     static_cast<unsigned long long>(drawing.trace_events));
+    std::fprintf(stderr, "wrote %s (%ux%u, %llu visible segments%s, %zu edges, %.1f ms)\n",
+                 output.string().c_str(), drawing.width, drawing.height,
+                 static_cast<unsigned long long>(drawn.visible),
+                 style.hidden == hsr::HiddenLines::kDashed ? fmt::format(" and {} hidden", drawn.hidden).c_str() : "",
+                 drawing.edges.size(), drawing.lines_ms);
+}

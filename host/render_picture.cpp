@@ -1,0 +1,111 @@
+// hsr render with a hidden-surface plugin: the shaded picture as PNG, optionally the depth buffer and
+// the depth-complexity and depth-test heat maps, and with --stats the plugin's counters (render.hpp).
+#include "render.hpp"
+
+#include "hsr/camera.hpp"
+#include "hsr/image.hpp"
+#include "hsr/pipeline.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using hsr::host::RenderOptions;
+
+// --light, else the scene file's lights, else the default light; carried into world space.
+std::vector<hsr_light> resolve_lights(const RenderOptions& o, const hsr::host::RenderScene& scene) {
+    std::vector<hsr::LightSpec> specs = scene.lights;
+    if (!o.lights.empty()) {
+        specs.clear();
+        for (const std::string& text : o.lights) specs.push_back(hsr::parse_light_spec(text));
+    }
+    if (specs.empty()) specs.push_back(hsr::parse_light_spec(hsr::host::default_light));
+    std::vector<hsr_light> lights;
+    for (const hsr::LightSpec& spec : specs) lights.push_back(hsr::resolve_light(spec, scene.camera));
+    return lights;
+}
+
+void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remover,
+                 const hsr::LightingModel& lighting, const hsr_scene& scene,
+                 const std::optional<hsr::DepthComplexity>& depth_complexity) {
+    const uint64_t drawn = hsr::drawn_triangle_count(scene);
+    std::fprintf(stderr, "%s + %s, %llu triangles", remover.plugin().descriptor.name, lighting.plugin().descriptor.name,
+                 static_cast<unsigned long long>(drawn));
+    if (scene.instance_count > 0)
+        std::fprintf(stderr, " (%u instances of %u stored)", scene.instance_count, scene.triangle_count);
+    std::fprintf(stderr, ", %ux%u\n", frame.width, frame.height);
+    const double build_ms = double(frame.counter("build-time-us")) / 1000.0;
+    int w = 28;  // the name column: as wide as the longest name a plugin reports
+    for (const auto& counter : frame.counters) w = std::max(w, int(counter.first.size()));
+    std::fprintf(stderr, "  %-*s %10.2f ms\n", w, "visibility time", frame.visibility_ms);
+    if (build_ms > 0.0) {
+        std::fprintf(stderr, "    %-*s %10.2f ms\n", w - 2, "of which build", build_ms);
+        std::fprintf(stderr, "    %-*s %10.2f ms\n", w - 2, "of which render", frame.visibility_ms - build_ms);
+    }
+    std::fprintf(stderr, "  %-*s %10.2f ms\n", w, "shading time", frame.shading_ms);
+    for (const auto& [name, value] : frame.counters)
+        std::fprintf(stderr, "  %-*s %10llu\n", w, name.c_str(), static_cast<unsigned long long>(value));
+    if (depth_complexity) {
+        std::fprintf(stderr, "  %-*s %10.2f (max %u, over %llu covered pixels)\n", w, "depth complexity",
+                     depth_complexity->mean_over_covered(), depth_complexity->max,
+                     static_cast<unsigned long long>(depth_complexity->covered_pixels));
+        const uint64_t written = frame.counter("pixels-written");
+        if (depth_complexity->covered_pixels > 0 && written > 0)
+            std::fprintf(stderr, "  %-*s %10.3f\n", w, "overdraw (writes / pixel)",
+                         double(written) / double(depth_complexity->covered_pixels));
+        const uint64_t tested = frame.counter("pixels-depth-tested");
+        if (depth_complexity->fragments > 0)
+            std::fprintf(stderr, "  %-*s %10.3f\n", w, "depth tests / surface samples",
+                         double(tested) / double(depth_complexity->fragments));
+    }
+}
+
+// The heat maps of --overdraw-out and --depth-tests-out, both on the scale of the depth complexity.
+void write_heat_maps(const RenderOptions& o, const hsr::Frame& frame, const hsr::DepthComplexity& depth_complexity) {
+    if (!o.overdraw_out.empty()) {
+        hsr::write_heat_map_png(o.overdraw_out, frame.width, frame.height, depth_complexity.count, depth_complexity.max);
+        std::fprintf(stderr, "wrote %s (depth complexity heat map: black 0 ... pale yellow %u)\n",
+                     o.overdraw_out.c_str(), depth_complexity.max);
+    }
+    if (!o.depth_tests_out.empty()) {
+        hsr::write_heat_map_png(o.depth_tests_out, frame.width, frame.height, frame.depth_tests, depth_complexity.max);
+        std::fprintf(stderr, "wrote %s (depth tests heat map: black 0 ... pale yellow %u)\n",
+                     o.depth_tests_out.c_str(), depth_complexity.max);
+    }
+}
+
+}  // namespace
+
+void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene, PicturePlugins& plugins,
+                               const std::filesystem::path& output) {
+    const std::vector<hsr_light> lights = resolve_lights(o, scene);
+    hsr::FrameSettings frame_settings;
+    const glm::vec3 background = parse_color_option(o.background, "background");
+    frame_settings.background = !o.was_given("background") && scene.background ? *scene.background : background;
+    frame_settings.threads = o.threads;
+    frame_settings.count_depth_tests = !o.depth_tests_out.empty();
+
+    const hsr_scene scene_view = scene.scene.view();
+    const hsr_shading_context context = hsr::make_shading_context(scene.camera, lights);
+    hsr::Frame frame =
+        hsr::render_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
+
+    hsr::write_png(output, frame.width, frame.height, 3, frame.rgb);
+    if (!o.depth_out.empty()) hsr::write_depth_png(o.depth_out, frame.width, frame.height, frame.depth);
+    std::optional<hsr::DepthComplexity> depth_complexity;
+    if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())
+        depth_complexity = hsr::measure_depth_complexity(scene_view, scene.camera);
+    if (depth_complexity) write_heat_maps(o, frame, *depth_complexity);
+    if (o.stats) print_stats(frame, *plugins.remover, *plugins.lighting, scene_view, depth_complexity);
+    if (frame.counter("fragments-shaded") == 0)
+        std::fprintf(stderr, "hsr: warning: no triangle covers a pixel centre: the picture is empty (is the model "
+                             "too small, too far away or flat edge-on at this size?)\n");
+    std::fprintf(stderr, "wrote %s (%ux%u, %llu triangles, %.1f ms visibility + %.1f ms shading)\n",
+                 output.string().c_str(), frame.width, frame.height,
+                 static_cast<unsigned long long>(hsr::drawn_triangle_count(scene_view)), frame.visibility_ms,
+                 frame.shading_ms);
+}

@@ -1,0 +1,103 @@
+// hsr render's scene and camera, from a mesh, a .scene file, a formula or a height map, optionally
+// repeated into a deep scene (render.hpp).
+#include "commands.hpp"
+#include "render.hpp"
+
+#include "hsr/camera.hpp"
+#include "hsr/error.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/scene.hpp"
+#include "hsr/surface.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using hsr::host::RenderOptions;
+using hsr::host::UsageError;
+
+// "CxRxL" (columns x rows x layers) for --repeat.
+hsr::InstanceGrid parse_repeat(const std::string& text, float gap, float jitter) {
+    hsr::InstanceGrid grid;
+    unsigned long long c = 0, r = 0, l = 0;
+    char x1 = 0, x2 = 0, extra = 0;
+    if (text.find_first_not_of("0123456789x") != std::string::npos ||
+        std::sscanf(text.c_str(), "%llu%c%llu%c%llu%c", &c, &x1, &r, &x2, &l, &extra) != 5 || x1 != 'x' || x2 != 'x' ||
+        c == 0 || r == 0 || l == 0)
+        throw UsageError("--repeat '{}': expected COLUMNSxROWSxLAYERS, each at least 1, e.g. 4x3x20", text);
+    constexpr unsigned long long max_side = 100000;
+    if (c > max_side || r > max_side || l > max_side)
+        throw UsageError("--repeat '{}': at most {} along each side", text, max_side);
+    if (!(gap >= 0.0f) || !std::isfinite(gap)) throw UsageError("--repeat-gap must be 0 or more");
+    if (!(jitter >= 0.0f) || !(jitter <= 180.0f)) throw UsageError("--repeat-jitter must be between 0 and 180 degrees");
+    grid.columns = uint32_t(c);
+    grid.rows = uint32_t(r);
+    grid.layers = uint32_t(l);
+    grid.gap = gap;
+    grid.yaw_jitter_degrees = jitter;
+    return grid;
+}
+
+// The scene file's image size and orbit view, where the command line leaves them open.
+void apply_scene_file_view(const hsr::SceneFile& file, const RenderOptions& o, hsr::CameraSettings& view) {
+    if (file.width && !o.was_given("width")) view.width = *file.width;
+    if (file.height && !o.was_given("height")) view.height = *file.height;
+    if (file.yaw_degrees && !o.was_given("yaw")) view.yaw_degrees = *file.yaw_degrees;
+    if (file.pitch_degrees && !o.was_given("pitch")) view.pitch_degrees = *file.pitch_degrees;
+    if (file.zoom && !o.was_given("zoom")) view.zoom = *file.zoom;
+    if (file.orthographic && !o.orthographic) view.orthographic = *file.orthographic;
+}
+
+}  // namespace
+
+hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
+    RenderScene loaded;
+    const fs::path path = model_path(o);
+    bool pixel_camera = false;
+    hsr::CameraSettings view;
+    view.width = static_cast<uint32_t>(o.width);
+    view.height = static_cast<uint32_t>(o.height);
+    view.yaw_degrees = o.yaw;
+    view.pitch_degrees = o.pitch;
+    view.zoom = o.zoom;
+    view.orthographic = o.orthographic;
+    if (!o.surface.empty()) {
+        const hsr::SurfaceRange range = o.range.empty() ? hsr::SurfaceRange{} : hsr::parse_surface_range(o.range);
+        loaded.scene = hsr::make_formula_surface(o.surface, range,
+                                                 o.color.empty() ? glm::vec3(0.8f) : parse_color_option(o.color, "color"));
+    } else if (!o.heightmap.empty()) {
+        hsr::HeightmapOptions heightmap;
+        heightmap.height = o.heightmap_height;
+        if (!o.color.empty()) heightmap.color = parse_color_option(o.color, "color");
+        loaded.scene = hsr::make_heightmap_surface(o.heightmap, heightmap);
+    } else if (hsr::is_scene_file(path)) {
+        hsr::SceneFile file = hsr::load_scene_file(path);
+        loaded.scene = std::move(file.scene);
+        loaded.lights = std::move(file.lights);
+        loaded.background = file.background;
+        pixel_camera = file.pixel_camera;
+        apply_scene_file_view(file, o, view);
+    } else {
+        hsr::MeshOptions mesh_options;
+        mesh_options.crease_angle_degrees = o.crease_angle;
+        if (!o.color.empty()) mesh_options.color = parse_color_option(o.color, "color");
+        loaded.scene = hsr::load_model(path, mesh_options);
+    }
+    hsr::SceneData& scene = loaded.scene;
+    if (!o.repeat.empty()) {
+        if (!scene.instances.empty())
+            throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line); use one or the other",
+                             path.string());
+        scene = hsr::make_instance_grid(scene, parse_repeat(o.repeat, o.repeat_gap, o.repeat_jitter));
+    }
+    for (const std::string& warning : scene.warnings) std::fprintf(stderr, "hsr: warning: %s\n", warning.c_str());
+    hsr::check_image_size(view.width, view.height);
+    loaded.camera = pixel_camera ? hsr::make_pixel_camera(view.width, view.height, scene.bounds_min.z, scene.bounds_max.z)
+                                 : hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, view);
+    return loaded;
+}
