@@ -181,7 +181,7 @@ TEST_CASE("appel: the monkey (open, three parts) agrees with ray casting", "[app
         }
 }
 
-TEST_CASE("appel: the bunny agrees with ray casting", "[appel][reference]") {
+TEST_CASE("appel: the bunny agrees with ray casting", "[appel][reference][slow]") {
     const hsr::SceneData& bunny = model("bunny.obj");
     const hsr_scene scene = bunny.view();
     for (bool ortho : {false, true})
@@ -497,7 +497,7 @@ TEST_CASE("appel: refuses what it cannot handle, with a message", "[appel][error
     }
 }
 
-TEST_CASE("appel: time on the models", "[.][appel][timing]") {
+TEST_CASE("appel: time on the models", "[.][appel][timing][slow]") {
     for (const char* file : {"cube.obj", "monkey.obj", "bunny.obj", "boxes.scene"})
         for (bool ortho : {false, true})
             for (auto edges : {hsr::EdgeSelection::kAll, hsr::EdgeSelection::kFeatures}) {
@@ -519,7 +519,7 @@ TEST_CASE("appel: time on the models", "[.][appel][timing]") {
             }
 }
 
-TEST_CASE("appel: many views of many models agree with ray casting (slow)", "[.][appel][stress]") {
+TEST_CASE("appel: many views of many models agree with ray casting", "[.][appel][stress][slow]") {
     const char* files[] = {"cube.obj", "boxes.scene", "monkey.obj", "octahedron.ply", "tetrahedron.off", "pyramid.stl", "three-polygons.scene", "bunny.obj"};
     int failures = 0;
     for (const char* file : files) {

@@ -7,6 +7,7 @@
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/subdivide.hpp"
+#include "test_models.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -215,7 +216,7 @@ TEST_CASE("subdivide: level 0 is the model as loaded, options apply after subdiv
 }
 
 TEST_CASE("subdivide: the bunny once: 69,666 faces become 278,664", "[bench][subdivide]") {
-    const hsr::SceneData bunny = hsr::load_model(models_dir / "bunny.obj");
+    const hsr::SceneData bunny = hsr::load_model(test_models::path("bunny.obj"));
     REQUIRE(bunny.triangle_count() == 69666);
     const hsr::SceneData fine = hsr::load_model_subdivided(models_dir / "bunny.obj", 1);
     CHECK(fine.triangle_count() == 4 * 69666);
@@ -402,6 +403,7 @@ TEST_CASE("bench: model names", "[bench][models]") {
     CHECK(cube.loop_levels == 0);
     CHECK(cube.layers == 0);
     CHECK(parse_model_spec("octahedron", models_dir).file == models_dir / "octahedron.ply");
+    test_models::require_fetched();
     const hsr::bench::ModelSpec loop = parse_model_spec("bunny-loop", models_dir);
     CHECK(loop.file == models_dir / "bunny.obj");
     CHECK(loop.loop_levels == 1);

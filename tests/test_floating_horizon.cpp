@@ -99,7 +99,7 @@ struct View {
 
 }  // namespace
 
-TEST_CASE("floating-horizon: agrees with ray casting on formula surfaces from many views", "[floating-horizon]") {
+TEST_CASE("floating-horizon: agrees with ray casting on formula surfaces from many views", "[floating-horizon][slow]") {
     struct Case {
         const char* formula;
         const char* range;
@@ -340,7 +340,7 @@ TEST_CASE("floating-horizon: refuses meshes that are not grids, and views withou
     CHECK_NOTHROW(draw(s, orbit(s, 0, 70, 1, false, 128)));
 }
 
-TEST_CASE("floating-horizon: time on large grids", "[.timing]") {
+TEST_CASE("floating-horizon: time on large grids", "[.timing][slow]") {
     // Not run by default: hsr's test runner skips tags starting with '.'. Run it with
     // test_floating_horizon "[.timing]" to measure (the numbers in docs/algorithms/floating-horizon.md).
     for (const char* range : {"-3:3,-3:3,64x64", "-3:3,-3:3,128x128", "-3:3,-3:3,256x256", "-3:3,-3:3,512x512"}) {

@@ -4,6 +4,7 @@
 // computed with trigonometry, and bad files written here that must give one clear error.
 #include "hsr/error.hpp"
 #include "hsr/scene.hpp"
+#include "test_models.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
@@ -264,11 +265,7 @@ TEST_CASE("corner normals keep creases and smooth the rest", "[scene][normals]")
 }
 
 TEST_CASE("the bunny loads with 69,666 triangles and smooth, mutual, finite data", "[scene][mesh][bunny]") {
-    const fs::path bunny = models_dir / "bunny.obj";
-    if (!fs::exists(bunny)) {
-        WARN("models/bunny.obj is missing (run models/fetch-models.sh); skipping");
-        return;
-    }
+    const fs::path bunny = test_models::path("bunny.obj");
     const hsr::SceneData s = hsr::load_model(bunny);
     check_consistent(s);
     REQUIRE(s.triangle_count() == 69666);
@@ -301,11 +298,7 @@ TEST_CASE("the bunny loads with 69,666 triangles and smooth, mutual, finite data
 }
 
 TEST_CASE("Suzanne loads when fetched", "[scene][mesh]") {
-    const fs::path monkey = models_dir / "monkey.obj";
-    if (!fs::exists(monkey)) {
-        WARN("models/monkey.obj is missing (run models/fetch-models.sh); skipping");
-        return;
-    }
+    const fs::path monkey = test_models::path("monkey.obj");
     // Triangles counted from the file itself: every face line has three corners.
     std::ifstream in(monkey);
     std::string line;

@@ -9,6 +9,7 @@
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "test_models.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
@@ -19,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <deque>
 #include <initializer_list>
 #include <limits>
 #include <string>
@@ -43,12 +45,13 @@ inline const hsr::Plugin& plugin(const std::string& name, const char* dir = HSR_
     return loaded.back().at(0);
 }
 
-// models/<file>: a mesh, or a .scene file; loaded once.
+// models/<file>: a mesh, or a .scene file; loaded once. (A deque: loading another model must not
+// move the ones already handed out.)
 inline const hsr::SceneData& model(const std::string& file) {
-    static std::vector<std::pair<std::string, hsr::SceneData>> cache;
+    static std::deque<std::pair<std::string, hsr::SceneData>> cache;
     for (const auto& [name, data] : cache)
         if (name == file) return data;
-    const std::string path = std::string(HSR_MODELS_DIR) + "/" + file;
+    const std::string path = test_models::path(file).string();
     cache.emplace_back(file, file.ends_with(".scene") ? hsr::load_scene_file(path).scene : hsr::load_model(path));
     return cache.back().second;
 }
