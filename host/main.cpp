@@ -5,12 +5,15 @@
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/line_image.hpp"
 #include "hsr/lines.hpp"
 #include "hsr/params.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 #include "hsr/surface.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>

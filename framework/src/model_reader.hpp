@@ -1,7 +1,7 @@
 // Model files and triangle lists as SceneBuilder objects, through OpenMesh (model_reader.cpp).
 #pragma once
 
-#include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 
 #include <glm/glm.hpp>
 

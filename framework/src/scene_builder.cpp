@@ -4,7 +4,7 @@
 // JGT 1998), limited to faces within a crease angle of the corner's own face, so hard edges stay
 // hard.
 #include "hsr/error.hpp"
-#include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 
 #include "model_reader.hpp"
 #include "polygon_triangulation.hpp"
