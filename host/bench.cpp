@@ -9,6 +9,7 @@
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_file.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/program_options.hpp>

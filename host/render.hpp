@@ -8,6 +8,7 @@
 #include "hsr/lines.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_file.hpp"
 
 #include <glm/glm.hpp>
 

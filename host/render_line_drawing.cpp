@@ -3,6 +3,7 @@
 #include "render.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/line_image.hpp"
 #include "hsr/lines.hpp"
 

@@ -5,8 +5,11 @@
 
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 #include "hsr/surface.hpp"
 
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/lines.hpp"
-#include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 #include "line_test_support.hpp"
 
 #include <catch2/catch.hpp>

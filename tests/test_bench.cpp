@@ -4,8 +4,10 @@
 // `hsr bench` run end to end.
 #include "hsr/bench.hpp"
 #include "hsr/error.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 #include "hsr/subdivide.hpp"
 #include "test_models.hpp"
 

@@ -12,6 +12,7 @@
 // clipping), odd image sizes, and deep instanced scenes, where it must also cull and test fewer pixels.
 #include "hsr/abi.h"
 #include "hsr/camera.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"

@@ -3,9 +3,12 @@
 // depth complexity against hand-counted overlaps, and the ABI policy against a plugin frozen at 1.0.
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>

@@ -5,10 +5,12 @@
 // must cull. The octree itself is checked directly (its build code is compiled into this test).
 #include "hsr/abi.h"
 #include "hsr/camera.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 #include "surface_test_support.hpp"
 
 #include "../plugins/hidden-surface/octree-zbuffer/octree.cpp"

@@ -8,6 +8,7 @@
 #include "hsr/error.hpp"
 #include "hsr/lines.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 #include "line_test_support.hpp"
 
 #include <catch2/catch.hpp>

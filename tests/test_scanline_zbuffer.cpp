@@ -6,9 +6,11 @@
 #include "hsr/abi.h"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 #include "surface_test_support.hpp"
 
 #include <catch2/catch.hpp>

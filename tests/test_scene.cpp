@@ -4,6 +4,8 @@
 // computed with trigonometry, and bad files written here that must give one clear error.
 #include "hsr/error.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 #include "test_models.hpp"
 
 #include <catch2/catch.hpp>

@@ -3,6 +3,7 @@
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 #include "hsr/surface.hpp"
 
 #include <catch2/catch.hpp>

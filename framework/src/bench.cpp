@@ -2,6 +2,8 @@
 #include "hsr/bench.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/instancing.hpp"
+#include "hsr/scene_file.hpp"
 #include "hsr/subdivide.hpp"
 
 #include <fmt/format.h>

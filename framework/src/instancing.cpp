@@ -1,7 +1,7 @@
 // Instanced scenes (ABI 1.1): grids of one model for deep-scene experiments, and the copy-out that
 // turns instances back into plain triangles for plugins built against ABI 1.0.
 #include "hsr/error.hpp"
-#include "hsr/scene.hpp"
+#include "hsr/instancing.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 

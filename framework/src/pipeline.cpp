@@ -2,6 +2,7 @@
 
 #include "hsr/error.hpp"
 #include "hsr/raster.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/scene.hpp"
 
 #include <algorithm>

@@ -2,7 +2,9 @@
 // A scene file is read line by line; `mesh` and `polygon` open an object that the following
 // property lines (name, color, transforms, vertices) describe, until the next top-level statement.
 #include "hsr/error.hpp"
-#include "hsr/scene.hpp"
+#include "hsr/instancing.hpp"
+#include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "hsr/camera.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/lines.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"

@@ -9,6 +9,8 @@
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 #include "test_models.hpp"
 
 #include <catch2/catch.hpp>

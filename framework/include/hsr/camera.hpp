@@ -3,7 +3,7 @@
 #pragma once
 
 #include "hsr/abi.h"
-#include "hsr/scene.hpp"
+#include "hsr/scene_file.hpp"
 
 #include <glm/glm.hpp>
 

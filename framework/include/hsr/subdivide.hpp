@@ -5,7 +5,7 @@
 // it for the "bunny-loop" model (the 69,666-face Stanford bunny made into 278,664 faces).
 #pragma once
 
-#include "hsr/scene.hpp"
+#include "hsr/scene_builder.hpp"
 
 #include <filesystem>
 

@@ -1,0 +1,59 @@
+// SceneBuilder: models (OBJ, OFF, PLY, STL through OpenMesh), planar polygons and raw triangles
+// gathered into one world-space triangle mesh (SceneData).
+#pragma once
+
+#include "hsr/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hsr {
+
+struct MeshOptions {
+    glm::mat4 transform{1.0f};  // object to world; a mirroring transform keeps the front outside
+    glm::vec3 color{0.8f, 0.8f, 0.8f};
+    // Corner normals average only the faces around a vertex whose normal is within this angle of
+    // the corner's own face normal: 0 gives flat facets, 180 smooths everything.
+    float crease_angle_degrees = 40.0f;
+    std::string name;  // defaults to the file's stem, "polygon N" or "object N"
+};
+
+// Accumulates objects; build() transforms them to world space, drops zero-area triangles and
+// computes normals, adjacency and bounds. Every add_* throws hsr::Error on bad input.
+class SceneBuilder {
+public:
+    // OBJ, OFF, PLY, STL (ASCII and binary where OpenMesh reads them); polygons are triangulated.
+    void add_model_file(const std::filesystem::path& file, const MeshOptions& options = {});
+    // One planar polygon (at least 3 vertices, no self-intersections, may be concave) in explicit
+    // world coordinates; its front is the side from which the vertices run counter-clockwise.
+    void add_polygon(std::span<const glm::vec3> vertices, glm::vec3 color, const std::string& name = {});
+    void add_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
+                       const MeshOptions& options = {});
+    // Throws hsr::Error if the scene has no triangles.
+    SceneData build() const;
+
+    std::size_t object_count() const { return objects_.size(); }
+
+    struct Object {  // one object in its own coordinates, adjacency already known
+        std::vector<glm::vec3> positions;
+        std::vector<uint32_t> indices;
+        std::vector<int32_t> neighbors;
+        MeshOptions options;
+        std::string source;             // for messages: the file, or the object's name
+        uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
+    };
+
+private:
+    std::vector<Object> objects_;
+};
+
+// One model file as a scene of one object.
+SceneData load_model(const std::filesystem::path& file, const MeshOptions& options = {});
+
+}  // namespace hsr

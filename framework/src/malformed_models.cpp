@@ -1,0 +1,381 @@
+// Model files checked before OpenMesh reads them (see malformed_models.hpp): the text is split into
+// lines of tokens, or walked value by value for binary PLY and STL, with line numbers for messages.
+#include "malformed_models.hpp"
+
+#include "hsr/error.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <cfloat>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <vector>
+
+namespace hsr {
+namespace {
+
+struct Line {
+    std::size_t number;  // 1-based
+    std::vector<std::string_view> tokens;
+};
+
+// Splits text into lines of whitespace-separated tokens; text from `comment` to the end of a line
+// is dropped (pass '\0' for none). Lines without tokens are skipped.
+std::vector<Line> tokenize(std::string_view text, char comment) {
+    std::vector<Line> lines;
+    std::size_t number = 0, pos = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        std::string_view line = text.substr(pos, end - pos);
+        pos = end + 1;
+        ++number;
+        if (comment != '\0') line = line.substr(0, line.find(comment));
+        Line parsed{number, {}};
+        std::size_t i = 0;
+        while (i < line.size()) {
+            while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+            std::size_t start = i;
+            while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+            if (i > start) parsed.tokens.push_back(line.substr(start, i - start));
+        }
+        if (!parsed.tokens.empty()) lines.push_back(std::move(parsed));
+    }
+    return lines;
+}
+
+std::optional<double> parse_number(std::string_view token) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    double value = 0;
+    auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (end != token.data() + token.size() || token.empty()) return std::nullopt;
+    if (ec == std::errc::result_out_of_range) return HUGE_VAL;  // beyond double: certainly not finite as float
+    if (ec != std::errc()) return std::nullopt;
+    return value;
+}
+
+std::optional<long long> parse_integer(std::string_view token) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    long long value = 0;
+    auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc() || end != token.data() + token.size() || token.empty()) return std::nullopt;
+    return value;
+}
+
+class TextChecker {
+public:
+    explicit TextChecker(const std::filesystem::path& file) : file_(file) {}
+
+    [[noreturn]] void fail(std::size_t line, const std::string& message) const {
+        throw Error("{}:{}: {}", file_.string(), line, message);
+    }
+    [[noreturn]] void fail(const std::string& message) const {
+        throw Error("{}: {}", file_.string(), message);
+    }
+
+    // The first three tokens from `first` must be finite numbers representable as float.
+    void coordinates(const Line& line, std::size_t first) const {
+        if (line.tokens.size() < first + 3) fail(line.number, "a vertex needs 3 coordinates");
+        for (std::size_t i = first; i < first + 3; ++i) {
+            std::optional<double> v = parse_number(line.tokens[i]);
+            if (!v) fail(line.number, fmt::format("vertex coordinate '{}' is not a number", line.tokens[i]));
+            if (!std::isfinite(*v) || std::fabs(*v) > FLT_MAX)
+                fail(line.number, fmt::format("vertex coordinate '{}' is not a finite number", line.tokens[i]));
+        }
+    }
+
+    void check_obj(std::string_view text) const {
+        std::vector<Line> lines = tokenize(text, '#');
+        long long vertices = 0;
+        long long largest = 0;
+        std::size_t largest_line = 0;
+        for (const Line& line : lines) {
+            std::string_view kind = line.tokens[0];
+            if (kind == "v") {
+                coordinates(line, 1);
+                ++vertices;
+            } else if (kind == "f") {
+                if (line.tokens.size() < 4) fail(line.number, "a face needs at least 3 vertices");
+                for (std::size_t i = 1; i < line.tokens.size(); ++i) {
+                    std::string_view ref = line.tokens[i];
+                    std::optional<long long> index = parse_integer(ref.substr(0, ref.find('/')));
+                    if (!index || *index == 0)
+                        fail(line.number, fmt::format("'{}' is not a vertex reference", ref));
+                    if (*index < 0 && -*index > vertices)
+                        fail(line.number, fmt::format("vertex reference {} goes before the first vertex", *index));
+                    if (*index > largest) {
+                        largest = *index;
+                        largest_line = line.number;
+                    }
+                }
+            }
+        }
+        if (largest > vertices)
+            fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
+                                           largest, vertices));
+    }
+
+    // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line.
+    std::string check_off(std::string_view text) const {
+        std::vector<Line> lines = tokenize(text, '#');
+        if (lines.empty()) fail("is empty");
+        const Line& header = lines[0];
+        std::string keyword = std::string(header.tokens[0]);
+        if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0 ||
+            keyword.find_first_not_of("STCN4nOF") != std::string::npos)
+            fail(header.number, "not an OFF file (it must start with OFF)");
+        std::vector<std::string_view> counts(header.tokens.begin() + 1, header.tokens.end());
+        if (!counts.empty() && counts[0] == "BINARY")
+            fail(header.number, "binary OFF is not supported (OpenMesh reads it unreliably); use ASCII OFF or PLY");
+        if (keyword.find_first_of("4n") != std::string::npos)
+            fail(header.number, fmt::format("{} (homogeneous or n-dimensional) files are not supported", keyword));
+        std::size_t next = 1;
+        std::size_t counts_line = header.number;
+        if (counts.empty()) {
+            if (lines.size() < 2) fail(header.number, "the vertex and face counts are missing");
+            counts = lines[1].tokens;
+            counts_line = lines[1].number;
+            next = 2;
+        }
+        if (counts.size() < 2) fail(counts_line, "expected the vertex and face counts");
+        std::optional<long long> vertex_count = parse_integer(counts[0]);
+        std::optional<long long> face_count = parse_integer(counts[1]);
+        if (!vertex_count || !face_count || *vertex_count < 0 || *face_count < 0)
+            fail(counts_line, "the vertex and face counts must be non-negative integers");
+        if (static_cast<long long>(lines.size() - next) < *vertex_count + *face_count)
+            fail(fmt::format("ends early: the header promises {} vertices and {} faces", *vertex_count,
+                             *face_count));
+        std::string cleaned = keyword + "\n" + std::string(counts[0]) + " " + std::string(counts[1]) + " 0\n";
+        auto append = [&cleaned](const Line& line) {
+            for (std::string_view token : line.tokens) (cleaned += token) += ' ';
+            cleaned += '\n';
+        };
+        for (long long v = 0; v < *vertex_count; ++v) {
+            coordinates(lines[next], 0);  // x y z come first
+            append(lines[next++]);
+        }
+        for (long long f = 0; f < *face_count; ++f) {
+            const Line& line = lines[next++];
+            append(line);
+            std::optional<long long> corners = parse_integer(line.tokens[0]);
+            if (!corners) fail(line.number, fmt::format("'{}' is not a corner count", line.tokens[0]));
+            if (*corners < 3) fail(line.number, "a face needs at least 3 vertices");
+            if (static_cast<long long>(line.tokens.size()) < *corners + 1)
+                fail(line.number, fmt::format("the face lists fewer than its {} vertices", *corners));
+            for (long long i = 1; i <= *corners; ++i) {
+                std::optional<long long> index = parse_integer(line.tokens[i]);
+                if (!index) fail(line.number, fmt::format("'{}' is not a vertex index", line.tokens[i]));
+                if (*index < 0 || *index >= *vertex_count)
+                    fail(line.number, fmt::format("vertex index {} is out of range (the file has {} vertices)",
+                                                  *index, *vertex_count));
+            }
+        }
+        return cleaned;
+    }
+
+    // Walks the whole file the way a PLY reader would, ASCII or binary, so that OpenMesh only sees
+    // files whose counts match their contents.
+    void check_ply(std::string_view text) const {
+        // The header: lines up to end_header.
+        std::size_t header_end = std::string_view::npos;  // byte offset of the body
+        for (std::size_t pos = 0; pos < text.size();) {
+            std::size_t eol = text.find('\n', pos);
+            std::string_view line = text.substr(pos, eol == std::string_view::npos ? std::string_view::npos : eol - pos);
+            while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.remove_suffix(1);
+            if (line == "end_header") {
+                header_end = eol == std::string_view::npos ? text.size() : eol + 1;
+                break;
+            }
+            if (eol == std::string_view::npos) break;
+            pos = eol + 1;
+        }
+        std::vector<Line> lines = tokenize(text.substr(0, header_end == std::string_view::npos ? text.size() : header_end), '\0');
+        if (lines.empty() || lines[0].number != 1 || lines[0].tokens.size() != 1 || lines[0].tokens[0] != "ply")
+            fail(1, "not a PLY file (its first line must be ply)");
+        if (header_end == std::string_view::npos) fail("the PLY header has no end_header line");
+
+        struct Property {
+            std::string name;
+            std::string type;        // scalar type, or the item type of a list
+            std::string count_type;  // lists only
+        };
+        struct Element {
+            std::string name;
+            long long count = 0;
+            std::vector<Property> properties;
+        };
+        static const std::array<std::pair<std::string_view, int>, 16> types = {{
+            {"char", 1}, {"uchar", 1}, {"short", 2}, {"ushort", 2}, {"int", 4}, {"uint", 4}, {"float", 4},
+            {"double", 8}, {"int8", 1}, {"uint8", 1}, {"int16", 2}, {"uint16", 2}, {"int32", 4}, {"uint32", 4},
+            {"float32", 4}, {"float64", 8}}};
+        auto type_size = [&](std::string_view t) {
+            for (auto [name, size] : types)
+                if (name == t) return size;
+            return 0;
+        };
+
+        std::vector<Element> elements;
+        std::string format;
+        for (std::size_t i = 1; i < lines.size(); ++i) {
+            const Line& line = lines[i];
+            std::string_view key = line.tokens[0];
+            if (key == "end_header") break;
+            if (key == "format") {
+                if (line.tokens.size() != 3 || line.tokens[2] != "1.0")
+                    fail(line.number, "expected: format ascii|binary_little_endian|binary_big_endian 1.0");
+                format = std::string(line.tokens[1]);
+                if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+                    fail(line.number, fmt::format("unknown PLY format '{}'", format));
+            } else if (key == "element") {
+                std::optional<long long> count =
+                    line.tokens.size() == 3 ? parse_integer(line.tokens[2]) : std::nullopt;
+                if (!count || *count < 0) fail(line.number, "expected: element <name> <count>");
+                elements.push_back({std::string(line.tokens[1]), *count, {}});
+            } else if (key == "property") {
+                if (elements.empty()) fail(line.number, "property before any element");
+                bool list = line.tokens.size() >= 2 && line.tokens[1] == "list";
+                if (list ? (line.tokens.size() != 5 || !type_size(line.tokens[2]) || !type_size(line.tokens[3]))
+                         : (line.tokens.size() != 3 || !type_size(line.tokens[1])))
+                    fail(line.number, "expected: property <type> <name> or property list <type> <type> <name>");
+                if (list)
+                    elements.back().properties.push_back(
+                        {std::string(line.tokens[4]), std::string(line.tokens[3]), std::string(line.tokens[2])});
+                else
+                    elements.back().properties.push_back({std::string(line.tokens[2]), std::string(line.tokens[1]), {}});
+            } else if (key != "comment" && key != "obj_info") {
+                fail(line.number, fmt::format("unknown PLY header line '{}'", key));
+            }
+        }
+        if (format.empty()) fail("the PLY header has no format line");
+
+        // The body, as a stream of numbers: tokens for ASCII, fixed-size values for binary.
+        // `where` is a line number for ASCII (0 when binary, whose messages name no line).
+        const bool ascii = format == "ascii";
+        const bool swap = (format == "binary_big_endian") == (std::endian::native == std::endian::little);
+        const std::string_view body = text.substr(header_end);
+        std::vector<Line> body_lines;
+        if (ascii) {
+            body_lines = tokenize(body, '\0');
+            const auto header_lines = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(header_end), '\n'));
+            for (Line& line : body_lines) line.number += header_lines;
+        }
+        std::size_t line_index = 0, token_index = 0, byte = 0;
+        std::size_t where = 0;
+        auto fail_at = [&](const std::string& message) {
+            if (ascii) fail(where, message);
+            fail(message);
+        };
+        auto next = [&](const Element& element, std::string_view type) -> double {
+            if (ascii) {
+                while (line_index < body_lines.size() && token_index >= body_lines[line_index].tokens.size()) {
+                    ++line_index;
+                    token_index = 0;
+                }
+                if (line_index >= body_lines.size())
+                    fail(fmt::format("ends early while reading the '{}' elements", element.name));
+                const Line& line = body_lines[line_index];
+                where = line.number;
+                std::string_view token = line.tokens[token_index++];
+                std::optional<double> v = parse_number(token);
+                if (!v) fail(where, fmt::format("'{}' is not a number", token));
+                return *v;
+            }
+            const std::size_t size = static_cast<std::size_t>(type_size(type));
+            if (body.size() - byte < size)
+                fail(fmt::format("ends early while reading the '{}' elements", element.name));
+            unsigned char raw[8];
+            std::memcpy(raw, body.data() + byte, size);
+            byte += size;
+            if (swap) std::reverse(raw, raw + size);
+            auto as = [&raw](auto value) {
+                std::memcpy(&value, raw, sizeof value);
+                return static_cast<double>(value);
+            };
+            if (type == "char" || type == "int8") return as(int8_t{});
+            if (type == "uchar" || type == "uint8") return as(uint8_t{});
+            if (type == "short" || type == "int16") return as(int16_t{});
+            if (type == "ushort" || type == "uint16") return as(uint16_t{});
+            if (type == "int" || type == "int32") return as(int32_t{});
+            if (type == "uint" || type == "uint32") return as(uint32_t{});
+            if (type == "float" || type == "float32") return as(float{});
+            return as(double{});
+        };
+
+        long long vertex_count = -1;
+        for (const Element& element : elements) {
+            const bool is_vertex = element.name == "vertex";
+            const bool is_face = element.name == "face";
+            if (is_vertex) vertex_count = element.count;
+            for (long long e = 0; e < element.count; ++e) {
+                for (const Property& property : element.properties) {
+                    if (property.count_type.empty()) {
+                        double v = next(element, property.type);
+                        bool coordinate = is_vertex && (property.name == "x" || property.name == "y" || property.name == "z");
+                        if (coordinate && (!std::isfinite(v) || std::fabs(v) > FLT_MAX))
+                            fail_at(fmt::format("vertex {} has a coordinate that is not a finite number", e));
+                        continue;
+                    }
+                    double count = next(element, property.count_type);
+                    if (!(count >= 0) || count != std::floor(count)) fail_at(fmt::format("{} is not a list length", count));
+                    const bool indices = is_face && (property.name == "vertex_indices" || property.name == "vertex_index");
+                    if (indices && count < 3) fail_at(fmt::format("face {} has fewer than 3 vertices", e));
+                    for (double i = 0; i < count; ++i) {
+                        double index = next(element, property.type);
+                        if (!indices) continue;
+                        if (index != std::floor(index) || index < 0 || (vertex_count >= 0 && index >= vertex_count))
+                            fail_at(fmt::format("vertex index {} is out of range (the file has {} vertices)", index,
+                                                std::max(vertex_count, 0LL)));
+                    }
+                }
+            }
+        }
+    }
+
+    void check_stl(std::string_view text) const {
+        bool ascii = text.size() >= 5 && text.substr(0, 5) == "solid";
+        if (text.size() >= 84) {
+            uint32_t triangles = 0;
+            std::memcpy(&triangles, text.data() + 80, 4);  // little-endian count after the 80-byte header
+            if (text.size() == 84 + 50ull * triangles) ascii = false;  // binary files may start with "solid" too
+        }
+        if (!ascii) {
+            if (text.size() < 84) fail("is neither an ASCII STL (starting with solid) nor a binary STL");
+            uint32_t triangles = 0;
+            std::memcpy(&triangles, text.data() + 80, 4);
+            if (text.size() < 84 + 50ull * triangles)
+                fail(fmt::format("binary STL is truncated: it declares {} triangles but holds {}", triangles,
+                                 (text.size() - 84) / 50));
+            for (uint32_t t = 0; t < triangles; ++t) {  // normal, 3 corners, attribute bytes
+                float corners[9];
+                std::memcpy(corners, text.data() + 84 + 50ull * t + 12, sizeof corners);
+                for (float c : corners)
+                    if (!std::isfinite(c)) fail(fmt::format("triangle {} has a vertex coordinate that is not a finite number", t + 1));
+            }
+            return;
+        }
+        for (const Line& line : tokenize(text, '\0'))
+            if (line.tokens[0] == "vertex") coordinates(line, 1);
+    }
+
+private:
+    std::filesystem::path file_;
+};
+
+}  // namespace
+
+void check_obj_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_obj(text); }
+
+std::string check_off_text(const std::filesystem::path& file, std::string_view text) {
+    return TextChecker(file).check_off(text);
+}
+
+void check_ply_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_ply(text); }
+
+void check_stl_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_stl(text); }
+
+}  // namespace hsr

@@ -1,0 +1,248 @@
+// Model files (OBJ, OFF, PLY, STL) and triangle lists read into SceneBuilder objects through
+// OpenMesh. Adjacency comes from OpenMesh's half-edge structure (the triangle across edge i is the
+// face of the opposite half-edge).
+//
+// Text files are checked before OpenMesh sees them (malformed_models.hpp), OpenMesh's own messages
+// are captured instead of printed, and what it loaded is checked again. ASCII OFF goes to OpenMesh
+// as the check re-writes it.
+#include "model_reader.hpp"
+
+#include "hsr/error.hpp"
+#include "malformed_models.hpp"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <mutex>
+#include <optional>
+#include <sstream>
+
+namespace hsr {
+namespace {
+
+using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+using Object = SceneBuilder::Object;
+
+std::string display(const std::filesystem::path& file) { return file.string(); }
+
+std::string lower(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Keeping OpenMesh quiet: its streams (omerr, omlog, omout) and the few places that write to
+// std::cerr directly go into a string while OpenMesh runs, so that the host prints one line.
+
+class OpenMeshCapture {
+public:
+    OpenMeshCapture() : lock_(mutex()) {
+        cerr_was_connected_ = omerr().disconnect(std::cerr);
+        clog_was_connected_ = omlog().disconnect(std::clog);
+        cout_was_connected_ = omout().disconnect(std::cout);
+        omerr().connect(captured_);
+        omlog().connect(captured_);
+        omout().connect(captured_);
+        saved_cerr_ = std::cerr.rdbuf(captured_.rdbuf());
+    }
+    ~OpenMeshCapture() {
+        omerr().flush();
+        omlog().flush();
+        omout().flush();
+        std::cerr.rdbuf(saved_cerr_);
+        omerr().disconnect(captured_);
+        omlog().disconnect(captured_);
+        omout().disconnect(captured_);
+        if (cerr_was_connected_) omerr().connect(std::cerr);
+        if (clog_was_connected_) omlog().connect(std::clog);
+        if (cout_was_connected_) omout().connect(std::cout);
+    }
+    OpenMeshCapture(const OpenMeshCapture&) = delete;
+    OpenMeshCapture& operator=(const OpenMeshCapture&) = delete;
+
+    std::string text() {
+        omerr().flush();
+        omlog().flush();
+        omout().flush();
+        return captured_.str();
+    }
+
+private:
+    static std::mutex& mutex() {
+        static std::mutex m;
+        return m;
+    }
+    std::lock_guard<std::mutex> lock_;
+    std::ostringstream captured_;
+    std::streambuf* saved_cerr_ = nullptr;
+    bool cerr_was_connected_ = false, clog_was_connected_ = false, cout_was_connected_ = false;
+};
+
+// First non-empty line of OpenMesh's chatter, to explain a failure.
+std::string first_line(const std::string& text) {
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+        if (!line.empty()) return line;
+    }
+    return {};
+}
+
+enum class Format { obj, off, ply, stl };
+
+Format format_of(const std::filesystem::path& file) {
+    std::string extension = lower(file.extension().string());
+    if (extension == ".obj") return Format::obj;
+    if (extension == ".off") return Format::off;
+    if (extension == ".ply") return Format::ply;
+    if (extension == ".stl") return Format::stl;
+    throw Error("{}: unsupported model format '{}' (use .obj, .off, .ply or .stl)", display(file),
+                extension.empty() ? "no extension" : extension);
+}
+
+std::string read_whole_file(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) throw Error("{}: no such file", display(file));
+    if (std::filesystem::is_directory(file, ec)) throw Error("{}: is a directory, not a model file", display(file));
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw Error("{}: cannot open the file for reading", display(file));
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw Error("{}: read error", display(file));
+    return text;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OpenMesh meshes to objects.
+
+// Adds a triangle; if it would make the mesh non-manifold, gives it vertices of its own (as
+// OpenMesh's importer does) so that it stays in the scene without adjacency across the bad edges.
+void add_face_or_separate(TriMesh& mesh, std::array<TriMesh::VertexHandle, 3> corners, uint32_t& separated) {
+    if (mesh.add_face(corners[0], corners[1], corners[2]).is_valid()) return;
+    for (auto& corner : corners) corner = mesh.add_vertex(TriMesh::Point(mesh.point(corner)));
+    mesh.add_face(corners[0], corners[1], corners[2]);
+    ++separated;
+}
+
+Object object_from_mesh(const TriMesh& mesh) {
+    Object object;
+    object.positions.reserve(mesh.n_vertices());
+    for (TriMesh::VertexHandle v : mesh.vertices()) {
+        const TriMesh::Point& p = mesh.point(v);
+        object.positions.emplace_back(p[0], p[1], p[2]);
+    }
+    object.indices.reserve(3 * mesh.n_faces());
+    object.neighbors.reserve(3 * mesh.n_faces());
+    for (TriMesh::FaceHandle f : mesh.faces()) {
+        TriMesh::HalfedgeHandle h = mesh.halfedge_handle(f);
+        for (int edge = 0; edge < 3; ++edge) {  // half-edge `edge` runs from corner edge to edge+1
+            object.indices.push_back(static_cast<uint32_t>(mesh.from_vertex_handle(h).idx()));
+            TriMesh::HalfedgeHandle opposite = mesh.opposite_halfedge_handle(h);
+            object.neighbors.push_back(mesh.is_boundary(opposite) ? HSR_NO_NEIGHBOR
+                                                                   : mesh.face_handle(opposite).idx());
+            h = mesh.next_halfedge_handle(h);
+        }
+    }
+    return object;
+}
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+Object read_model_object(const std::filesystem::path& file) {
+    Format format = format_of(file);
+    std::optional<std::string> cleaned;
+    {
+        std::string text = read_whole_file(file);
+        switch (format) {
+        case Format::obj: check_obj_text(file, text); break;
+        case Format::off: cleaned = check_off_text(file, text); break;
+        case Format::ply: check_ply_text(file, text); break;
+        case Format::stl: check_stl_text(file, text); break;
+        }
+    }
+
+    TriMesh mesh;
+    mesh.request_face_status();
+    std::string chatter;
+    bool read = false;
+    {
+        OpenMeshCapture capture;
+        try {
+            if (cleaned) {
+                std::istringstream stream(*cleaned);
+                OpenMesh::IO::Options options;
+                read = OpenMesh::IO::read_mesh(mesh, stream, ".off", options);
+            } else {
+                read = OpenMesh::IO::read_mesh(mesh, file.string());
+            }
+        } catch (const std::bad_alloc&) {
+            throw Error("{}: not enough memory to read the model", display(file));
+        } catch (const std::exception& e) {
+            throw Error("{}: could not be parsed ({})", display(file), e.what());
+        }
+        chatter = capture.text();
+    }
+    if (!read) {
+        std::string reason = first_line(chatter);
+        throw Error("{}: could not be parsed as {}{}", display(file), lower(file.extension().string()).substr(1),
+                    reason.empty() ? "" : " (" + reason + ")");
+    }
+    if (chatter.find("invalid vertex index") != std::string::npos ||
+        chatter.find("invalid faces") != std::string::npos)
+        throw Error("{}: some faces refer to vertices that do not exist", display(file));
+
+    uint32_t separated = 0;
+    for (TriMesh::FaceHandle f : mesh.faces())
+        if (mesh.status(f).fixed_nonmanifold()) ++separated;
+    Object object = object_from_mesh(mesh);
+    object.separated_faces = separated;
+    object.source = display(file);
+    for (std::size_t v = 0; v < object.positions.size(); ++v)
+        if (!finite(object.positions[v]))
+            throw Error("{}: vertex {} has a coordinate that is not a finite number", display(file), v);
+    if (object.indices.empty()) throw Error("{}: the model has no faces", display(file));
+    return object;
+}
+
+Object object_from_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
+                             const std::string& what) {
+    if (indices.size() % 3 != 0)
+        throw Error("{}: {} indices is not a whole number of triangles", what, indices.size());
+    for (std::size_t v = 0; v < positions.size(); ++v)
+        if (!finite(positions[v]))
+            throw Error("{}: vertex {} has a coordinate that is not a finite number", what, v);
+    for (uint32_t index : indices)
+        if (index >= positions.size())
+            throw Error("{}: vertex index {} is out of range (there are {} vertices)", what, index, positions.size());
+
+    TriMesh mesh;
+    uint32_t separated = 0;
+    {
+        OpenMeshCapture capture;  // add_face reports non-manifold attempts on omerr
+        for (glm::vec3 p : positions) mesh.add_vertex(TriMesh::Point(p.x, p.y, p.z));
+        for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+            uint32_t a = indices[t], b = indices[t + 1], c = indices[t + 2];
+            if (a == b || b == c || c == a) continue;  // no area: dropped like any degenerate triangle
+            add_face_or_separate(mesh, {TriMesh::VertexHandle(static_cast<int>(a)), TriMesh::VertexHandle(static_cast<int>(b)),
+                                        TriMesh::VertexHandle(static_cast<int>(c))},
+                                 separated);
+        }
+    }
+    Object object = object_from_mesh(mesh);
+    object.separated_faces = separated;
+    object.source = what;
+    return object;
+}
+
+}  // namespace hsr

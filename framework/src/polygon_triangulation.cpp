@@ -1,0 +1,132 @@
+// Planar polygons into triangles. The polygon is checked (finite, planar by its Newell normal, not
+// intersecting itself), projected onto the coordinate plane it faces most and cut by ear clipping:
+// by the two-ears theorem (Meisters, "Polygons have ears", American Mathematical Monthly 82, 1975)
+// every simple polygon with more than three corners has an ear, a corner whose triangle with its
+// two neighbours holds no other corner, so cutting off ears one at a time triangulates it.
+#include "polygon_triangulation.hpp"
+
+#include "hsr/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+namespace hsr {
+namespace {
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+double cross2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+// Whether closed segments ab and cd share a point.
+bool segments_touch(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d) {
+    auto on_segment = [](glm::dvec2 p, glm::dvec2 q, glm::dvec2 r) {  // r collinear with pq
+        return std::min(p.x, q.x) <= r.x && r.x <= std::max(p.x, q.x) && std::min(p.y, q.y) <= r.y &&
+               r.y <= std::max(p.y, q.y);
+    };
+    const double d1 = cross2(c, d, a), d2 = cross2(c, d, b), d3 = cross2(a, b, c), d4 = cross2(a, b, d);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
+    return (d1 == 0 && on_segment(c, d, a)) || (d2 == 0 && on_segment(c, d, b)) ||
+           (d3 == 0 && on_segment(a, b, c)) || (d4 == 0 && on_segment(a, b, d));
+}
+
+// Throws if two edges that are not neighbours along the outline meet.
+void check_simple(const std::vector<glm::dvec2>& points, const std::string& what) {
+    const std::size_t n = points.size();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            if (j == i + 1 || (i == 0 && j == n - 1)) continue;  // neighbouring edges share a corner
+            if (segments_touch(points[i], points[(i + 1) % n], points[j], points[(j + 1) % n]))
+                throw Error("{}: the polygon intersects itself (edges {} and {} meet)", what, i + 1, j + 1);
+        }
+}
+
+// Ear clipping of a counter-clockwise simple polygon; returns corner indices, 3 per triangle.
+// Collinear corners are removed without a triangle (they add no area).
+std::vector<uint32_t> ear_clip(const std::vector<glm::dvec2>& points, const std::string& what) {
+    std::vector<uint32_t> remaining(points.size());
+    for (uint32_t i = 0; i < remaining.size(); ++i) remaining[i] = i;
+    std::vector<uint32_t> triangles;
+    std::size_t i = 0, misses = 0;
+    while (remaining.size() > 3) {
+        std::size_t n = remaining.size();
+        uint32_t a = remaining[(i + n - 1) % n], b = remaining[i % n], c = remaining[(i + 1) % n];
+        double turn = cross2(points[a], points[b], points[c]);
+        bool clip = false;
+        if (turn == 0.0) {
+            clip = true;  // b lies on the line through its neighbours
+        } else if (turn > 0.0) {
+            clip = true;
+            for (uint32_t p : remaining) {
+                if (p == a || p == b || p == c) continue;
+                glm::dvec2 q = points[p];
+                if (q == points[a] || q == points[b] || q == points[c]) continue;
+                if (cross2(points[a], points[b], q) >= 0 && cross2(points[b], points[c], q) >= 0 &&
+                    cross2(points[c], points[a], q) >= 0) {
+                    clip = false;
+                    break;
+                }
+            }
+        }
+        if (clip) {
+            if (turn != 0.0) triangles.insert(triangles.end(), {a, b, c});
+            remaining.erase(remaining.begin() + static_cast<std::ptrdiff_t>(i % n));
+            misses = 0;
+            if (i >= remaining.size()) i = 0;
+        } else {
+            if (++misses > n) throw Error("{}: the polygon intersects itself", what);
+            i = (i + 1) % n;
+        }
+    }
+    if (cross2(points[remaining[0]], points[remaining[1]], points[remaining[2]]) != 0.0)
+        triangles.insert(triangles.end(), {remaining[0], remaining[1], remaining[2]});
+    return triangles;
+}
+
+}  // namespace
+
+PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const std::string& what) {
+    std::vector<glm::dvec3> corners;
+    for (glm::vec3 v : vertices) {
+        if (!finite(v)) throw Error("{}: a vertex has a coordinate that is not a finite number", what);
+        if (corners.empty() || glm::dvec3(v) != corners.back()) corners.emplace_back(v);
+    }
+    while (corners.size() > 1 && corners.front() == corners.back()) corners.pop_back();
+    if (corners.size() < 3) throw Error("{}: needs at least 3 distinct vertices", what);
+
+    glm::dvec3 centre(0.0);
+    for (const glm::dvec3& c : corners) centre += c;
+    centre /= static_cast<double>(corners.size());
+    glm::dvec3 normal(0.0);  // Newell's method: twice the vector area
+    double extent = 0.0;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        glm::dvec3 a = corners[i] - centre, b = corners[(i + 1) % corners.size()] - centre;
+        normal += glm::cross(a, b);
+        extent = std::max(extent, glm::length(a));
+    }
+    double area2 = glm::length(normal);
+    if (!(area2 > 1e-12 * extent * extent)) throw Error("{}: has no area (its vertices are collinear)", what);
+    normal /= area2;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        double off = std::fabs(glm::dot(corners[i] - centre, normal));
+        if (off > 1e-4 * extent)
+            throw Error("{}: is not planar (vertex {} lies {:.3g} off the polygon's plane)", what, i + 1, off);
+    }
+
+    // Project onto the coordinate plane the polygon faces most, keeping counter-clockwise order.
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (std::fabs(normal[k]) > std::fabs(normal[axis])) axis = k;
+    int u = (axis + 1) % 3, w = (axis + 2) % 3;
+    if (normal[axis] < 0) std::swap(u, w);
+    std::vector<glm::dvec2> flat;
+    for (const glm::dvec3& c : corners) flat.emplace_back(c[u], c[w]);
+    check_simple(flat, what);
+    std::vector<uint32_t> triangles = ear_clip(flat, what);
+    return {std::vector<glm::vec3>(corners.begin(), corners.end()), std::move(triangles)};
+}
+
+}  // namespace hsr

@@ -1,0 +1,214 @@
+// SceneBuilder: objects from model files, planar polygons and triangle lists, merged into the
+// world-space arrays of one SceneData. Corner normals are angle-weighted averages of the face
+// normals around a vertex (Thürmer & Wüthrich, "Computing vertex normals from polygonal facets",
+// JGT 1998), limited to faces within a crease angle of the corner's own face, so hard edges stay
+// hard.
+#include "hsr/error.hpp"
+#include "hsr/scene_builder.hpp"
+
+#include "model_reader.hpp"
+#include "polygon_triangulation.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+
+namespace hsr {
+namespace {
+
+using Object = SceneBuilder::Object;
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+double corner_angle(const glm::dvec3& p, const glm::dvec3& next, const glm::dvec3& prev) {
+    glm::dvec3 u = next - p, v = prev - p;
+    return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
+}
+
+void push3(std::vector<float>& out, glm::dvec3 v) {
+    out.push_back(static_cast<float>(v.x));
+    out.push_back(static_cast<float>(v.y));
+    out.push_back(static_cast<float>(v.z));
+}
+
+}  // namespace
+
+void SceneBuilder::add_model_file(const std::filesystem::path& file, const MeshOptions& options) {
+    Object object = read_model_object(file);
+    object.options = options;
+    if (object.options.name.empty()) object.options.name = file.stem().string();
+    objects_.push_back(std::move(object));
+}
+
+void SceneBuilder::add_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
+                                 const MeshOptions& options) {
+    std::string name = options.name.empty() ? fmt::format("object {}", objects_.size() + 1) : options.name;
+    Object object = object_from_triangles(positions, indices, name);
+    object.options = options;
+    object.options.name = name;
+    objects_.push_back(std::move(object));
+}
+
+void SceneBuilder::add_polygon(std::span<const glm::vec3> vertices, glm::vec3 color, const std::string& name) {
+    std::string what = name.empty() ? fmt::format("polygon {}", objects_.size() + 1) : "polygon '" + name + "'";
+    PolygonTriangles polygon = triangulate_polygon(vertices, what);
+
+    MeshOptions options;
+    options.color = color;
+    options.name = name.empty() ? fmt::format("polygon {}", objects_.size() + 1) : name;
+    Object object = object_from_triangles(polygon.positions, polygon.indices, what);
+    object.options = options;
+    objects_.push_back(std::move(object));
+}
+
+SceneData SceneBuilder::build() const {
+    SceneData scene;
+    std::vector<float> crease_cosines;  // per object
+    std::size_t total_triangles = 0;
+    for (const Object& object : objects_) total_triangles += object.indices.size() / 3;
+    scene.indices.reserve(3 * total_triangles);
+    scene.edge_neighbors.reserve(3 * total_triangles);
+    scene.face_normals.reserve(3 * total_triangles);
+    scene.face_colors.reserve(3 * total_triangles);
+    scene.face_object.reserve(total_triangles);
+    std::vector<glm::dvec3> world;      // all kept vertices, double precision for normals
+    std::vector<glm::dvec3> normals;    // per kept triangle
+
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
+        const Object& object = objects_[o];
+        const MeshOptions& options = object.options;
+        const std::string& name = options.name;
+        const glm::dmat4 transform(options.transform);
+        for (int c = 0; c < 4; ++c)
+            if (!finite(glm::vec3(options.transform[c])) || !std::isfinite(options.transform[c][3]))
+                throw Error("{}: the transform has a value that is not a finite number", name);
+        if (!(options.crease_angle_degrees >= 0.0f && options.crease_angle_degrees <= 180.0f))
+            throw Error("{}: crease angle {} is outside [0, 180] degrees", name, options.crease_angle_degrees);
+        for (int k = 0; k < 3; ++k)
+            if (!(options.color[k] >= 0.0f && options.color[k] <= 1.0f))
+                throw Error("{}: colour channel {} is outside [0, 1]", name, options.color[k]);
+        const bool mirrored = glm::determinant(glm::dmat3(transform)) < 0.0;
+
+        std::vector<glm::dvec3> local_world(object.positions.size());
+        for (std::size_t v = 0; v < object.positions.size(); ++v) {
+            glm::dvec4 p = transform * glm::dvec4(glm::dvec3(object.positions[v]), 1.0);
+            local_world[v] = glm::dvec3(p) / p.w;
+            if (!std::isfinite(local_world[v].x) || !std::isfinite(local_world[v].y) ||
+                !std::isfinite(local_world[v].z) || std::fabs(local_world[v].x) > FLT_MAX ||
+                std::fabs(local_world[v].y) > FLT_MAX || std::fabs(local_world[v].z) > FLT_MAX)
+                throw Error("{}: the transform moves vertex {} to a non-finite position", name, v);
+        }
+
+        // Keep triangles with a well-defined normal; number them in the merged scene.
+        const std::size_t triangle_count = object.indices.size() / 3;
+        const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
+        std::vector<int32_t> new_triangle(triangle_count, -1);
+        std::vector<glm::dvec3> kept_normals;
+        uint32_t kept = 0;
+        for (std::size_t t = 0; t < triangle_count; ++t) {
+            const glm::dvec3& a = local_world[object.indices[3 * t]];
+            const glm::dvec3& b = local_world[object.indices[3 * t + 1]];
+            const glm::dvec3& c = local_world[object.indices[3 * t + 2]];
+            glm::dvec3 n = glm::cross(b - a, c - a);
+            if (mirrored) n = -n;
+            double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+            double length = glm::length(n);
+            if (!(length > 1e-12 * longest * longest) || !std::isfinite(length)) continue;
+            new_triangle[t] = static_cast<int32_t>(first_triangle + kept++);
+            kept_normals.push_back(n / length);
+        }
+        if (kept < triangle_count)
+            scene.warnings.push_back(fmt::format("{}: {} triangle{} without area dropped", object.source,
+                                                 triangle_count - kept, triangle_count - kept == 1 ? "" : "s"));
+        if (object.separated_faces > 0)
+            scene.warnings.push_back(fmt::format("{}: {} non-manifold face{} given separate vertices",
+                                                 object.source, object.separated_faces,
+                                                 object.separated_faces == 1 ? "" : "s"));
+
+        // Only vertices of kept triangles enter the scene.
+        std::vector<int64_t> new_vertex(object.positions.size(), -1);
+        for (std::size_t t = 0; t < triangle_count; ++t) {
+            if (new_triangle[t] < 0) continue;
+            std::array<uint32_t, 3> corner;
+            std::array<int32_t, 3> across;
+            for (int k = 0; k < 3; ++k) {
+                uint32_t v = object.indices[3 * t + k];
+                if (new_vertex[v] < 0) {
+                    new_vertex[v] = static_cast<int64_t>(world.size());
+                    world.push_back(local_world[v]);
+                }
+                corner[k] = static_cast<uint32_t>(new_vertex[v]);
+                int32_t neighbor = object.neighbors[3 * t + k];
+                across[k] = neighbor < 0 ? HSR_NO_NEIGHBOR : new_triangle[static_cast<std::size_t>(neighbor)];
+            }
+            if (mirrored) {  // (a, b, c) -> (a, c, b): edges a-c, c-b, b-a were edges 2, 1, 0
+                std::swap(corner[1], corner[2]);
+                std::swap(across[0], across[2]);
+            }
+            scene.indices.insert(scene.indices.end(), corner.begin(), corner.end());
+            scene.edge_neighbors.insert(scene.edge_neighbors.end(), across.begin(), across.end());
+            scene.face_object.push_back(static_cast<uint32_t>(o));
+            scene.face_colors.insert(scene.face_colors.end(), {options.color.r, options.color.g, options.color.b});
+        }
+        for (const glm::dvec3& n : kept_normals) {
+            normals.push_back(n);
+            push3(scene.face_normals, n);
+        }
+        scene.object_names.push_back(name);
+        crease_cosines.push_back(static_cast<float>(std::cos(glm::radians(double(options.crease_angle_degrees)))));
+    }
+    if (scene.indices.empty()) throw Error("the scene has no triangles");
+
+    scene.positions.reserve(3 * world.size());
+    for (const glm::dvec3& p : world) push3(scene.positions, p);
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& p : world) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    scene.bounds_min = glm::vec3(lo);
+    scene.bounds_max = glm::vec3(hi);
+
+    // Corner normals: for each vertex, the (triangle, corner) pairs around it.
+    const std::size_t triangles = scene.triangle_count();
+    std::vector<uint32_t> start(world.size() + 1, 0);
+    for (uint32_t v : scene.indices) ++start[v + 1];
+    for (std::size_t v = 0; v < world.size(); ++v) start[v + 1] += start[v];
+    std::vector<uint32_t> around(scene.indices.size());  // corner ids 3t+k
+    {
+        std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+        for (uint32_t corner = 0; corner < scene.indices.size(); ++corner) around[fill[scene.indices[corner]]++] = corner;
+    }
+    std::vector<double> angle(scene.indices.size());
+    for (std::size_t t = 0; t < triangles; ++t)
+        for (int k = 0; k < 3; ++k)
+            angle[3 * t + k] = corner_angle(world[scene.indices[3 * t + k]], world[scene.indices[3 * t + (k + 1) % 3]],
+                                            world[scene.indices[3 * t + (k + 2) % 3]]);
+    scene.corner_normals.reserve(9 * triangles);
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const glm::dvec3& own = normals[t];
+        const double limit = static_cast<double>(crease_cosines[scene.face_object[t]]) - 1e-6;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t v = scene.indices[3 * t + k];
+            glm::dvec3 sum(0.0);
+            for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
+                uint32_t corner = around[i];
+                const glm::dvec3& other = normals[corner / 3];
+                if (glm::dot(own, other) >= limit) sum += angle[corner] * other;
+            }
+            double length = glm::length(sum);
+            push3(scene.corner_normals, length > 1e-12 ? sum / length : own);
+        }
+    }
+    return scene;
+}
+
+SceneData load_model(const std::filesystem::path& file, const MeshOptions& options) {
+    SceneBuilder builder;
+    builder.add_model_file(file, options);
+    return builder.build();
+}
+
+}  // namespace hsr
