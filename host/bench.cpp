@@ -174,8 +174,8 @@ struct PreparedModel {
     std::vector<hsr_camera> cameras;  // one per size
 };
 
-// Written only once the results are ready, so that a run that fails leaves an existing file as it was.
-// The content is made in full first, so that a writer that fails leaves the file as it was too.
+// Written only once the results are ready, and made in full before the file is opened: neither a run
+// nor a writer that fails leaves an existing file changed.
 void write_output(const std::string& path, const std::function<void(std::ostream&)>& write) {
     std::ostringstream content;
     write(content);
