@@ -1,5 +1,7 @@
 // hsr bench: the command line around hsr/bench.hpp. Times hidden-surface plugins on models and deep
-// scenes at several resolutions, prints the table, writes CSV and an SVG plot.
+// scenes at several resolutions, prints the table, writes CSV and a plot (SVG or PNG).
+#include "bench_plot.hpp"
+#include "bench_report.hpp"
 #include "commands.hpp"
 
 #include "hsr/bench.hpp"
@@ -26,6 +28,7 @@
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -172,11 +175,14 @@ struct PreparedModel {
     std::vector<hsr_camera> cameras;  // one per size
 };
 
-// Written only once the results are ready, so that a run that fails leaves an existing file as it was.
+// Written only once the results are ready, and made in full before the file is opened: neither a run
+// nor a writer that fails leaves an existing file changed.
 void write_output(const std::string& path, const std::function<void(std::ostream&)>& write) {
-    std::ofstream out(path);
+    std::ostringstream content;
+    write(content);
+    std::ofstream out(path, std::ios::binary);
     if (!out) throw hsr::Error("cannot write {}", path);
-    write(out);
+    out << content.str();
     out.close();
     if (!out) throw hsr::Error("could not finish writing {}", path);
     std::fprintf(stderr, "wrote %s\n", path.c_str());
@@ -187,7 +193,7 @@ void write_output(const std::string& path, const std::function<void(std::ostream
 int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::string algorithms_list, models_list, sizes_list = "1024", lighting_text = "blinn-phong";
     std::vector<std::string> algorithm_specs, plugin_dirs;
-    std::string csv_path, svg_path, models_dir_text;
+    std::string csv_path, svg_path, png_path, models_dir_text;
     int64_t repetitions = 5, warmup = 1, threads = 0;
     bool quick = false;
 
@@ -211,6 +217,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
         ("lighting,l", po::value(&lighting_text)->default_value("blinn-phong"), "lighting plugin: NAME[:key=value,...]")
         ("csv", po::value(&csv_path), "write every number to this CSV file")
         ("svg", po::value(&svg_path), "plot render time against face count to this SVG file")
+        ("png", po::value(&png_path), "the same plot as a PNG image")
         ("quick", po::bool_switch(&quick),
          "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
         ("threads", po::value(&threads)->default_value(0), "shading threads (0 = one per core)")
@@ -241,6 +248,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::vector<hsr::host::OutputFile> outputs;
     if (given("csv")) outputs.push_back({"csv", csv_path, {".csv"}});
     if (given("svg")) outputs.push_back({"svg", svg_path, {".svg"}});
+    if (given("png")) outputs.push_back({"png", png_path, {".png"}});
     check_outputs(outputs);
 
     // Plugins, then models: every name is checked before anything large is loaded.
@@ -347,9 +355,9 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::cout << hsr::bench::format_table(results);
     std::cout.flush();
     if (given("csv")) write_output(csv_path, [&](std::ostream& out) { hsr::bench::write_csv(out, results); });
-    if (given("svg")) {
-        const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(results);
-        write_output(svg_path, [&](std::ostream& out) { hsr::bench::write_svg(out, plots); });
-    }
+    const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(results);
+    using hsr::bench::PlotFormat;
+    if (given("svg")) write_output(svg_path, [&](std::ostream& out) { write_plot(out, plots, PlotFormat::svg); });
+    if (given("png")) write_output(png_path, [&](std::ostream& out) { write_plot(out, plots, PlotFormat::png); });
     return 0;
 }

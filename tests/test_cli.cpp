@@ -380,7 +380,7 @@ TEST_CASE("cli: bench writes its CSV and SVG only once the results are ready", "
     INFO(r.err);
     REQUIRE(r.status == 0);
     CHECK(slurp(csv).rfind("algorithm,model,", 0) == 0);
-    CHECK(slurp(svg).rfind("<svg", 0) == 0);
+    CHECK(slurp(svg).find("<svg xmlns=") < 100);  // after the XML declaration
 }
 
 TEST_CASE("cli: bench refuses arguments, an empty list and a size named twice", "[cli][bench]") {

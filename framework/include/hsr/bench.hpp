@@ -1,6 +1,6 @@
-// Benchmarking hidden-surface plugins (`hsr bench`): the benchmark scenes, the timing loop, the
-// statistics, and the reports (a text table, CSV, an SVG plot of render time against face count).
-// The host's bench command is only the command line around these.
+// Benchmarking hidden-surface plugins (`hsr bench`): the benchmark scenes and their cameras, the
+// timing loop and the statistics. The host's bench command is the command line around these, and
+// writes the reports (host/bench_report.hpp: table and CSV; host/bench_plot.hpp: the plot).
 #pragma once
 
 #include "hsr/camera.hpp"
@@ -11,7 +11,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <iosfwd>
 #include <optional>
 #include <string>
 #include <utility>
@@ -41,8 +40,8 @@ double quantile(const std::vector<double>& sorted, double p);
 // Scenes
 
 // The models `hsr bench` runs by default, mirroring the classic course study: three meshes of
-// increasing size, the bunny made 4x finer by Loop subdivision, and deep scenes of 5, 20 and 50
-// layers of monkeys (measured depth complexity about 6, 17 and 40: docs/benchmarks.md).
+// increasing size, the bunny made 4x finer by Loop subdivision, and deep scenes of 3, 24 and 63
+// layers of monkeys (measured depth complexity 4.7, 20.3 and 49.8 at 1024x1024: docs/benchmarks.md).
 const std::vector<std::string>& default_models();
 // A small, fast set for smoke tests; only uses models committed to the repository.
 const std::vector<std::string>& quick_models();
@@ -148,7 +147,7 @@ Timing time_frames(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfa
                    const std::function<void(const CallTiming&)>& after_call = {});
 
 // ---------------------------------------------------------------------------------------------
-// Results and reports
+// Results
 
 struct Result {
     std::string algorithm, model;
@@ -168,58 +167,5 @@ struct Result {
 };
 Result make_result(std::string algorithm, std::string model, const hsr_scene& scene, const hsr_camera& camera,
                    const Timing& timing, unsigned warmup, const std::optional<DepthComplexity>& depth_complexity);
-
-// One row per result: identification, sizes, depth complexity (empty when unknown), median, min,
-// q1, q3 and max of render (visibility minus build), shading and total, the build time, then one
-// column per counter that any result reported (empty where a result does not have it).
-void write_csv(std::ostream& out, const std::vector<Result>& results);
-std::string csv_field(const std::string& text);  // quoted when it holds a comma, quote or newline
-
-// The classic study's table, one block per resolution: algorithms down, models across, each cell
-// "median [min-max]" in ms of visibility time (build excluded); then build times when any plugin
-// reported one, and the shading and total medians.
-std::string format_table(const std::vector<Result>& results);
-
-// A log-log line plot, written as plain SVG.
-struct PlotSeries {
-    std::string label;
-    std::vector<std::pair<double, double>> points;  // (x, y), both > 0; drawn sorted by x
-    std::string dash;                                // SVG stroke-dasharray, empty for solid
-    std::string color;                               // empty: the next colour of the palette
-    bool hollow = false;                             // markers drawn as rings
-    bool in_legend = true;
-};
-struct PlotGuide {  // a labelled vertical line: which model sits at which face count
-    double x = 0;
-    std::string label;
-};
-struct LegendNote {  // a grey legend entry explaining a line style
-    std::string dash;
-    bool hollow = false;
-    std::string label;
-};
-struct LogLogPlot {
-    std::string title, subtitle, x_label, y_label;
-    std::vector<PlotSeries> series;
-    std::vector<PlotGuide> guides;
-    std::vector<LegendNote> notes;
-    bool linear_reference = true;  // a dashed slope-1 line through the first series' last point
-    int width = 900, height = 600;
-};
-// One plot, or several stacked one under the other in one picture.
-void write_svg(std::ostream& out, const LogLogPlot& plot);
-void write_svg(std::ostream& out, const std::vector<LogLogPlot>& plots);
-
-// Render time (median, build excluded) against faces drawn, one plot per resolution: one line per
-// algorithm through the single models, and a dashed one in the same colour through the deep
-// scenes (grids of instances, whose cost an occlusion-culling algorithm need not pay in full); a
-// guide per model.
-std::vector<LogLogPlot> plot_results(const std::vector<Result>& results);
-
-// Axis helpers, exposed for the tests: the powers of ten spanning [lo, hi] (lo rounded down, hi up)
-// and a short tick label for the face axis (0.01, 0.1, 1, 10, 100, 1k, 10k, 100k, 1M, ...; the
-// time axis is labelled in plain numbers).
-std::vector<double> decade_ticks(double lo, double hi);
-std::string tick_label(double value);
 
 }  // namespace hsr::bench
