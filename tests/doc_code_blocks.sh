@@ -103,6 +103,7 @@ for page in "${pages[@]}"; do
         lang = $0
         sub(/^[ \t]*`+[ \t]*/, "", lang)
         sub(/[ \t].*$/, "", lang)
+        lang = tolower(lang)
         if (strict && lang == "") fail(NR, "a code block without a language (sh for commands, text for output)")
         if (pending_line == NR - 1) {
             marker_kind = pending_kind
