@@ -1,9 +1,10 @@
 // normals: a lighting model that paints each pixel with its shading normal, mapped from [-1, 1] to
 // [0, 1] per axis (x red, y green, z blue): the classic debugging view of a mesh's normals.
-// It is the example of docs/writing-a-plugin.md.
+// The lighting example of docs/writing-a-plugin.md.
 #include <hsr/sdk.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 class NormalsLighting final : public hsr::sdk::LightingModel {
 public:
