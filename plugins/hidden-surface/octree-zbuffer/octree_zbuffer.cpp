@@ -19,6 +19,7 @@
 // pays: docs/algorithms/octree-zbuffer.md.
 #include "octree.hpp"
 
+#include "hsr/bounds.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 #include "hsr/zpyramid.hpp"
@@ -124,14 +125,6 @@ constexpr int32_t kBlock = 32;  // ... inside 32x32 blocks, each tested first ..
 constexpr int64_t kLargeTriangle = 4 * kBlock * kBlock;  // ... when the triangle's bounds exceed 4 blocks
 // A triangle whose pixel bounds hold at most this many pixels is tested once, as a whole.
 constexpr int64_t kSmallTriangle = 4 * kTile * kTile;
-// Node boxes are widened by this much (in pixels) before their pixel-centre rectangle is taken:
-// snapping moves a vertex by up to 1/512 pixel, and the box corners are projected in another order
-// of operations than the vertices.
-constexpr double kBoxPixelMargin = 1.0 / 64.0;
-// ... and their nearest depth brought nearer by this much: rounding of depths to float, and the few
-// covered pixel centres that lie (by at most 1/512 pixel) outside a triangle's unsnapped corners,
-// where its depth plane is extrapolated.
-constexpr double kBoxDepthMargin = 1e-6;
 
 enum class BoxVisibility { kOutside, kHidden, kVisible };
 
@@ -313,65 +306,22 @@ private:
         toward_viewer_ = glm::dvec3(view[0][2], view[1][2], view[2][2]);
         width_ = int32_t(camera.width);
         height_ = int32_t(camera.height);
-        half_width_ = 0.5 * camera.width;
-        half_height_ = 0.5 * camera.height;
+        viewport_ = raster::Viewport(camera.width, camera.height);
         buffers_ = raster::PixelBuffers(target);
     }
 
-    // Projects the box's corners: outside the view volume (or between pixel centres), hidden behind
-    // the pyramid, or possibly visible. A box reaching in front of the near plane (or behind the eye)
-    // is always possibly visible.
+    // The box's projection (hsr/bounds.hpp): outside the view volume (or between pixel centres),
+    // hidden behind the pyramid, or possibly visible. A box reaching to or behind the eye plane is
+    // always possibly visible.
     BoxVisibility test_box(const glm::dmat4& m, const float* lo, const float* hi) const {
-        const glm::dvec4 base = m * glm::dvec4(lo[0], lo[1], lo[2], 1.0);
-        const glm::dvec4 ex = m[0] * (double(hi[0]) - double(lo[0]));
-        const glm::dvec4 ey = m[1] * (double(hi[1]) - double(lo[1]));
-        const glm::dvec4 ez = m[2] * (double(hi[2]) - double(lo[2]));
-        uint32_t all_outside = 0x3F;
-        bool crosses_near = false;
-        double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x;
-        double min_y = min_x, max_y = -min_x, min_depth = min_x;
-        for (int c = 0; c < 8; ++c) {
-            glm::dvec4 p = base;
-            if (c & 1) p += ex;
-            if (c & 2) p += ey;
-            if (c & 4) p += ez;
-            uint32_t code = 0;
-            if (p.x < -p.w) code |= 1;
-            if (p.x > p.w) code |= 2;
-            if (p.y < -p.w) code |= 4;
-            if (p.y > p.w) code |= 8;
-            if (p.z < -p.w) code |= 16;
-            if (p.z > p.w) code |= 32;
-            all_outside &= code;
-            if (!(p.w > 0.0) || p.z < -p.w) {
-                crosses_near = true;
-                continue;
-            }
-            const double inv_w = 1.0 / p.w;
-            const double x = (p.x * inv_w + 1.0) * half_width_;
-            const double y = (1.0 - p.y * inv_w) * half_height_;
-            const double depth = (p.z * inv_w + 1.0) * 0.5;
-            min_x = std::min(min_x, x);
-            max_x = std::max(max_x, x);
-            min_y = std::min(min_y, y);
-            max_y = std::max(max_y, y);
-            min_depth = std::min(min_depth, depth);
-        }
-        if (all_outside != 0) return BoxVisibility::kOutside;
-        if (crosses_near) return BoxVisibility::kVisible;
-        if (!(min_x <= max_x && min_y <= max_y)) return BoxVisibility::kVisible;  // NaN: play safe
-        // Pixel centres px + 0.5 inside [min_x, max_x] (widened), clamped to the image.
-        const double lo_x = std::clamp(min_x - kBoxPixelMargin, -2.0, double(width_) + 2.0);
-        const double hi_x = std::clamp(max_x + kBoxPixelMargin, -2.0, double(width_) + 2.0);
-        const double lo_y = std::clamp(min_y - kBoxPixelMargin, -2.0, double(height_) + 2.0);
-        const double hi_y = std::clamp(max_y + kBoxPixelMargin, -2.0, double(height_) + 2.0);
-        const int32_t x0 = std::max(int32_t(std::ceil(lo_x - 0.5)), 0);
-        const int32_t x1 = std::min(int32_t(std::floor(hi_x - 0.5)), width_ - 1);
-        const int32_t y0 = std::max(int32_t(std::ceil(lo_y - 0.5)), 0);
-        const int32_t y1 = std::min(int32_t(std::floor(hi_y - 0.5)), height_ - 1);
-        if (x0 > x1 || y0 > y1) return BoxVisibility::kOutside;
-        const float nearest = float(min_depth - kBoxDepthMargin);
-        return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? BoxVisibility::kHidden : BoxVisibility::kVisible;
+        const raster::ProjectedBox box =
+            raster::project_box(m, glm::dvec3(lo[0], lo[1], lo[2]), glm::dvec3(hi[0], hi[1], hi[2]), viewport_);
+        if (box.outside != 0) return BoxVisibility::kOutside;
+        if (!box.in_front) return BoxVisibility::kVisible;
+        const raster::PixelRect r = box.pixel_centres(raster::kBoxPixelMargin, width_, height_);
+        if (r.empty()) return BoxVisibility::kOutside;
+        const float nearest = float(box.nearest - raster::kBoxDepthMargin);
+        return pyramid_.is_hidden(r.x0, r.y0, r.x1, r.y1, nearest) ? BoxVisibility::kHidden : BoxVisibility::kVisible;
     }
 
     // Where a box test is counted: the placement hierarchy's counters or the octrees'.
@@ -741,7 +691,7 @@ private:
     glm::dvec3 eye_{0.0}, toward_viewer_{0.0, 0.0, 1.0};
     bool perspective_ = true;
     int32_t width_ = 0, height_ = 0;
-    double half_width_ = 0.0, half_height_ = 0.0;
+    raster::Viewport viewport_;
     raster::PixelBuffers buffers_;
     // Of the placement being drawn, for draw_deferred; kept to avoid allocating per placement.
     std::vector<uint32_t> deferred_back_faces_;  // triangles of LeafMesh

@@ -19,6 +19,7 @@
 // edges step with exact integer DDAs derived from the snapped corners, so every scanline covers
 // exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
 // docs/algorithms/scanline-zbuffer.md describes the steps, the data structures and the counters.
+#include "hsr/bounds.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 
@@ -433,22 +434,14 @@ private:
             }
     }
 
-    // A scanline at or above the first scanline of every polygon of a placement, from the corners
-    // of its object-space box: in front of the eye (w > 0 on all of them) a projective map takes the
-    // box onto the convex hull of its projected corners. One scanline of margin covers rounding and
-    // the snapping of vertices. A box that reaches the plane w = 0, or is not finite, starts at the
-    // top; one below the image at `height_` (processed after the sweep, for the counters only).
+    // A scanline at or above the first scanline of every polygon of a placement, from the projection
+    // of its object-space box (hsr/bounds.hpp), with one scanline of margin for rounding and the
+    // snapping of vertices. A box that is not wholly in front of the eye starts at the top; one
+    // below the image at `height_` (processed after the sweep, for the counters only).
     int32_t top_row(const glm::dmat4& m, const glm::vec3& lo, const glm::vec3& hi) const {
-        if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return 0;
-        double top = std::numeric_limits<double>::infinity();
-        for (int corner = 0; corner < 8; ++corner) {
-            const glm::vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
-            const glm::dvec4 c = raster::to_clip(m, p);
-            const double size = std::abs(c.x) + std::abs(c.y) + std::abs(c.z) + std::abs(c.w);
-            // Near w = 0 the rounding of y / w is no longer small against a pixel.
-            if (!std::isfinite(size) || !(c.w > 1e-6 * size)) return 0;
-            top = std::min(top, (1.0 - c.y / c.w) * (0.5 * double(height_)));
-        }
+        const raster::ProjectedBox box = raster::project_box(m, glm::dvec3(lo), glm::dvec3(hi), viewport_);
+        if (!box.in_front) return 0;
+        const double top = box.min_y;
         if (!(top >= 2.0)) return 0;
         if (top >= double(height_) + 2.0) return height_;
         return int32_t(top) - 1;  // top >= 2: truncation is the floor

@@ -80,9 +80,8 @@ inline glm::dvec4 to_clip(const glm::dmat4& view_projection, const glm::vec3& wo
     return view_projection * glm::dvec4(world, 1.0);
 }
 
-inline uint32_t outcode(const glm::dvec4& c, const GuardBand& guard) {
-    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && std::isfinite(c.w)))
-        return kNonFinite;
+// The six frustum bits of a clip-space point (none for NaN coordinates).
+inline uint32_t frustum_outcode(const glm::dvec4& c) {
     uint32_t code = 0;
     if (c.x < -c.w) code |= kOutsideLeft;
     if (c.x > c.w) code |= kOutsideRight;
@@ -90,6 +89,13 @@ inline uint32_t outcode(const glm::dvec4& c, const GuardBand& guard) {
     if (c.y > c.w) code |= kOutsideTop;
     if (c.z < -c.w) code |= kOutsideNear;
     if (c.z > c.w) code |= kOutsideFar;
+    return code;
+}
+
+inline uint32_t outcode(const glm::dvec4& c, const GuardBand& guard) {
+    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && std::isfinite(c.w)))
+        return kNonFinite;
+    uint32_t code = frustum_outcode(c);
     if (std::abs(c.x) > guard.x * c.w || std::abs(c.y) > guard.y * c.w) code |= kOutsideGuardBand;
     return code;
 }
@@ -183,13 +189,19 @@ public:
     Viewport() = default;
     Viewport(uint32_t width, uint32_t height) : half_width_(0.5 * width), half_height_(0.5 * height) {}
 
+    // Window x, y and depth of a clip-space point, unsnapped and unchecked (w > 0 is the caller's).
+    glm::dvec3 project(const glm::dvec4& clip) const {
+        const double inv_w = 1.0 / clip.w;
+        return {(clip.x * inv_w + 1.0) * half_width_, (1.0 - clip.y * inv_w) * half_height_,
+                (clip.z * inv_w + 1.0) * 0.5};
+    }
+
     // False when the vertex cannot be projected (w <= 0 or non-finite); never produces NaN.
     bool to_window(const glm::dvec4& clip, double b1, double b2, WindowVertex& out) const {
         if (!(clip.w > 0.0)) return false;
         const double inv_w = 1.0 / clip.w;
-        const double x = (clip.x * inv_w + 1.0) * half_width_;
-        const double y = (1.0 - clip.y * inv_w) * half_height_;
-        const double depth = (clip.z * inv_w + 1.0) * 0.5;
+        const glm::dvec3 window = project(clip);
+        const double x = window.x, y = window.y, depth = window.z;
         if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(depth) && std::isfinite(inv_w)))
             return false;
         constexpr double limit = 2.0 * kGuardBand;  // only reached through rounding at the guard band
