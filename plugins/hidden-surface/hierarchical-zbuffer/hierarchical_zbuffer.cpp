@@ -241,13 +241,10 @@ private:
                     countdown = stride;
                     // The pixel centres the snapped triangle can cover, exactly as setup_triangle
                     // bounds them, against the nearest depth its samples can have.
-                    const int32_t lo_x = std::min({a.x, b.x, c.x}), hi_x = std::max({a.x, b.x, c.x});
-                    const int32_t lo_y = std::min({a.y, b.y, c.y}), hi_y = std::max({a.y, b.y, c.y});
-                    constexpr int32_t half = raster::kHalfPixel, one = raster::kSubpixelScale;
-                    const int32_t x0 = std::max((lo_x - half + one - 1) >> raster::kSubpixelBits, 0);
-                    const int32_t x1 = std::min((hi_x - half) >> raster::kSubpixelBits, width_ - 1);
-                    const int32_t y0 = std::max((lo_y - half + one - 1) >> raster::kSubpixelBits, 0);
-                    const int32_t y1 = std::min((hi_y - half) >> raster::kSubpixelBits, height_ - 1);
+                    const int32_t x0 = std::max(raster::first_pixel_from(std::min({a.x, b.x, c.x})), 0);
+                    const int32_t x1 = std::min(raster::last_pixel_to(std::max({a.x, b.x, c.x})), width_ - 1);
+                    const int32_t y0 = std::max(raster::first_pixel_from(std::min({a.y, b.y, c.y})), 0);
+                    const int32_t y1 = std::min(raster::last_pixel_to(std::max({a.y, b.y, c.y})), height_ - 1);
                     if (x0 > x1 || y0 > y1) {  // no pixel centre in the image: degenerate or outside
                         geometry_.process(t, draw_whole);
                         continue;

@@ -567,13 +567,10 @@ private:
         const raster::WindowVertex& v2 = geometry_.window_vertex(i2);
         if (int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y) == 0)
             return TriangleVisibility::kUntested;
-        using raster::kHalfPixel, raster::kSubpixelBits, raster::kSubpixelScale;
-        const int32_t lo_x = std::min({v0.x, v1.x, v2.x}), hi_x = std::max({v0.x, v1.x, v2.x});
-        const int32_t lo_y = std::min({v0.y, v1.y, v2.y}), hi_y = std::max({v0.y, v1.y, v2.y});
-        const int32_t x0 = std::max((lo_x - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits, 0);
-        const int32_t x1 = std::min((hi_x - kHalfPixel) >> kSubpixelBits, width_ - 1);
-        const int32_t y0 = std::max((lo_y - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits, 0);
-        const int32_t y1 = std::min((hi_y - kHalfPixel) >> kSubpixelBits, height_ - 1);
+        const int32_t x0 = std::max(raster::first_pixel_from(std::min({v0.x, v1.x, v2.x})), 0);
+        const int32_t x1 = std::min(raster::last_pixel_to(std::max({v0.x, v1.x, v2.x})), width_ - 1);
+        const int32_t y0 = std::max(raster::first_pixel_from(std::min({v0.y, v1.y, v2.y})), 0);
+        const int32_t y1 = std::min(raster::last_pixel_to(std::max({v0.y, v1.y, v2.y})), height_ - 1);
         if (x0 > x1 || y0 > y1) return TriangleVisibility::kUntested;
         // The depth gradient of the unsnapped triangle.
         const double ax = v1.exact_x - v0.exact_x, ay = v1.exact_y - v0.exact_y;

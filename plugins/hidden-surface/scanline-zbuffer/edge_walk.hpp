@@ -83,19 +83,19 @@ inline bool start_edge_pair(const int32_t (&vx)[3], const int32_t (&vy)[3], int3
     // Last scanline: the last pixel centre at or above the bottom corner, except on a horizontal
     // bottom edge (not top-left: a centre exactly on it is not covered). The first is min_y (a
     // centre exactly on a horizontal top edge is covered).
-    int64_t last = (int64_t(vy[bottom]) - raster::kHalfPixel) >> kBits;
+    int64_t last = raster::last_pixel_to(vy[bottom]);
     if (vy[mid] == vy[bottom] && ((vy[bottom] - raster::kHalfPixel) & (kScale - 1)) == 0) --last;
     last = std::min<int64_t>(last, height - 1);
     if (first > last) return false;
 
-    // Edge k's DDA on scanline `row`. The edge function E_k (fill-rule biased, as in
-    // setup_triangle) steps by multiples of 256 between pixel centres, so E_k >= 0 exactly when
+    // Edge k's DDA on scanline `row`. The edge function E_k (fill-rule biased, as setup_triangle
+    // makes it) steps by multiples of 256 between pixel centres, so E_k >= 0 exactly when
     // floor(E_k / 256) >= 0, which steps by -dy per pixel and by dx per scanline: one division
     // finds the boundary pixel and the step.
     auto start = [&](int k, int64_t row) {
         const int a = (k + 1) % 3;
-        const int64_t edge = dx[k] * (row * kScale + raster::kHalfPixel - vy[a]) -
-                             dy[k] * (raster::kHalfPixel - vx[a]) - (raster::is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
+        const int64_t edge =
+            raster::biased_edge_function(dx[k], dy[k], vx[a], vy[a], raster::kHalfPixel, row * kScale + raster::kHalfPixel);
         const int64_t den = std::max<int64_t>(dy[k] < 0 ? -dy[k] : dy[k], 1);  // never horizontal
         const double inverse = 1.0 / double(den);
         const DivMod boundary = floor_divmod(edge >> kBits, den, inverse);
@@ -116,7 +116,7 @@ inline bool start_edge_pair(const int32_t (&vx)[3], const int32_t (&vy)[3], int3
     // corner (on the middle corner's own scanline both give the same boundary, and a horizontal
     // upper edge is never used).
     const int long_edge = mid, upper = bottom, lower = top;
-    const int64_t switch_row = (int64_t(vy[mid]) - raster::kHalfPixel + kScale - 1) >> kBits;
+    const int64_t switch_row = raster::first_pixel_from(vy[mid]);
     const bool long_is_left = dy[long_edge] < 0;
     const EdgeWalk long_walk = start(long_edge, first);
     const EdgeWalk short_walk = start(switch_row <= first ? lower : upper, first);

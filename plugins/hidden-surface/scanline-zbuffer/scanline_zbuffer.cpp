@@ -151,7 +151,7 @@ public:
         } else {
             // 1-2. Several placements: each is bucketed by the top scanline of its projected bounds,
             //      and transformed and set up only when the sweep gets there (activate_placement).
-            bucket_placements(scene, camera);
+            bucket_placements(scene);
         }
 
         // 3. The scanlines, top to bottom.
@@ -202,7 +202,7 @@ private:
                 // The first pixel-centre row at or below the top corner, as setup_triangle finds it.
                 const int32_t top = std::min({geometry_.window_vertex(i0).y, geometry_.window_vertex(i1).y,
                                               geometry_.window_vertex(i2).y});
-                const int32_t first = std::max((top - raster::kHalfPixel + kScale - 1) >> kBits, 0);
+                const int32_t first = std::max(raster::first_pixel_from(top), 0);
                 if (first < height_) {
                     add_to_table({t, 0}, first);
                     continue;
@@ -233,7 +233,7 @@ private:
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t codes = geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2);
         if (codes & raster::kNeedsClipping) {
-            recover_corners(s, r.x, r.y);
+            raster::setup_corners(s, r.x, r.y);
             r.piece = keep_piece(s);
         } else {
             corners_of(s, i0, i1, i2, r.x, r.y);
@@ -262,9 +262,8 @@ private:
 
     // Buckets the placements by the top scanline of their projected bounds and counts the drawing
     // order of their first triangles (for depth ties).
-    void bucket_placements(const hsr::sdk::Scene& scene, const hsr_camera& camera) {
+    void bucket_placements(const hsr::sdk::Scene& scene) {
         const uint32_t placements = scene.placement_count();
-        const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
         placement_first_id_.resize(placements);
         placement_row_.resize(placements);
         placement_start_.assign(size_t(height_) + 2, 0);
@@ -275,10 +274,8 @@ private:
         for (uint32_t k = 0; k < placements; ++k) {
             const hsr::sdk::Placement placement = scene.placement(k);
             placement_instance_[k] = placement.instance;
-            // As GeometryStage::place makes it: to find the bounds, and to transform a winner's
-            // corners again.
-            placement_matrix_[k] =
-                placement.identity ? view_projection : view_projection * glm::dmat4(placement.transform);
+            // To find the bounds, and to set a winner up again.
+            placement_matrix_[k] = geometry_.clip_from_object(placement);
             placement_first_id_[k] = uint32_t(id);
             id += placement.triangle_count;
             if (!box_known || box_first != placement.first_vertex || box_count != placement.vertex_count) {
@@ -390,7 +387,7 @@ private:
         ++polygons_;
         assert(s.min_y >= y && "top_row is conservative");
         PolygonRecord r;
-        recover_corners(s, r.x, r.y);
+        raster::setup_corners(s, r.x, r.y);
         if (s.min_y > y) {
             r.z_row = depth_at_row_start(s);
             r.dzdx = s.depth.dx;
@@ -416,40 +413,11 @@ private:
         pending_.drain(y, [&](const PolygonRecord& r) { activate_record(r, r.id, y); });
     }
 
-    // The snapped corners of an unclipped triangle in the setup's order: setup_triangle swapped
-    // corners 1 and 2 of a front-facing (clockwise) triangle.
+    // The snapped corners of an unclipped triangle in the setup's order.
     void corners_of(const raster::TriangleSetup& s, uint32_t i0, uint32_t i1, uint32_t i2, int32_t (&x)[3],
                     int32_t (&y)[3]) const {
-        const raster::WindowVertex& v0 = geometry_.window_vertex(i0);
-        const raster::WindowVertex& v1 = geometry_.window_vertex(s.front_facing ? i2 : i1);
-        const raster::WindowVertex& v2 = geometry_.window_vertex(s.front_facing ? i1 : i2);
-        x[0] = v0.x, x[1] = v1.x, x[2] = v2.x;
-        y[0] = v0.y, y[1] = v1.y, y[2] = v2.y;
-    }
-
-    // The corners of a setup from its edge functions. Edge k runs from corner k+1 to corner k+2 with
-    // vector d_k; the unbiased edge functions E_k at the origin O (the centre of pixel (min_x, min_y))
-    // are the barycentric weights of O times the doubled area 2A = E_0 + E_1 + E_2, so
-    // 2A (O - v0) = E_1 d_2 - E_2 d_1 (an exact division), v1 = v0 + d_2 and v2 = v0 - d_1.
-    static void recover_corners(const raster::TriangleSetup& s, int32_t (&x)[3], int32_t (&y)[3]) {
-        __extension__ using int128 = __int128;
-        int64_t dx[3], dy[3], e[3];
-        for (int k = 0; k < 3; ++k) {
-            dx[k] = s.edge_dy[k] / kScale;
-            dy[k] = -s.edge_dx[k] / kScale;
-            e[k] = s.edge_origin[k] + (raster::is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
-        }
-        const int128 area2 = int128(e[0]) + e[1] + e[2];
-        const int64_t ox = int64_t(s.min_x) * kScale + raster::kHalfPixel;
-        const int64_t oy = int64_t(s.min_y) * kScale + raster::kHalfPixel;
-        const int64_t x0 = ox - int64_t((int128(e[1]) * dx[2] - int128(e[2]) * dx[1]) / area2);
-        const int64_t y0 = oy - int64_t((int128(e[1]) * dy[2] - int128(e[2]) * dy[1]) / area2);
-        x[0] = int32_t(x0);
-        x[1] = int32_t(x0 + dx[2]);
-        x[2] = int32_t(x0 - dx[1]);
-        y[0] = int32_t(y0);
-        y[1] = int32_t(y0 + dy[2]);
-        y[2] = int32_t(y0 - dy[1]);
+        raster::setup_corners(s, geometry_.window_vertex(i0), geometry_.window_vertex(i1), geometry_.window_vertex(i2),
+                              x, y);
     }
 
     // Makes triangle t active on its first scanline (one placement): culled, clipped (never: see
@@ -493,21 +461,11 @@ private:
         info.placement = placement;
     }
 
-    // The planes of an active triangle of an instanced scene: its corners transformed again and set
-    // up again, as GeometryStage::place and process did in the first pass, so bit for bit the same.
+    // The planes of an active triangle of an instanced scene, from its setup made again.
     [[gnu::noinline, gnu::flatten]] void make_planes(uint32_t slot) {
         ActiveInfo& info = infos_[slot];
-        const glm::dmat4& m = placement_matrix_[info.placement];
-        raster::WindowVertex v[3];
-        for (int c = 0; c < 3; ++c) {
-            const size_t k = indices_[3 * size_t(info.face) + c];
-            const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
-            viewport_.to_window(raster::to_clip(m, p), 0.0, 0.0, v[c]);  // succeeded in the first pass
-        }
-        v[1].b1 = 1.0;
-        v[2].b2 = 1.0;
         raster::TriangleSetup s{};
-        raster::setup_triangle(v[0], v[1], v[2], width_, height_, s);  // kOk, as in the first pass
+        geometry_.setup_again(placement_matrix_[info.placement], info.face, s);
         set_planes(planes_[slot], s);
         info.placement = kNone;
     }

@@ -241,6 +241,19 @@ struct Plane {
 // by two triangles is drawn exactly once.
 inline bool is_top_left_edge(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
 
+// The edge function of the edge from (ax, ay) along (dx, dy) at grid point (px, py), positive on
+// the interior side (right of the edge seen with y down), less 1 unless the edge is top-left: a
+// sample is covered exactly when this is >= 0 for all three edges.
+inline int64_t biased_edge_function(int64_t dx, int64_t dy, int32_t ax, int32_t ay, int64_t px, int64_t py) {
+    return dx * (py - ay) - dy * (px - ax) - (is_top_left_edge(dx, dy) ? 0 : 1);
+}
+
+// The first pixel (column or row) whose centre lies at or after a coordinate on the subpixel grid,
+// and the last whose centre lies at or before one: the pixel bounds of a triangle's snapped
+// corners, before they are held to the image. (>> floors.)
+inline int32_t first_pixel_from(int32_t grid) { return (grid - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits; }
+inline int32_t last_pixel_to(int32_t grid) { return (grid - kHalfPixel) >> kSubpixelBits; }
+
 struct TriangleSetup {
     int32_t min_x, min_y, max_x, max_y;  // pixel bounds, inclusive, inside the image, non-empty
     // Edge function k (opposite corner k, positive inside) at the centre of pixel (min_x, min_y),
@@ -271,13 +284,11 @@ inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex
         area = -area;
     }
 
-    // Pixel (px, py) has its centre at grid coordinates (px * S + S/2, py * S + S/2); >> floors.
-    const int32_t lo_x = std::min({v0.x, v1.x, v2.x}), hi_x = std::max({v0.x, v1.x, v2.x});
-    const int32_t lo_y = std::min({v0.y, v1.y, v2.y}), hi_y = std::max({v0.y, v1.y, v2.y});
-    const int32_t first_x = (lo_x - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits;
-    const int32_t last_x = (hi_x - kHalfPixel) >> kSubpixelBits;
-    const int32_t first_y = (lo_y - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits;
-    const int32_t last_y = (hi_y - kHalfPixel) >> kSubpixelBits;
+    // Pixel (px, py) has its centre at grid coordinates (px * S + S/2, py * S + S/2).
+    const int32_t first_x = first_pixel_from(std::min({v0.x, v1.x, v2.x}));
+    const int32_t last_x = last_pixel_to(std::max({v0.x, v1.x, v2.x}));
+    const int32_t first_y = first_pixel_from(std::min({v0.y, v1.y, v2.y}));
+    const int32_t last_y = last_pixel_to(std::max({v0.y, v1.y, v2.y}));
     if (first_x > last_x || first_y > last_y) return SetupResult::kDegenerate;
     s.min_x = std::max(first_x, 0);
     s.max_x = std::min(last_x, int32_t(width) - 1);
@@ -293,7 +304,7 @@ inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex
         const WindowVertex& b = *v[(k + 2) % 3];
         const int64_t dx = int64_t(b.x) - a.x;
         const int64_t dy = int64_t(b.y) - a.y;
-        s.edge_origin[k] = dx * (origin_y - a.y) - dy * (origin_x - a.x) - (is_top_left_edge(dx, dy) ? 0 : 1);
+        s.edge_origin[k] = biased_edge_function(dx, dy, a.x, a.y, origin_x, origin_y);
         s.edge_dx[k] = -dy * kSubpixelScale;
         s.edge_dy[k] = dx * kSubpixelScale;
     }
@@ -330,6 +341,42 @@ inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex
     s.b1_over_w = plane(v0.b1 * v0.inv_w, v1.b1 * v1.inv_w, v2.b1 * v2.inv_w);
     s.b2_over_w = plane(v0.b2 * v0.inv_w, v1.b2 * v1.inv_w, v2.b2 * v2.inv_w);
     return SetupResult::kOk;
+}
+
+// The snapped corners of a setup in its own corner order (edge k runs from corner k+1 to corner
+// k+2, the interior on its positive side), given the vertices setup_triangle was called with: it
+// swaps corners 1 and 2 of a front-facing (clockwise) triangle.
+inline void setup_corners(const TriangleSetup& s, const WindowVertex& v0, const WindowVertex& v1,
+                          const WindowVertex& v2, int32_t (&x)[3], int32_t (&y)[3]) {
+    const WindowVertex& c1 = s.front_facing ? v2 : v1;
+    const WindowVertex& c2 = s.front_facing ? v1 : v2;
+    x[0] = v0.x, x[1] = c1.x, x[2] = c2.x;
+    y[0] = v0.y, y[1] = c1.y, y[2] = c2.y;
+}
+
+// The same corners from the setup alone (for a piece of a clipped triangle, whose vertices are
+// gone). Edge k has vector d_k; the unbiased edge functions E_k at the origin O (the centre of pixel
+// (min_x, min_y)) are the barycentric weights of O times the doubled area 2A = E_0 + E_1 + E_2, so
+// 2A (O - v0) = E_1 d_2 - E_2 d_1 (an exact division), v1 = v0 + d_2 and v2 = v0 - d_1.
+inline void setup_corners(const TriangleSetup& s, int32_t (&x)[3], int32_t (&y)[3]) {
+    __extension__ using int128 = __int128;
+    int64_t dx[3], dy[3], e[3];
+    for (int k = 0; k < 3; ++k) {
+        dx[k] = s.edge_dy[k] / kSubpixelScale;
+        dy[k] = -s.edge_dx[k] / kSubpixelScale;
+        e[k] = s.edge_origin[k] + (is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
+    }
+    const int128 area2 = int128(e[0]) + e[1] + e[2];
+    const int64_t ox = int64_t(s.min_x) * kSubpixelScale + kHalfPixel;
+    const int64_t oy = int64_t(s.min_y) * kSubpixelScale + kHalfPixel;
+    const int64_t x0 = ox - int64_t((int128(e[1]) * dx[2] - int128(e[2]) * dx[1]) / area2);
+    const int64_t y0 = oy - int64_t((int128(e[1]) * dy[2] - int128(e[2]) * dy[1]) / area2);
+    x[0] = int32_t(x0);
+    x[1] = int32_t(x0 + dx[2]);
+    x[2] = int32_t(x0 - dx[1]);
+    y[0] = int32_t(y0);
+    y[1] = int32_t(y0 + dy[2]);
+    y[2] = int32_t(y0 - dy[1]);
 }
 
 // Window depth at pixel (min_x + i, min_y + j), held to the depth range [0, 1] (a covered sample
@@ -608,8 +655,7 @@ public:
     // Transforms the vertices of one placement to clip and window space; process() then works on
     // its triangles. Placing another placement over the same vertices overwrites them.
     void place(const hsr::sdk::Placement& placement) {
-        const glm::dmat4 m = placement.identity ? view_projection_
-                                                : view_projection_ * glm::dmat4(placement.transform);
+        const glm::dmat4 m = clip_from_object(placement);
         const uint32_t end = placement.first_vertex + placement.vertex_count;
         for (uint32_t k = placement.first_vertex; k < end; ++k) {
             const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
@@ -619,6 +665,27 @@ public:
                 code |= kNonFinite;
             outcode_[k] = code;
         }
+    }
+
+    // The matrix place() transforms a placement's vertices with.
+    glm::dmat4 clip_from_object(const hsr::sdk::Placement& placement) const {
+        return placement.identity ? view_projection_ : view_projection_ * glm::dmat4(placement.transform);
+    }
+
+    // The setup of triangle t that process() made without clipping, made again bit for bit from
+    // the vertices (with the matrix clip_from_object gave for its placement), for a rasterizer that
+    // keeps only part of a setup until it needs the rest, when other placements may have been
+    // placed over the vertices since. Counts nothing.
+    void setup_again(const glm::dmat4& clip_from_object, uint32_t t, TriangleSetup& s) const {
+        WindowVertex v[3];
+        for (int c = 0; c < 3; ++c) {
+            const size_t k = indices_[3 * size_t(t) + c];
+            const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
+            viewport_.to_window(to_clip(clip_from_object, p), 0.0, 0.0, v[c]);  // succeeded in place()
+        }
+        v[1].b1 = 1.0;
+        v[2].b2 = 1.0;
+        setup_triangle(v[0], v[1], v[2], width_, height_, s);  // kOk, as in process()
     }
 
     // Window-space vertex k of the current placement, when its outcode is clean (no clipping needed,
