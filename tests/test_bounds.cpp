@@ -59,17 +59,21 @@ TEST_CASE("project_box: a box wholly in front of the near plane") {
 }
 
 TEST_CASE("project_box: a box straddling the near plane") {
-    // z in [-2, -0.5]: every corner has w > 0, so the corners still bound the box; at z = -0.5
-    // (w = 0.5) x/w = -+0.5 gives x 25..75, and z_ndc = (1 - 3) / 0.5 = -4, depth -1.5.
+    // z in [-2, -0.5]: the corners at z = -0.5 (z_ndc = (1 - 3) / 0.5 = -4) are on the eye's side of
+    // the near plane, those at z = -2 inside the frustum: in view, but with no rectangle.
     const raster::ProjectedBox box =
         raster::project_box(perspective(), {-0.25, -0.25, -2.0}, {0.25, 0.25, -0.5}, kViewport);
-    CHECK(box.outside == 0);  // only the near corners are beyond the near plane
-    REQUIRE(box.in_front);
-    CHECK(box.min_x == Approx(25.0));
-    CHECK(box.max_x == Approx(75.0));
-    CHECK(box.min_y == Approx(25.0));
-    CHECK(box.max_y == Approx(75.0));
-    CHECK(box.nearest == Approx(-1.5));
+    CHECK(box.outside == 0);
+    CHECK_FALSE(box.in_front);
+
+    // Moved back to z in [-2, -1] (the near plane itself counts as beyond it): x/w reaches -+0.25
+    // at w = 1, so x 37.5..62.5, and the nearest depth is 0.
+    const raster::ProjectedBox touching =
+        raster::project_box(perspective(), {-0.25, -0.25, -2.0}, {0.25, 0.25, -1.0}, kViewport);
+    REQUIRE(touching.in_front);
+    CHECK(touching.min_x == Approx(37.5));
+    CHECK(touching.max_x == Approx(62.5));
+    CHECK(touching.nearest == Approx(0.0).margin(1e-12));
 }
 
 TEST_CASE("project_box: a box behind the eye, and one through the eye plane") {
@@ -86,9 +90,13 @@ TEST_CASE("project_box: a box behind the eye, and one through the eye plane") {
     CHECK_FALSE(through.in_front);
     CHECK(through.outside == 0);
 
-    // Corners a hair in front of w = 0 (w = 1e-9 against x = 1): too close to the eye plane to project.
+    // Corners a hair in front of w = 0 (w = 1e-9 against x = 1) are far on the eye's side of the near plane.
     const raster::ProjectedBox grazing = raster::project_box(perspective(), {-1.0, -1.0, -1.0}, {1.0, 1.0, -1e-9}, kViewport);
     CHECK_FALSE(grazing.in_front);
+
+    // A corner so far out that its window coordinates overflow: nothing to bound with.
+    const raster::ProjectedBox huge = raster::project_box(perspective(), {-1e308, 0.0, -2.0}, {1e308, 0.5, -1.5}, kViewport);
+    CHECK_FALSE(huge.in_front);
 }
 
 TEST_CASE("project_box: orthographic") {
@@ -108,7 +116,7 @@ TEST_CASE("project_box: orthographic") {
 
     // Behind the camera there is no eye plane, only the near plane: z in [1, 2] gives z_ndc -3 .. -4.
     const raster::ProjectedBox behind = raster::project_box(orthographic(), {-0.5, -0.5, 1.0}, {0.5, 0.5, 2.0}, kViewport);
-    CHECK(behind.in_front);
+    CHECK_FALSE(behind.in_front);
     CHECK(behind.outside == raster::kOutsideNear);
 
     // Left of the view volume (x < -w at every corner), and beyond the far plane.

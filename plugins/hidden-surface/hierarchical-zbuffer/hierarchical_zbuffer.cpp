@@ -126,11 +126,11 @@ private:
     };
 
     // A placement's world box seen by the camera (hsr/bounds.hpp): the pixels and nearest depth of
-    // its 8 corners, when they are all in front of the eye.
+    // its 8 corners, when they are all beyond the near plane.
     struct PlacementBox {
         int32_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
         float nearest = -kInfinity;
-        bool projectable = false;  // every corner in front of the eye: the rectangle and depth bound hold
+        bool projectable = false;  // every corner beyond the near plane: the rectangle and depth bound hold
         bool outside = false;      // out of view: beyond one frustum plane, or the rectangle misses the image
     };
 

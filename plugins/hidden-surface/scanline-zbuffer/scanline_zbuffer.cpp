@@ -23,7 +23,9 @@
 // Where to read: scan() below is the sweep (the active-edge-list loop); edge_walk.hpp starts and
 // steps an edge pair; record_pool.hpp is the memory polygons wait in for their first scanline
 // (blocks, streaming stores, huge pages). The rest of this file fills the y-sorted polygon table
-// and moves its buckets onto the active list.
+// and moves its buckets onto the active list. It is over 600 lines because those two share one
+// class's state (the active list and its slots, the table, the geometry stage) with the sweep, in
+// one translation unit so that activation inlines into it.
 #include "edge_walk.hpp"
 #include "record_pool.hpp"
 
@@ -314,7 +316,7 @@ private:
 
     // A scanline at or above the first scanline of every polygon of a placement, from the projection
     // of its object-space box (hsr/bounds.hpp), with one scanline of margin for rounding and the
-    // snapping of vertices. A box that is not wholly in front of the eye starts at the top; one
+    // snapping of vertices. A box reaching the eye's side of the near plane starts at the top; one
     // below the image at `height_` (processed after the sweep, for the counters only).
     int32_t top_row(const glm::dmat4& m, const glm::vec3& lo, const glm::vec3& hi) const {
         const raster::ProjectedBox box = raster::project_box(m, glm::dvec3(lo), glm::dvec3(hi), viewport_);

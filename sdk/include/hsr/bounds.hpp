@@ -4,14 +4,14 @@
 //
 // The box's 8 corners go to clip space; the frustum outcode bits they all share say the box is out
 // of view (Cohen-Sutherland's trivial reject, in homogeneous coordinates after Blinn & Newell,
-// "Clipping Using Homogeneous Coordinates", 1978). When every corner lies in front of the eye
-// (w > 0), a projective map takes the box onto the convex hull of its projected corners, and window
-// depth (z/w, linear-fractional) is smallest at a corner, so the corners' window rectangle and
-// nearest depth bound everything inside the box (Greene, Kass & Miller, "Hierarchical Z-Buffer
-// Visibility", SIGGRAPH 1993, test the octree's nodes this way).
+// "Clipping Using Homogeneous Coordinates", 1978). When every corner lies beyond the near plane
+// (and so in front of the eye, w > 0), a projective map takes the box onto the convex hull of its
+// projected corners, and window depth (z/w, linear-fractional) is smallest at a corner, so the
+// corners' window rectangle and nearest depth bound everything inside the box (Greene, Kass &
+// Miller, "Hierarchical Z-Buffer Visibility", SIGGRAPH 1993, test the octree's nodes this way).
 #pragma once
 
-#include "hsr/raster.hpp"
+#include "hsr/triangle_setup.hpp"
 
 #include <glm/glm.hpp>
 
@@ -39,10 +39,11 @@ struct ProjectedBox {
     // Frustum outcode bits (kOutsideLeft .. kOutsideFar) shared by all 8 corners: when non-zero,
     // nothing in the box is in view.
     uint32_t outside = 0;
-    // Every corner finite and in front of the eye: only then do the fields below bound the box.
+    // Every corner beyond the near plane, and the projection finite: only then do the fields below
+    // bound the box.
     bool in_front = false;
     double min_x = 0.0, min_y = 0.0, max_x = 0.0, max_y = 0.0;  // window coordinates of the corners
-    double nearest = 0.0;  // smallest window depth of the corners; < 0 in front of the near plane
+    double nearest = 0.0;  // smallest window depth of the corners, in [0, 1] inside the frustum
 
     // The pixels whose centres (px + 0.5) lie within [min - margin, max + margin], inside the image.
     PixelRect pixel_centres(double margin, int32_t width, int32_t height) const {
@@ -58,11 +59,10 @@ struct ProjectedBox {
 };
 
 // The box [lo, hi] of object space under clip_from_object (view_projection times the object's
-// transform). The near-plane rule: a corner counts as in front of the eye when
-// w > 1e-6 * (|x| + |y| + |z| + |w|); closer to w = 0 the rounding of x / w is no longer small
-// against a pixel. A box that reaches that close to the eye plane, or behind it, is not in_front,
-// and has no rectangle: it may cover any pixel at any depth. A box reaching in front of the near
-// plane but not the eye plane is in_front, with a nearest depth below 0. An empty box (lo > hi on
+// transform). The near-plane rule: a box with a corner on the eye's side of the near plane
+// (z < -w, or w <= 0 behind the eye) is not in_front and has no rectangle: what it holds may cover
+// any pixel at any depth (clipping decides, triangle by triangle). Beyond the near plane w is at
+// least the near distance, so x / w, y / w and z / w are well conditioned. An empty box (lo > hi on
 // an axis, or NaN) is not in_front either.
 inline ProjectedBox project_box(const glm::dmat4& clip_from_object, const glm::dvec3& lo, const glm::dvec3& hi,
                                 const Viewport& viewport) {
@@ -75,18 +75,20 @@ inline ProjectedBox project_box(const glm::dmat4& clip_from_object, const glm::d
     bool in_front = lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z;
     double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x;
     double min_y = min_x, max_y = -min_x, nearest = min_x;
+    double finite = 0.0;
     for (int c = 0; c < 8; ++c) {
         glm::dvec4 p = base;
         if (c & 1) p += ex;
         if (c & 2) p += ey;
         if (c & 4) p += ez;
-        shared &= frustum_outcode(p);
-        const double size = std::abs(p.x) + std::abs(p.y) + std::abs(p.z) + std::abs(p.w);
-        if (!std::isfinite(size) || !(p.w > 1e-6 * size)) {
+        const uint32_t code = frustum_outcode(p);
+        shared &= code;
+        if ((code & kOutsideNear) || !(p.w > 0.0)) {
             in_front = false;
             continue;
         }
         const glm::dvec3 window = viewport.project(p);
+        finite += window.x + window.y + window.z;  // NaN or infinity stays in the sum
         min_x = std::min(min_x, window.x);
         max_x = std::max(max_x, window.x);
         min_y = std::min(min_y, window.y);
@@ -94,8 +96,8 @@ inline ProjectedBox project_box(const glm::dmat4& clip_from_object, const glm::d
         nearest = std::min(nearest, window.z);
     }
     box.outside = shared;
-    box.in_front = in_front;
-    if (in_front) {
+    box.in_front = in_front && std::isfinite(finite);
+    if (box.in_front) {
         box.min_x = min_x;
         box.max_x = max_x;
         box.min_y = min_y;
