@@ -10,6 +10,7 @@
 #include "line_reference.hpp"
 #include "surface_test_support.hpp"
 
+#include <deque>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,7 +21,7 @@ using surface_tests::plugin;
 
 // models/<file>: a mesh, or a .scene file with its instances copied out; loaded once.
 inline const hsr::SceneData& model(const std::string& file) {
-    static std::vector<std::pair<std::string, hsr::SceneData>> cache;
+    static std::deque<std::pair<std::string, hsr::SceneData>> cache;  // references stay valid as it grows
     for (const auto& [name, data] : cache)
         if (name == file) return data;
     const hsr::SceneData& loaded = surface_tests::model(file);

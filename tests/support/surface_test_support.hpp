@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <deque>
 #include <initializer_list>
 #include <limits>
 #include <string>
@@ -45,7 +46,7 @@ inline const hsr::Plugin& plugin(const std::string& name, const char* dir = HSR_
 
 // models/<file>: a mesh, or a .scene file; loaded once.
 inline const hsr::SceneData& model(const std::string& file) {
-    static std::vector<std::pair<std::string, hsr::SceneData>> cache;
+    static std::deque<std::pair<std::string, hsr::SceneData>> cache;  // references stay valid as it grows
     for (const auto& [name, data] : cache)
         if (name == file) return data;
     const std::string path = std::string(HSR_MODELS_DIR) + "/" + file;
