@@ -15,6 +15,7 @@
 // GeometryStage, integer edge functions with the top-left rule, raster::depth_at): the pyramid only
 // removes work whose outcome would have been "not nearer". docs/algorithms/hierarchical-zbuffer.md
 // describes the steps, the counters and measured times.
+#include "hsr/bounds.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 #include "hsr/zpyramid.hpp"
@@ -124,13 +125,13 @@ private:
         uint64_t instance_triangles_skipped = 0;  // triangles of culled or outside instances
     };
 
-    // A placement's world box seen by the camera: the screen rectangle and nearest depth of its 8
-    // corners, when they are all in front of the eye.
+    // A placement's world box seen by the camera (hsr/bounds.hpp): the pixels and nearest depth of
+    // its 8 corners, when they are all beyond the near plane.
     struct PlacementBox {
         int32_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
         float nearest = -kInfinity;
-        bool projectable = false;  // every corner has w > 0: the rectangle and depth bound hold
-        bool outside = false;      // projectable, and the rectangle misses the image
+        bool projectable = false;  // every corner beyond the near plane: the rectangle and depth bound hold
+        bool outside = false;      // out of view: beyond one frustum plane, or the rectangle misses the image
     };
 
     void prepare_placements(const hsr::sdk::Scene& scene, const hsr_camera& camera) {
@@ -143,7 +144,7 @@ private:
             return;
         }
         const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
-        const double half_w = 0.5 * camera.width, half_h = 0.5 * camera.height;
+        const raster::Viewport viewport(camera.width, camera.height);
         for (uint32_t k = 0; k < n; ++k) {
             const hsr_instance& instance = scene.instance(k);
             glm::dvec3 lo(instance.bounds_min[0], instance.bounds_min[1], instance.bounds_min[2]);
@@ -156,38 +157,19 @@ private:
             lo -= glm::dvec3(1e-5 * size);
             hi += glm::dvec3(1e-5 * size);
             PlacementBox box;
-            double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x, min_y = min_x, max_y = -min_x;
-            double nearest = min_x;
-            bool ok = true;
-            for (int c = 0; c < 8 && ok; ++c) {
-                const glm::dvec4 clip = view_projection * glm::dvec4((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y,
-                                                                     (c & 4) ? hi.z : lo.z, 1.0);
-                if (!(clip.w > 1e-12) || !std::isfinite(clip.x) || !std::isfinite(clip.y) || !std::isfinite(clip.z)) {
-                    ok = false;  // a corner at or behind the eye: the projection does not bound the box
-                    break;
-                }
-                const double inv_w = 1.0 / clip.w;
-                const double x = (clip.x * inv_w + 1.0) * half_w, y = (1.0 - clip.y * inv_w) * half_h;
-                min_x = std::min(min_x, x);
-                max_x = std::max(max_x, x);
-                min_y = std::min(min_y, y);
-                max_y = std::max(max_y, y);
-                nearest = std::min(nearest, (clip.z * inv_w + 1.0) * 0.5);
-            }
-            if (ok) {
+            const raster::ProjectedBox projected = raster::project_box(view_projection, lo, hi, viewport);
+            if (projected.in_front) {  // otherwise the projection does not bound the box
                 // Pixel centres px + 0.5 within [min_x, max_x], with a pixel to spare for snapping.
                 constexpr double limit = 1e9;
-                box.x0 = int32_t(std::floor(std::clamp(min_x - 1.5, -limit, limit)));
-                box.x1 = int32_t(std::ceil(std::clamp(max_x + 0.5, -limit, limit)));
-                box.y0 = int32_t(std::floor(std::clamp(min_y - 1.5, -limit, limit)));
-                box.y1 = int32_t(std::ceil(std::clamp(max_y + 0.5, -limit, limit)));
-                // Samples may lie a fraction of a subpixel outside a triangle's exact footprint, where
-                // its depth plane reaches a little beyond the box: keep a small depth margin.
-                box.nearest = depth_lower_bound(nearest - 1e-6);
+                box.x0 = int32_t(std::floor(std::clamp(projected.min_x - 1.5, -limit, limit)));
+                box.x1 = int32_t(std::ceil(std::clamp(projected.max_x + 0.5, -limit, limit)));
+                box.y0 = int32_t(std::floor(std::clamp(projected.min_y - 1.5, -limit, limit)));
+                box.y1 = int32_t(std::ceil(std::clamp(projected.max_y + 0.5, -limit, limit)));
+                box.nearest = depth_lower_bound(projected.nearest - raster::kBoxDepthMargin);
                 box.projectable = true;
-                box.outside = box.x1 < 0 || box.y1 < 0 || box.x0 >= int32_t(camera.width) ||
-                              box.y0 >= int32_t(camera.height);
+                box.outside = box.x1 < 0 || box.y1 < 0 || box.x0 >= width_ || box.y0 >= height_;
             }
+            if (projected.outside != 0) box.outside = true;
             boxes_[k] = box;
         }
         if (front_to_back_) {
@@ -202,17 +184,16 @@ private:
         const raster::PixelBuffers buffers(target);
         for (const uint32_t k : order_) {
             const PlacementBox& box = boxes_[k];
-            if (box.projectable) {
-                if (box.outside) {
-                    ++stats.instances_outside;
-                    stats.instance_triangles_skipped += scene.instance(k).triangle_count;
-                    continue;
-                }
-                if (cull_instances_ && pyramid_.is_hidden(box.x0, box.y0, box.x1, box.y1, box.nearest)) {
-                    ++stats.instances_culled;
-                    stats.instance_triangles_skipped += scene.instance(k).triangle_count;
-                    continue;
-                }
+            if (box.outside) {
+                ++stats.instances_outside;
+                stats.instance_triangles_skipped += scene.instance(k).triangle_count;
+                continue;
+            }
+            if (box.projectable && cull_instances_ &&
+                pyramid_.is_hidden(box.x0, box.y0, box.x1, box.y1, box.nearest)) {
+                ++stats.instances_culled;
+                stats.instance_triangles_skipped += scene.instance(k).triangle_count;
+                continue;
             }
             const hsr::sdk::Placement placement = scene.placement(k);
             geometry_.place(placement);
@@ -260,13 +241,10 @@ private:
                     countdown = stride;
                     // The pixel centres the snapped triangle can cover, exactly as setup_triangle
                     // bounds them, against the nearest depth its samples can have.
-                    const int32_t lo_x = std::min({a.x, b.x, c.x}), hi_x = std::max({a.x, b.x, c.x});
-                    const int32_t lo_y = std::min({a.y, b.y, c.y}), hi_y = std::max({a.y, b.y, c.y});
-                    constexpr int32_t half = raster::kHalfPixel, one = raster::kSubpixelScale;
-                    const int32_t x0 = std::max((lo_x - half + one - 1) >> raster::kSubpixelBits, 0);
-                    const int32_t x1 = std::min((hi_x - half) >> raster::kSubpixelBits, width_ - 1);
-                    const int32_t y0 = std::max((lo_y - half + one - 1) >> raster::kSubpixelBits, 0);
-                    const int32_t y1 = std::min((hi_y - half) >> raster::kSubpixelBits, height_ - 1);
+                    const int32_t x0 = std::max(raster::first_pixel_from(std::min({a.x, b.x, c.x})), 0);
+                    const int32_t x1 = std::min(raster::last_pixel_to(std::max({a.x, b.x, c.x})), width_ - 1);
+                    const int32_t y0 = std::max(raster::first_pixel_from(std::min({a.y, b.y, c.y})), 0);
+                    const int32_t y1 = std::min(raster::last_pixel_to(std::max({a.y, b.y, c.y})), height_ - 1);
                     if (x0 > x1 || y0 > y1) {  // no pixel centre in the image: degenerate or outside
                         geometry_.process(t, draw_whole);
                         continue;

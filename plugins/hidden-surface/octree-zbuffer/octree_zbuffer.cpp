@@ -15,10 +15,14 @@
 // marked for a deferred update. Exact depth ties go to the surface the plain
 // z-buffer draws first, so the picture is the zbuffer plugin's, pixel for pixel.
 //
-// Where a triangle goes and how the octree is laid out: octree.hpp. What it costs and when it
-// pays: docs/algorithms/octree-zbuffer.md.
+// Where a triangle goes and how the octree is laid out: octree.hpp; how a built scene is recognised
+// again: scene_key.hpp. What it costs and when it pays: docs/algorithms/octree-zbuffer.md. This
+// file is a little over 600 lines: the front-to-back traversal and its three levels of rejection
+// (node box, triangle, tile) are one pass over shared per-frame state, read best in one place.
 #include "octree.hpp"
+#include "scene_key.hpp"
 
+#include "hsr/bounds.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 #include "hsr/zpyramid.hpp"
@@ -44,94 +48,12 @@ using hsr::sdk::ParamSpec;
 using namespace octree_zbuffer;
 
 // ---------------------------------------------------------------------------------------------- //
-// Recognising the same scene again
-
-uint64_t mix(uint64_t h, uint64_t v) {
-    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-    return h * 0xff51afd7ed558ccdull;
-}
-
-// Up to ~4096 evenly spaced 32-bit words of an array, plus its last word: cheap, and enough to notice
-// that a different mesh now sits at the same address with the same size.
-uint64_t sampled_hash(const void* data, size_t bytes) {
-    uint64_t h = bytes;
-    const size_t words = bytes / 4;
-    if (data == nullptr || words == 0) return h;
-    const auto* bytes_in = static_cast<const unsigned char*>(data);
-    const size_t step = std::max<size_t>(1, words / 4096);
-    uint32_t w;
-    for (size_t k = 0; k < words; k += step) {
-        std::memcpy(&w, bytes_in + 4 * k, 4);
-        h = mix(h, w);
-    }
-    std::memcpy(&w, bytes_in + 4 * (words - 1), 4);
-    return mix(h, w);
-}
-
-struct SceneKey {
-    const float* positions = nullptr;
-    const uint32_t* indices = nullptr;
-    uint32_t vertex_count = 0, triangle_count = 0;
-    uint64_t geometry_hash = 0;
-    bool operator==(const SceneKey&) const = default;
-};
-
-struct InstanceKey {
-    const hsr_instance* instances = nullptr;
-    uint32_t instance_count = 0;
-    uint64_t hash = 0;  // every instance's ranges and transform
-    bool operator==(const InstanceKey&) const = default;
-};
-
-InstanceKey instance_key(const hsr::sdk::Scene& scene) {
-    InstanceKey key;
-    key.instance_count = scene.instance_count();
-    if (key.instance_count == 0) return key;
-    key.instances = scene.raw().instances;
-    // Four independent lanes keep the multiplies from waiting on each other.
-    uint64_t lane[4] = {1, 2, 3, 4};
-    for (uint32_t k = 0; k < key.instance_count; ++k) {
-        const hsr_instance& i = scene.instance(k);
-        uint32_t words[20];
-        words[0] = i.first_triangle;
-        words[1] = i.triangle_count;
-        words[2] = i.first_vertex;
-        words[3] = i.vertex_count;
-        std::memcpy(words + 4, i.transform, sizeof i.transform);
-        for (int w = 0; w < 20; w += 4)
-            for (int l = 0; l < 4; ++l) lane[l] = (lane[l] ^ words[w + l]) * 0x9e3779b97f4a7c15ull + uint64_t(l);
-    }
-    key.hash = mix(mix(mix(lane[0], lane[1]), lane[2]), lane[3]);
-    return key;
-}
-
-SceneKey scene_key(const hsr::sdk::Scene& scene) {
-    const hsr_scene& s = scene.raw();
-    SceneKey key;
-    key.positions = s.positions;
-    key.indices = s.indices;
-    key.vertex_count = s.vertex_count;
-    key.triangle_count = s.triangle_count;
-    key.geometry_hash = mix(sampled_hash(s.positions, size_t(s.vertex_count) * 12),
-                            sampled_hash(s.indices, size_t(s.triangle_count) * 12));
-    return key;
-}
-
-// ---------------------------------------------------------------------------------------------- //
 
 constexpr int32_t kTile = 8;  // tile-level rejection works on 8x8 tiles aligned to the image ...
 constexpr int32_t kBlock = 32;  // ... inside 32x32 blocks, each tested first ...
 constexpr int64_t kLargeTriangle = 4 * kBlock * kBlock;  // ... when the triangle's bounds exceed 4 blocks
 // A triangle whose pixel bounds hold at most this many pixels is tested once, as a whole.
 constexpr int64_t kSmallTriangle = 4 * kTile * kTile;
-// Node boxes are widened by this much (in pixels) before their pixel-centre rectangle is taken:
-// snapping moves a vertex by up to 1/512 pixel, and the box corners are projected in another order
-// of operations than the vertices.
-constexpr double kBoxPixelMargin = 1.0 / 64.0;
-// ... and their nearest depth brought nearer by this much: rounding of depths to float, and the few
-// covered pixel centres that lie (by at most 1/512 pixel) outside a triangle's unsnapped corners,
-// where its depth plane is extrapolated.
-constexpr double kBoxDepthMargin = 1e-6;
 
 enum class BoxVisibility { kOutside, kHidden, kVisible };
 
@@ -313,65 +235,22 @@ private:
         toward_viewer_ = glm::dvec3(view[0][2], view[1][2], view[2][2]);
         width_ = int32_t(camera.width);
         height_ = int32_t(camera.height);
-        half_width_ = 0.5 * camera.width;
-        half_height_ = 0.5 * camera.height;
+        viewport_ = raster::Viewport(camera.width, camera.height);
         buffers_ = raster::PixelBuffers(target);
     }
 
-    // Projects the box's corners: outside the view volume (or between pixel centres), hidden behind
-    // the pyramid, or possibly visible. A box reaching in front of the near plane (or behind the eye)
-    // is always possibly visible.
+    // The box's projection (hsr/bounds.hpp): outside the view volume (or between pixel centres),
+    // hidden behind the pyramid, or possibly visible. A box reaching in front of the near plane (or
+    // behind the eye) is always possibly visible.
     BoxVisibility test_box(const glm::dmat4& m, const float* lo, const float* hi) const {
-        const glm::dvec4 base = m * glm::dvec4(lo[0], lo[1], lo[2], 1.0);
-        const glm::dvec4 ex = m[0] * (double(hi[0]) - double(lo[0]));
-        const glm::dvec4 ey = m[1] * (double(hi[1]) - double(lo[1]));
-        const glm::dvec4 ez = m[2] * (double(hi[2]) - double(lo[2]));
-        uint32_t all_outside = 0x3F;
-        bool crosses_near = false;
-        double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x;
-        double min_y = min_x, max_y = -min_x, min_depth = min_x;
-        for (int c = 0; c < 8; ++c) {
-            glm::dvec4 p = base;
-            if (c & 1) p += ex;
-            if (c & 2) p += ey;
-            if (c & 4) p += ez;
-            uint32_t code = 0;
-            if (p.x < -p.w) code |= 1;
-            if (p.x > p.w) code |= 2;
-            if (p.y < -p.w) code |= 4;
-            if (p.y > p.w) code |= 8;
-            if (p.z < -p.w) code |= 16;
-            if (p.z > p.w) code |= 32;
-            all_outside &= code;
-            if (!(p.w > 0.0) || p.z < -p.w) {
-                crosses_near = true;
-                continue;
-            }
-            const double inv_w = 1.0 / p.w;
-            const double x = (p.x * inv_w + 1.0) * half_width_;
-            const double y = (1.0 - p.y * inv_w) * half_height_;
-            const double depth = (p.z * inv_w + 1.0) * 0.5;
-            min_x = std::min(min_x, x);
-            max_x = std::max(max_x, x);
-            min_y = std::min(min_y, y);
-            max_y = std::max(max_y, y);
-            min_depth = std::min(min_depth, depth);
-        }
-        if (all_outside != 0) return BoxVisibility::kOutside;
-        if (crosses_near) return BoxVisibility::kVisible;
-        if (!(min_x <= max_x && min_y <= max_y)) return BoxVisibility::kVisible;  // NaN: play safe
-        // Pixel centres px + 0.5 inside [min_x, max_x] (widened), clamped to the image.
-        const double lo_x = std::clamp(min_x - kBoxPixelMargin, -2.0, double(width_) + 2.0);
-        const double hi_x = std::clamp(max_x + kBoxPixelMargin, -2.0, double(width_) + 2.0);
-        const double lo_y = std::clamp(min_y - kBoxPixelMargin, -2.0, double(height_) + 2.0);
-        const double hi_y = std::clamp(max_y + kBoxPixelMargin, -2.0, double(height_) + 2.0);
-        const int32_t x0 = std::max(int32_t(std::ceil(lo_x - 0.5)), 0);
-        const int32_t x1 = std::min(int32_t(std::floor(hi_x - 0.5)), width_ - 1);
-        const int32_t y0 = std::max(int32_t(std::ceil(lo_y - 0.5)), 0);
-        const int32_t y1 = std::min(int32_t(std::floor(hi_y - 0.5)), height_ - 1);
-        if (x0 > x1 || y0 > y1) return BoxVisibility::kOutside;
-        const float nearest = float(min_depth - kBoxDepthMargin);
-        return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? BoxVisibility::kHidden : BoxVisibility::kVisible;
+        const raster::ProjectedBox box =
+            raster::project_box(m, glm::dvec3(lo[0], lo[1], lo[2]), glm::dvec3(hi[0], hi[1], hi[2]), viewport_);
+        if (box.outside != 0) return BoxVisibility::kOutside;
+        if (!box.in_front) return BoxVisibility::kVisible;
+        const raster::PixelRect r = box.pixel_centres(raster::kBoxPixelMargin, width_, height_);
+        if (r.empty()) return BoxVisibility::kOutside;
+        const float nearest = float(box.nearest - raster::kBoxDepthMargin);
+        return pyramid_.is_hidden(r.x0, r.y0, r.x1, r.y1, nearest) ? BoxVisibility::kHidden : BoxVisibility::kVisible;
     }
 
     // Where a box test is counted: the placement hierarchy's counters or the octrees'.
@@ -617,13 +496,10 @@ private:
         const raster::WindowVertex& v2 = geometry_.window_vertex(i2);
         if (int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y) == 0)
             return TriangleVisibility::kUntested;
-        using raster::kHalfPixel, raster::kSubpixelBits, raster::kSubpixelScale;
-        const int32_t lo_x = std::min({v0.x, v1.x, v2.x}), hi_x = std::max({v0.x, v1.x, v2.x});
-        const int32_t lo_y = std::min({v0.y, v1.y, v2.y}), hi_y = std::max({v0.y, v1.y, v2.y});
-        const int32_t x0 = std::max((lo_x - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits, 0);
-        const int32_t x1 = std::min((hi_x - kHalfPixel) >> kSubpixelBits, width_ - 1);
-        const int32_t y0 = std::max((lo_y - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits, 0);
-        const int32_t y1 = std::min((hi_y - kHalfPixel) >> kSubpixelBits, height_ - 1);
+        const int32_t x0 = std::max(raster::first_pixel_from(std::min({v0.x, v1.x, v2.x})), 0);
+        const int32_t x1 = std::min(raster::last_pixel_to(std::max({v0.x, v1.x, v2.x})), width_ - 1);
+        const int32_t y0 = std::max(raster::first_pixel_from(std::min({v0.y, v1.y, v2.y})), 0);
+        const int32_t y1 = std::min(raster::last_pixel_to(std::max({v0.y, v1.y, v2.y})), height_ - 1);
         if (x0 > x1 || y0 > y1) return TriangleVisibility::kUntested;
         // The depth gradient of the unsnapped triangle.
         const double ax = v1.exact_x - v0.exact_x, ay = v1.exact_y - v0.exact_y;
@@ -741,7 +617,7 @@ private:
     glm::dvec3 eye_{0.0}, toward_viewer_{0.0, 0.0, 1.0};
     bool perspective_ = true;
     int32_t width_ = 0, height_ = 0;
-    double half_width_ = 0.0, half_height_ = 0.0;
+    raster::Viewport viewport_;
     raster::PixelBuffers buffers_;
     // Of the placement being drawn, for draw_deferred; kept to avoid allocating per placement.
     std::vector<uint32_t> deferred_back_faces_;  // triangles of LeafMesh

@@ -19,6 +19,17 @@
 // edges step with exact integer DDAs derived from the snapped corners, so every scanline covers
 // exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
 // docs/algorithms/scanline-zbuffer.md describes the steps, the data structures and the counters.
+//
+// Where to read: scan() below is the sweep (the active-edge-list loop); edge_walk.hpp starts and
+// steps an edge pair; record_pool.hpp is the memory polygons wait in for their first scanline
+// (blocks, streaming stores, huge pages). The rest of this file fills the y-sorted polygon table
+// and moves its buckets onto the active list. It is over 600 lines because those two share one
+// class's state (the active list and its slots, the table, the geometry stage) with the sweep, in
+// one translation unit so that activation inlines into it.
+#include "edge_walk.hpp"
+#include "record_pool.hpp"
+
+#include "hsr/bounds.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 
@@ -28,69 +39,15 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <memory>
-#include <new>
 #include <vector>
-
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace {
 
-namespace raster = hsr::raster;
+using namespace scanline_zbuffer;
 using hsr::sdk::ParamSpec;
 
-constexpr int32_t kScale = raster::kSubpixelScale;
-constexpr int kBits = raster::kSubpixelBits;
 constexpr uint64_t kEmpty = ~uint64_t(0);   // an empty row-buffer entry: above every key
-constexpr uint32_t kNone = ~uint32_t(0);    // no piece / planes already made
-constexpr uint32_t kSmall = kNone - 1;      // PolygonRecord::piece of a small polygon, given by its spans
-
-// floor(a / b) and a - b * floor(a / b) for b > 0 and |a| < 2^50, given inverse = 1.0 / b: the
-// product is within 1/64 of a / b, so its truncation is at most one away from the floor, and the
-// remainder tells which way, exactly. (One division per edge instead of two integer divisions.)
-struct DivMod {
-    int64_t q, r;
-};
-inline DivMod floor_divmod(int64_t a, int64_t b, double inverse) {
-    int64_t q = static_cast<int64_t>(double(a) * inverse);
-    int64_t r = a - q * b;
-    const int64_t under = -int64_t(r < 0);  // masks, not branches: either way is as likely
-    q += under;
-    r += b & under;
-    const int64_t over = -int64_t(r >= b);
-    q -= over;
-    r -= b & over;
-    return {q, r};
-}
-
-// One edge of an active edge pair: an integer DDA (Bresenham style) over the edge function. `x` is
-// the boundary pixel on the current scanline, the first covered pixel of a left edge or the last of
-// a right edge; `error` is the edge function there (in units of 1/256 pixel, floored), kept in
-// [0, den). One scanline down adds dx to it: `step` whole pixels plus a carry from `rem / den`.
-struct EdgeWalk {
-    int32_t x;
-    int32_t error;
-    int32_t den;   // |dy| of the edge on the subpixel grid: edge-function change per pixel in x
-    int32_t rem;   // dx mod den
-    int32_t step;  // floor(dx / den), negated for a left edge
-};
-
-// An entry of the active polygon list: the edge pair on the current scanline, and the depth.
-struct ActivePolygon {
-    EdgeWalk left, right;
-    EdgeWalk lower;         // the lower short edge, started on switch_row
-    int16_t last_row;       // its last scanline
-    int16_t switch_row;     // where the lower short edge takes over (-1: it does not)
-    uint32_t slot;          // its attributes, which stay put while the list is reordered
-    int32_t lower_left;     // 1: the lower edge replaces the left edge, 0: the right one
-    double z_row;           // depth at the centre of pixel (0, this scanline), on the polygon's plane
-    double dzdx, dzdy;      // -A/C and -B/C of the plane Ax + By + Cz + D = 0
-};
+constexpr uint32_t kNone = ~uint32_t(0);    // no slot / planes already made
 
 // What an active polygon needs besides its edge pair, by slot: written when it becomes active.
 struct ActiveInfo {
@@ -106,26 +63,6 @@ struct ActivePlanes {
     int32_t min_x, min_y;   // the planes are relative to pixel (min_x, min_y), as in the setup
     raster::Plane inv_w, b1_over_w, b2_over_w;
 };
-
-// A polygon whose setup was made before its first scanline: a polygon of an instanced scene that
-// does not start on the scanline its placement is activated on (the next placement overwrites the
-// geometry stage's vertices), and the pieces of clipped triangles. It holds what its edge pair and
-// its depth start from, in one cache line. The planes of the barycentrics are not kept: most
-// polygons of a deep scene are hidden, and those that win a pixel have them made again, bit for
-// bit, from their placement's vertices.
-struct alignas(64) PolygonRecord {
-    int32_t x[3], y[3];     // snapped corners, in the setup's corner order (interior on the left of
-                            // each edge k, from corner k+1 to corner k+2, seen with y down)
-    double z_row;           // depth at the centre of pixel (0, first scanline)
-    double dzdx, dzdy;
-    uint32_t face;
-    uint32_t placement;
-    uint32_t piece;         // kNone, or the setup of a clipped piece in pieces_ (clipping is not repeated),
-                            // or kSmall: then x holds left, right and the left step, y the right
-                            // step and the last scanline (see small_spans)
-    uint32_t id;            // drawing order (instances only; with one placement it is the table index)
-};
-static_assert(sizeof(PolygonRecord) == 64);
 
 // With one placement, the table keeps only the triangle (culled, clipped and set up when it becomes
 // active: the geometry stage keeps the window vertices for the whole frame), or a record.
@@ -147,56 +84,6 @@ inline void barycentrics(const ActivePlanes& a, double i, double j, float* out) 
     const glm::vec2 b = raster::perspective_barycentrics(a.inv_w, a.b1_over_w, a.b2_over_w, i, j);
     out[0] = b.x;
     out[1] = b.y;
-}
-
-// Asks for transparent huge pages over the 2 MB pages inside [p, p + bytes). The record pool of a
-// deep scene grows to 100 MB and more, written fresh by a new instance: on 4 KB pages that is a
-// page fault per 64 records and many TLB misses.
-inline void advise_huge_pages([[maybe_unused]] const void* p, [[maybe_unused]] size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    constexpr uintptr_t kHuge = uintptr_t(2) << 20;
-    const uintptr_t begin = (uintptr_t(p) + kHuge - 1) & ~(kHuge - 1);
-    const uintptr_t end = (uintptr_t(p) + bytes) & ~(kHuge - 1);
-    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // only a hint
-#endif
-}
-
-// Which pixel centres a setup covers when its bounds hold at most 2 x 2 of them (most polygons of a
-// deep scene are that small): bit i + 2 j for pixel (min_x + i, min_y + j), found with its exact
-// integer edge functions, the fill rule included, as zbuffer tests them. kLarger for larger bounds.
-constexpr uint32_t kLarger = 16;
-inline uint32_t small_coverage(const raster::TriangleSetup& s) {
-    const int32_t w = s.max_x - s.min_x, h = s.max_y - s.min_y;
-    if ((w | h) > 1) return kLarger;
-    // A centre is covered when its three edge functions are >= 0, i.e. their OR is; centres outside
-    // the bounds start negative. No branch per centre: which are covered is not predictable.
-    int64_t c00 = 0, c10 = -int64_t(w == 0), c01 = -int64_t(h == 0), c11 = -int64_t((w & h) == 0);
-    for (int e = 0; e < 3; ++e) {
-        c00 |= s.edge_origin[e];
-        c10 |= s.edge_origin[e] + s.edge_dx[e];
-        c01 |= s.edge_origin[e] + s.edge_dy[e];
-        c11 |= s.edge_origin[e] + s.edge_dx[e] + s.edge_dy[e];
-    }
-    return uint32_t(c00 >= 0) | uint32_t(c10 >= 0) << 1 | uint32_t(c01 >= 0) << 2 | uint32_t(c11 >= 0) << 3;
-}
-
-// Writes a record past the caches. Records are written to the tails of a thousand buckets at once
-// and read back scanlines later: ordinary stores would first read every line from memory.
-inline void store_streaming(PolygonRecord& to, const PolygonRecord& from) {
-#if defined(__SSE2__)
-    const __m128i* const source = reinterpret_cast<const __m128i*>(&from);
-    __m128i* const target = reinterpret_cast<__m128i*>(&to);
-    for (int k = 0; k < 4; ++k) _mm_stream_si128(target + k, _mm_load_si128(source + k));
-#else
-    to = from;
-#endif
-}
-
-// Orders the streamed stores before the records are read.
-inline void end_streaming() {
-#if defined(__SSE2__)
-    _mm_sfence();
-#endif
 }
 
 // Depth at the centre of pixel (0, min_y) on the setup's depth plane.
@@ -234,7 +121,6 @@ public:
         free_pieces_.clear();
         polygons_ = 0;
         polygons_empty_ = 0;
-        blocks_used_max_ = 0;
         records_only_ = placements > 1;
         if (!records_only_) {
             // 1. One placement: its window vertices stay in the geometry stage for the whole frame,
@@ -267,7 +153,7 @@ public:
         } else {
             // 1-2. Several placements: each is bucketed by the top scanline of its projected bounds,
             //      and transformed and set up only when the sweep gets there (activate_placement).
-            bucket_placements(scene, camera);
+            bucket_placements(scene);
         }
 
         // 3. The scanlines, top to bottom.
@@ -287,7 +173,7 @@ public:
         counters.set("active-polygons-max", stats.active_max);
         counters.set("active-edges-max", 2 * stats.active_max);
         counters.set("polygon-records-max",
-                     records_only_ ? blocks_used_max_ * kBlockRecords : uint64_t(records_.size()));
+                     records_only_ ? pending_.records_max() : uint64_t(records_.size()));
     }
 
 private:
@@ -318,7 +204,7 @@ private:
                 // The first pixel-centre row at or below the top corner, as setup_triangle finds it.
                 const int32_t top = std::min({geometry_.window_vertex(i0).y, geometry_.window_vertex(i1).y,
                                               geometry_.window_vertex(i2).y});
-                const int32_t first = std::max((top - raster::kHalfPixel + kScale - 1) >> kBits, 0);
+                const int32_t first = std::max(raster::first_pixel_from(top), 0);
                 if (first < height_) {
                     add_to_table({t, 0}, first);
                     continue;
@@ -349,11 +235,11 @@ private:
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t codes = geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2);
         if (codes & raster::kNeedsClipping) {
-            recover_corners(s, r.x, r.y);
+            raster::setup_corners(s, r.x, r.y);
             r.piece = keep_piece(s);
         } else {
             corners_of(s, i0, i1, i2, r.x, r.y);
-            r.piece = kNone;
+            r.piece = kNoPiece;
         }
         r.z_row = depth_at_row_start(s);
         r.dzdx = s.depth.dx;
@@ -378,9 +264,8 @@ private:
 
     // Buckets the placements by the top scanline of their projected bounds and counts the drawing
     // order of their first triangles (for depth ties).
-    void bucket_placements(const hsr::sdk::Scene& scene, const hsr_camera& camera) {
+    void bucket_placements(const hsr::sdk::Scene& scene) {
         const uint32_t placements = scene.placement_count();
-        const glm::dmat4 view_projection(hsr::sdk::load_matrix(camera.view_projection));
         placement_first_id_.resize(placements);
         placement_row_.resize(placements);
         placement_start_.assign(size_t(height_) + 2, 0);
@@ -391,10 +276,8 @@ private:
         for (uint32_t k = 0; k < placements; ++k) {
             const hsr::sdk::Placement placement = scene.placement(k);
             placement_instance_[k] = placement.instance;
-            // As GeometryStage::place makes it: to find the bounds, and to transform a winner's
-            // corners again.
-            placement_matrix_[k] =
-                placement.identity ? view_projection : view_projection * glm::dmat4(placement.transform);
+            // To find the bounds, and to set a winner up again.
+            placement_matrix_[k] = geometry_.clip_from_object(placement);
             placement_first_id_[k] = uint32_t(id);
             id += placement.triangle_count;
             if (!box_known || box_first != placement.first_vertex || box_count != placement.vertex_count) {
@@ -415,9 +298,7 @@ private:
         for (int32_t y = height_; y > 0; --y) placement_start_[y] = placement_start_[y - 1];  // back to starts
         placement_start_[0] = 0;
 
-        rows_.assign(size_t(height_), RowChain{});
-        free_blocks_.clear();
-        for (uint32_t b = uint32_t(block_next_.size()); b-- > 0;) free_blocks_.push_back(b);
+        pending_.reset(height_);
     }
 
     // The object-space bounding box of a placement's vertex range (a NaN coordinate is left out:
@@ -433,22 +314,14 @@ private:
             }
     }
 
-    // A scanline at or above the first scanline of every polygon of a placement, from the corners
-    // of its object-space box: in front of the eye (w > 0 on all of them) a projective map takes the
-    // box onto the convex hull of its projected corners. One scanline of margin covers rounding and
-    // the snapping of vertices. A box that reaches the plane w = 0, or is not finite, starts at the
-    // top; one below the image at `height_` (processed after the sweep, for the counters only).
+    // A scanline at or above the first scanline of every polygon of a placement, from the projection
+    // of its object-space box (hsr/bounds.hpp), with one scanline of margin for rounding and the
+    // snapping of vertices. A box reaching the eye's side of the near plane starts at the top; one
+    // below the image at `height_` (processed after the sweep, for the counters only).
     int32_t top_row(const glm::dmat4& m, const glm::vec3& lo, const glm::vec3& hi) const {
-        if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return 0;
-        double top = std::numeric_limits<double>::infinity();
-        for (int corner = 0; corner < 8; ++corner) {
-            const glm::vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
-            const glm::dvec4 c = raster::to_clip(m, p);
-            const double size = std::abs(c.x) + std::abs(c.y) + std::abs(c.z) + std::abs(c.w);
-            // Near w = 0 the rounding of y / w is no longer small against a pixel.
-            if (!std::isfinite(size) || !(c.w > 1e-6 * size)) return 0;
-            top = std::min(top, (1.0 - c.y / c.w) * (0.5 * double(height_)));
-        }
+        const raster::ProjectedBox box = raster::project_box(m, glm::dvec3(lo), glm::dvec3(hi), viewport_);
+        if (!box.in_front) return 0;
+        const double top = box.min_y;
         if (!(top >= 2.0)) return 0;
         if (top >= double(height_) + 2.0) return height_;
         return int32_t(top) - 1;  // top >= 2: truncation is the floor
@@ -485,11 +358,11 @@ private:
                     r.piece = kSmall;
                     first = small_spans(covered, s.min_x, s.min_y, r);
                 } else {
-                    r.piece = kNone;
+                    r.piece = kNoPiece;
                     corners_of(s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], r.x, r.y);
                 }
                 if (first > y)
-                    store_streaming(new_record(first), r);
+                    store_streaming(pending_.new_record(first), r);
                 else
                     activate_record(r, r.id, y);
             });
@@ -510,39 +383,13 @@ private:
         });
     }
 
-    // The spans of a small polygon (small_coverage's `covered` over the pixels from (min_x, min_y))
-    // into its record: on its first scanline [left, right] = x[0], x[1]; on the next, if y[1] (its
-    // last scanline) is that one, moved by x[2] and y[0]. Its edges then step without error terms.
-    // Returns the first scanline; when that is below min_y, the depth is stepped there as the edge
-    // pair would have been.
-    static int32_t small_spans(uint32_t covered, int32_t min_x, int32_t min_y, PolygonRecord& r) {
-        const uint32_t top = covered & 3, bottom = covered >> 2;
-        const int32_t top_left = min_x + int32_t(~top & 1), top_right = min_x + int32_t(top >> 1);
-        const int32_t bottom_left = min_x + int32_t(~bottom & 1), bottom_right = min_x + int32_t(bottom >> 1);
-        r.y[1] = min_y + (bottom ? 1 : 0);
-        r.y[2] = 0;
-        if (top == 0) {
-            r.x[0] = bottom_left;
-            r.x[1] = bottom_right;
-            r.x[2] = 0;
-            r.y[0] = 0;
-            r.z_row += r.dzdy;
-            return min_y + 1;
-        }
-        r.x[0] = top_left;
-        r.x[1] = top_right;
-        r.x[2] = bottom_left - top_left;
-        r.y[0] = bottom_right - top_right;
-        return min_y;
-    }
-
     // A piece of clipped triangle t of placement k, on scanline y: the same, with its setup kept
     // (clipping is not repeated).
     void add_piece(const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
         ++polygons_;
         assert(s.min_y >= y && "top_row is conservative");
         PolygonRecord r;
-        recover_corners(s, r.x, r.y);
+        raster::setup_corners(s, r.x, r.y);
         if (s.min_y > y) {
             r.z_row = depth_at_row_start(s);
             r.dzdx = s.depth.dx;
@@ -551,7 +398,7 @@ private:
             r.placement = k;
             r.piece = keep_piece(s);
             r.id = id;
-            new_record(s.min_y) = r;
+            pending_.new_record(s.min_y) = r;
             return;
         }
         const uint32_t slot = start_polygon(r.x, r.y, depth_at_row_start(s), s.depth.dx, s.depth.dy, y);
@@ -560,108 +407,19 @@ private:
         set_planes(planes_[slot], s);
     }
 
-    // The records waiting for their first scanline, by scanline, in chains of blocks taken from a
-    // pool; a scanline's blocks go back to the pool when it is activated, so the pool holds only
-    // what is pending below the current scanline.
-    static constexpr uint32_t kBlockRecords = 32;   // 2 KB
-    static constexpr uint32_t kChunkBlocks = 2048;  // 4 MB, allocated as the pool grows
-    static constexpr size_t kChunkAlign = size_t(2) << 20;
-    struct RowChain {
-        uint32_t head = kNone, tail = kNone;
-        uint32_t fill = kBlockRecords;  // records in the tail block
-    };
-    struct ChunkDelete {
-        void operator()(PolygonRecord* p) const { ::operator delete[](p, std::align_val_t(kChunkAlign)); }
-    };
-
-    PolygonRecord* block(uint32_t b) {
-        return chunks_[b / kChunkBlocks].get() + size_t(b % kChunkBlocks) * kBlockRecords;
-    }
-
-    PolygonRecord& new_record(int32_t row) {
-        RowChain& c = rows_[size_t(row)];
-        if (c.fill == kBlockRecords) {
-            if (free_blocks_.empty()) [[unlikely]]
-                grow_pool();
-            const uint32_t b = free_blocks_.back();
-            free_blocks_.pop_back();
-            blocks_used_max_ = std::max(blocks_used_max_, block_next_.size() - free_blocks_.size());
-            if (c.head == kNone)
-                c.head = b;
-            else
-                block_next_[c.tail] = b;
-            c.tail = b;
-            c.fill = 0;
-        }
-        return block(c.tail)[c.fill++];
-    }
-
-    [[gnu::noinline]] void grow_pool() {
-        constexpr size_t bytes = size_t(kChunkBlocks) * kBlockRecords * sizeof(PolygonRecord);
-        if (block_next_.size() + kChunkBlocks > kNone)
-            throw hsr::sdk::Unsupported("scanline-zbuffer: too many polygons waiting for their first scanline");
-        auto* p = static_cast<PolygonRecord*>(::operator new[](bytes, std::align_val_t(kChunkAlign)));
-        chunks_.emplace_back(p);
-        advise_huge_pages(p, bytes);
-        const uint32_t first = uint32_t(block_next_.size());
-        block_next_.resize(block_next_.size() + kChunkBlocks, kNone);
-        for (uint32_t b = first + kChunkBlocks; b-- > first;) free_blocks_.push_back(b);
-    }
-
     // Placements whose bounds start on scanline y are set up; then the records of y join the active
-    // list, read block after block (each in order: the hardware prefetcher follows). Out of line,
-    // so that it does not change how scan's span loop is compiled.
+    // list. Out of line, so that it does not change how scan's span loop is compiled.
     [[gnu::noinline]] void activate_instanced(const hsr::sdk::Scene& scene, int32_t y) {
         for (uint32_t i = placement_start_[y]; i < placement_start_[y + 1]; ++i)
             activate_placement(scene, placement_order_[i], y);
-        RowChain& c = rows_[size_t(y)];
-        for (uint32_t b = c.head; b != kNone;) {
-            const bool last = b == c.tail;
-            const uint32_t next = last ? kNone : block_next_[b];
-            const uint32_t count = last ? c.fill : kBlockRecords;
-            if (!last) __builtin_prefetch(block(next));
-            const PolygonRecord* const records = block(b);
-            for (uint32_t k = 0; k < count; ++k) activate_record(records[k], records[k].id, y);
-            free_blocks_.push_back(b);
-            b = next;
-        }
-        c = RowChain{};
+        pending_.drain(y, [&](const PolygonRecord& r) { activate_record(r, r.id, y); });
     }
 
-    // The snapped corners of an unclipped triangle in the setup's order: setup_triangle swapped
-    // corners 1 and 2 of a front-facing (clockwise) triangle.
+    // The snapped corners of an unclipped triangle in the setup's order.
     void corners_of(const raster::TriangleSetup& s, uint32_t i0, uint32_t i1, uint32_t i2, int32_t (&x)[3],
                     int32_t (&y)[3]) const {
-        const raster::WindowVertex& v0 = geometry_.window_vertex(i0);
-        const raster::WindowVertex& v1 = geometry_.window_vertex(s.front_facing ? i2 : i1);
-        const raster::WindowVertex& v2 = geometry_.window_vertex(s.front_facing ? i1 : i2);
-        x[0] = v0.x, x[1] = v1.x, x[2] = v2.x;
-        y[0] = v0.y, y[1] = v1.y, y[2] = v2.y;
-    }
-
-    // The corners of a setup from its edge functions. Edge k runs from corner k+1 to corner k+2 with
-    // vector d_k; the unbiased edge functions E_k at the origin O (the centre of pixel (min_x, min_y))
-    // are the barycentric weights of O times the doubled area 2A = E_0 + E_1 + E_2, so
-    // 2A (O - v0) = E_1 d_2 - E_2 d_1 (an exact division), v1 = v0 + d_2 and v2 = v0 - d_1.
-    static void recover_corners(const raster::TriangleSetup& s, int32_t (&x)[3], int32_t (&y)[3]) {
-        __extension__ using int128 = __int128;
-        int64_t dx[3], dy[3], e[3];
-        for (int k = 0; k < 3; ++k) {
-            dx[k] = s.edge_dy[k] / kScale;
-            dy[k] = -s.edge_dx[k] / kScale;
-            e[k] = s.edge_origin[k] + (raster::is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
-        }
-        const int128 area2 = int128(e[0]) + e[1] + e[2];
-        const int64_t ox = int64_t(s.min_x) * kScale + raster::kHalfPixel;
-        const int64_t oy = int64_t(s.min_y) * kScale + raster::kHalfPixel;
-        const int64_t x0 = ox - int64_t((int128(e[1]) * dx[2] - int128(e[2]) * dx[1]) / area2);
-        const int64_t y0 = oy - int64_t((int128(e[1]) * dy[2] - int128(e[2]) * dy[1]) / area2);
-        x[0] = int32_t(x0);
-        x[1] = int32_t(x0 + dx[2]);
-        x[2] = int32_t(x0 - dx[1]);
-        y[0] = int32_t(y0);
-        y[1] = int32_t(y0 + dy[2]);
-        y[2] = int32_t(y0 - dy[1]);
+        raster::setup_corners(s, geometry_.window_vertex(i0), geometry_.window_vertex(i1), geometry_.window_vertex(i2),
+                              x, y);
     }
 
     // Makes triangle t active on its first scanline (one placement): culled, clipped (never: see
@@ -686,7 +444,7 @@ private:
             return;
         }
         const uint32_t slot = start_polygon(r.x, r.y, r.z_row, r.dzdx, r.dzdy, first);
-        if (r.piece != kNone) [[unlikely]] {
+        if (r.piece != kNoPiece) [[unlikely]] {
             if (slot != kNone) {
                 set_info(slot, id, r.face, placement_instance_[r.placement], kNone);
                 set_planes(planes_[slot], pieces_[r.piece]);
@@ -705,21 +463,11 @@ private:
         info.placement = placement;
     }
 
-    // The planes of an active triangle of an instanced scene: its corners transformed again and set
-    // up again, as GeometryStage::place and process did in the first pass, so bit for bit the same.
+    // The planes of an active triangle of an instanced scene, from its setup made again.
     [[gnu::noinline, gnu::flatten]] void make_planes(uint32_t slot) {
         ActiveInfo& info = infos_[slot];
-        const glm::dmat4& m = placement_matrix_[info.placement];
-        raster::WindowVertex v[3];
-        for (int c = 0; c < 3; ++c) {
-            const size_t k = indices_[3 * size_t(info.face) + c];
-            const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
-            viewport_.to_window(raster::to_clip(m, p), 0.0, 0.0, v[c]);  // succeeded in the first pass
-        }
-        v[1].b1 = 1.0;
-        v[2].b2 = 1.0;
         raster::TriangleSetup s{};
-        raster::setup_triangle(v[0], v[1], v[2], width_, height_, s);  // kOk, as in the first pass
+        geometry_.setup_again(placement_matrix_[info.placement], info.face, s);
         set_planes(planes_[slot], s);
         info.placement = kNone;
     }
@@ -749,6 +497,17 @@ private:
         return push_active(a, last, z_row, dzdx, dzdy);
     }
 
+    // Adds a polygon with the corners (vx, vy) (on the subpixel grid, in the setup's corner order)
+    // to the active list on scanline `first` and returns its slot, unless no scanline is left:
+    // then kNone.
+    uint32_t start_polygon(const int32_t (&vx)[3], const int32_t (&vy)[3], double z_row, double dzdx, double dzdy,
+                           int32_t first) {
+        ActivePolygon a;  // built whole, then copied: emplace_back() would clear it first
+        int32_t last;
+        if (!start_edge_pair(vx, vy, first, height_, a, last)) return kNone;
+        return push_active(a, last, z_row, dzdx, dzdy);
+    }
+
     // Adds a polygon whose edges are set to the active list, in a free slot, with its last scanline
     // and depth steps; returns the slot.
     uint32_t push_active(ActivePolygon& a, int32_t last, double z_row, double dzdx, double dzdy) {
@@ -760,78 +519,6 @@ private:
         a.z_row = z_row;
         active_.push_back(a);
         return slot;
-    }
-
-    // Orders the corners (on the subpixel grid, in the setup's corner order) by y, takes the long
-    // edge (top to bottom corner) for one side and the upper short edge for the other, and starts
-    // each as an integer DDA on scanline `first`; the lower short edge is started on the scanline
-    // where it takes over. Adds the polygon to the active list and returns its slot, unless no
-    // scanline is left (the only one lay on a horizontal bottom edge): then kNone.
-    uint32_t start_polygon(const int32_t (&vx)[3], const int32_t (&vy)[3], double z_row, double dzdx, double dzdy,
-                           int32_t first) {
-        // Edge k runs from corner k+1 to corner k+2, the interior on its positive side.
-        int64_t dx[3], dy[3];
-        for (int k = 0; k < 3; ++k) {
-            const int a = (k + 1) % 3, b = (k + 2) % 3;
-            dx[k] = int64_t(vx[b]) - vx[a];
-            dy[k] = int64_t(vy[b]) - vy[a];
-        }
-        int top = 0, bottom = 0;
-        for (int k = 1; k < 3; ++k) {
-            top = vy[k] < vy[top] ? k : top;
-            bottom = vy[k] >= vy[bottom] ? k : bottom;
-        }
-        const int mid = 3 - top - bottom;
-
-        // Last scanline: the last pixel centre at or above the bottom corner, except on a horizontal
-        // bottom edge (not top-left: a centre exactly on it is not covered). The first is min_y (a
-        // centre exactly on a horizontal top edge is covered).
-        int64_t last = (int64_t(vy[bottom]) - raster::kHalfPixel) >> kBits;
-        if (vy[mid] == vy[bottom] && ((vy[bottom] - raster::kHalfPixel) & (kScale - 1)) == 0) --last;
-        last = std::min<int64_t>(last, height_ - 1);
-        if (first > last) return kNone;
-
-        // Edge k's DDA on scanline `row`. The edge function E_k (fill-rule biased, as in
-        // setup_triangle) steps by multiples of 256 between pixel centres, so E_k >= 0 exactly when
-        // floor(E_k / 256) >= 0, which steps by -dy per pixel and by dx per scanline: one division
-        // finds the boundary pixel and the step.
-        auto start = [&](int k, int64_t row) {
-            const int a = (k + 1) % 3;
-            const int64_t edge = dx[k] * (row * kScale + raster::kHalfPixel - vy[a]) -
-                                 dy[k] * (raster::kHalfPixel - vx[a]) - (raster::is_top_left_edge(dx[k], dy[k]) ? 0 : 1);
-            const int64_t den = std::max<int64_t>(dy[k] < 0 ? -dy[k] : dy[k], 1);  // never horizontal
-            const double inverse = 1.0 / double(den);
-            const DivMod boundary = floor_divmod(edge >> kBits, den, inverse);
-            const DivMod step = floor_divmod(dx[k], den, inverse);
-            const bool left = dy[k] < 0;  // a left edge (E grows with x): its first pixel with E >= 0
-            EdgeWalk w;
-            w.x = int32_t(left ? -boundary.q : boundary.q);
-            w.error = int32_t(boundary.r);
-            w.den = int32_t(den);
-            w.rem = int32_t(step.r);
-            w.step = int32_t(left ? -step.q : step.q);
-            return w;
-        };
-
-        // Edge k is opposite corner k: the long edge is opposite the middle corner, the upper short
-        // edge (top to middle) opposite the bottom corner, the lower one opposite the top corner.
-        // The lower one takes over on the first scanline whose centres are at or below the middle
-        // corner (on the middle corner's own scanline both give the same boundary, and a horizontal
-        // upper edge is never used).
-        const int long_edge = mid, upper = bottom, lower = top;
-        const int64_t switch_row = (int64_t(vy[mid]) - raster::kHalfPixel + kScale - 1) >> kBits;
-        const bool long_is_left = dy[long_edge] < 0;
-        const EdgeWalk long_walk = start(long_edge, first);
-        const EdgeWalk short_walk = start(switch_row <= first ? lower : upper, first);
-        const bool switches = switch_row > first && switch_row <= last;
-
-        ActivePolygon a;  // built whole, then copied: emplace_back() would clear it first
-        a.lower = switches ? start(lower, switch_row) : EdgeWalk{};
-        a.lower_left = long_is_left ? 0 : 1;
-        a.left = long_is_left ? long_walk : short_walk;
-        a.right = long_is_left ? short_walk : long_walk;
-        a.switch_row = switches ? int16_t(switch_row) : int16_t(-1);
-        return push_active(a, last, z_row, dzdx, dzdy);
     }
 
     // Polygons whose first scanline is y join the active list. Their table entries lie scattered in
@@ -861,14 +548,13 @@ private:
         }
     }
 
+    // 3. The sweep: scanline after scanline, top to bottom, the polygons of the y-sorted table that
+    //    start there join the active list; each active polygon's span, between its edge pair, is
+    //    depth-tested into the one-row buffer; a polygon on its last scanline leaves the list, the
+    //    others step their edges and depth to the next one; the row's winners go out.
     template <bool kCountTests>
     void scan(hsr::sdk::VisibilityBuffer& target, Stats& stats) {
         const int32_t width = int32_t(width_);
-        float* const depth_out = target.depth();
-        uint32_t* const face_out = target.face();
-        float* const bary_out = target.bary();
-        uint32_t* const instance_out = target.instance();
-        uint32_t* const tests_out = target.depth_tests();
         row_.assign(size_t(width), kEmpty);  // the one-row depth buffer
         uint64_t* const row = row_.data();
         active_.clear();
@@ -890,11 +576,9 @@ private:
             edge_pairs += active_.size();
             active_max = std::max(active_max, active_.size());
 
-            const size_t row_start = size_t(y) * size_t(width);
-            uint32_t* const tests_row = kCountTests ? tests_out + row_start : nullptr;
+            uint32_t* const tests_row = kCountTests ? target.depth_tests() + size_t(y) * size_t(width) : nullptr;
             int32_t lo = width, hi = -1;  // pixels of the row buffer touched
             ActivePolygon* const list = active_.data();
-            const ActiveInfo* const infos = infos_.data();
             size_t n = active_.size();
             for (size_t i = 0; i < n;) {
                 ActivePolygon& p = list[i];
@@ -904,72 +588,18 @@ private:
                     lo = std::min(lo, x0);
                     hi = std::max(hi, x1);
                     tested += uint64_t(x1 - x0 + 1);
-                    // A row-buffer entry is (depth bits << 32 | slot). Depth is never negative, so
-                    // its float bits order like its value, and one integer comparison is the depth
-                    // test; equal depths keep the polygon drawn first (the lower id), as in zbuffer.
-                    const uint64_t slot = p.slot;
-                    const double dzdx = p.dzdx;
-                    double z = p.z_row + dzdx * double(x0);
-                    uint64_t span_written = 0;
-                    for (int32_t x = x0; x <= x1; ++x, z += dzdx) {
-                        // zbuffer's depth_at holds depth to [0, 1]: on the float's bits (which order
-                        // like its value when positive, and are negative as an int when it is) that
-                        // is two integer clamps, without the branches double min and max compile to.
-                        const uint32_t bits = uint32_t(
-                            std::clamp(std::bit_cast<int32_t>(float(z)), 0, std::bit_cast<int32_t>(1.0f)));
-                        const uint64_t key = (uint64_t(bits) << 32) | slot;
-                        const uint64_t old = row[x];
-                        uint64_t nearer = key < old ? 1 : 0;
-                        if (uint32_t(old >> 32) == bits) [[unlikely]]
-                            nearer = infos[slot].id < infos[uint32_t(old)].id ? 1 : 0;
-                        // Selected with a mask: as a branch, the depth test's outcome would be
-                        // mispredicted about as often as not.
-                        row[x] = old ^ ((old ^ key) & (0 - nearer));
-                        span_written += nearer;
-                        if constexpr (kCountTests) ++tests_row[x];
-                    }
-                    written += span_written;
+                    written += depth_test_span<kCountTests>(p, x0, x1, row, tests_row);
                 }
                 if (p.last_row == y) {  // done: swap-remove (its slot stays taken for this row)
                     released_.push_back(p.slot);
                     p = list[--n];
                     continue;
                 }
-                // Next scanline: both edges step, depth steps by dz/dy. The carries come as masks
-                // (0 or -1): a branch on them would be mispredicted about as often as taken.
-                EdgeWalk& l = p.left;
-                l.error += l.rem;
-                const int32_t left_carry = -int32_t(l.error >= l.den);
-                l.error -= l.den & left_carry;
-                l.x += l.step + left_carry;
-                EdgeWalk& r = p.right;
-                r.error += r.rem;
-                const int32_t right_carry = -int32_t(r.error >= r.den);
-                r.error -= r.den & right_carry;
-                r.x += r.step - right_carry;
-                p.z_row += p.dzdy;
-                if (p.switch_row == y + 1) (p.lower_left ? p.left : p.right) = p.lower;
+                step_to_next_scanline(p, y);
                 ++i;
             }
             active_.resize(n);
-
-            // The row is done: copy the winners into the visibility buffer, clear the row buffer.
-            const double j_base = double(y);
-            for (int32_t x = lo; x <= hi; ++x) {
-                const uint64_t key = row[x];
-                if (key == kEmpty) continue;
-                row[x] = kEmpty;
-                const size_t pixel = row_start + size_t(x);
-                const uint32_t slot = uint32_t(key);
-                if (infos_[slot].placement != kNone) [[unlikely]]
-                    make_planes(slot);
-                const ActiveInfo& info = infos_[slot];
-                const ActivePlanes& w = planes_[slot];
-                depth_out[pixel] = std::bit_cast<float>(uint32_t(key >> 32));
-                face_out[pixel] = info.face;
-                if (instance_out != nullptr) instance_out[pixel] = info.instance;
-                barycentrics(w, double(x - w.min_x), j_base - double(w.min_y), bary_out + 2 * pixel);
-            }
+            resolve_row(target, y, lo, hi);
             free_slots_.insert(free_slots_.end(), released_.begin(), released_.end());
             released_.clear();
         }
@@ -981,6 +611,83 @@ private:
         stats.edge_pairs = edge_pairs;
         stats.scanlines = scanlines;
         stats.active_max = active_max;
+    }
+
+    // The depth test along a span [x0, x1] of the row buffer; returns the pixels won. A row-buffer
+    // entry is (depth bits << 32 | slot). Depth is never negative, so its float bits order like its
+    // value, and one integer comparison is the depth test; equal depths keep the polygon drawn first
+    // (the lower id), as in zbuffer.
+    template <bool kCountTests>
+    [[gnu::always_inline]] uint64_t depth_test_span(const ActivePolygon& p, int32_t x0, int32_t x1, uint64_t* row,
+                                                    uint32_t* tests_row) const {
+        const ActiveInfo* const infos = infos_.data();
+        const uint64_t slot = p.slot;
+        const double dzdx = p.dzdx;
+        double z = p.z_row + dzdx * double(x0);
+        uint64_t span_written = 0;
+        for (int32_t x = x0; x <= x1; ++x, z += dzdx) {
+            // zbuffer's depth_at holds depth to [0, 1]: on the float's bits (which order like its
+            // value when positive, and are negative as an int when it is) that is two integer
+            // clamps, without the branches double min and max compile to.
+            const uint32_t bits =
+                uint32_t(std::clamp(std::bit_cast<int32_t>(float(z)), 0, std::bit_cast<int32_t>(1.0f)));
+            const uint64_t key = (uint64_t(bits) << 32) | slot;
+            const uint64_t old = row[x];
+            uint64_t nearer = key < old ? 1 : 0;
+            if (uint32_t(old >> 32) == bits) [[unlikely]]
+                nearer = infos[slot].id < infos[uint32_t(old)].id ? 1 : 0;
+            // Selected with a mask: as a branch, the depth test's outcome would be mispredicted
+            // about as often as not.
+            row[x] = old ^ ((old ^ key) & (0 - nearer));
+            span_written += nearer;
+            if constexpr (kCountTests) ++tests_row[x];
+        }
+        return span_written;
+    }
+
+    // Both edges of an active polygon step to scanline y + 1, and its depth by dz/dy. The carries
+    // come as masks (0 or -1): a branch on them would be mispredicted about as often as taken.
+    [[gnu::always_inline]] static void step_to_next_scanline(ActivePolygon& p, int32_t y) {
+        EdgeWalk& l = p.left;
+        l.error += l.rem;
+        const int32_t left_carry = -int32_t(l.error >= l.den);
+        l.error -= l.den & left_carry;
+        l.x += l.step + left_carry;
+        EdgeWalk& r = p.right;
+        r.error += r.rem;
+        const int32_t right_carry = -int32_t(r.error >= r.den);
+        r.error -= r.den & right_carry;
+        r.x += r.step - right_carry;
+        p.z_row += p.dzdy;
+        if (p.switch_row == y + 1) (p.lower_left ? p.left : p.right) = p.lower;
+    }
+
+    // Scanline y is done: its winners in the row buffer, over the pixels [lo, hi] touched, go into
+    // the visibility buffer (a winner's barycentric planes are made now if they were left out), and
+    // the row buffer is cleared.
+    void resolve_row(hsr::sdk::VisibilityBuffer& target, int32_t y, int32_t lo, int32_t hi) {
+        uint64_t* const row = row_.data();
+        float* const depth_out = target.depth();
+        uint32_t* const face_out = target.face();
+        float* const bary_out = target.bary();
+        uint32_t* const instance_out = target.instance();
+        const size_t row_start = size_t(y) * size_t(width_);
+        const double j_base = double(y);
+        for (int32_t x = lo; x <= hi; ++x) {
+            const uint64_t key = row[x];
+            if (key == kEmpty) continue;
+            row[x] = kEmpty;
+            const size_t pixel = row_start + size_t(x);
+            const uint32_t slot = uint32_t(key);
+            if (infos_[slot].placement != kNone) [[unlikely]]
+                make_planes(slot);
+            const ActiveInfo& info = infos_[slot];
+            const ActivePlanes& w = planes_[slot];
+            depth_out[pixel] = std::bit_cast<float>(uint32_t(key >> 32));
+            face_out[pixel] = info.face;
+            if (instance_out != nullptr) instance_out[pixel] = info.instance;
+            barycentrics(w, double(x - w.min_x), j_base - double(w.min_y), bary_out + 2 * pixel);
+        }
     }
 
     bool cull_backfaces_;
@@ -1004,11 +711,7 @@ private:
     std::vector<int32_t> placement_row_;             // the scanline it is activated on (height_: after)
     std::vector<uint32_t> placement_start_;          // bucket y is placement_order_[start[y], start[y + 1])
     std::vector<uint32_t> placement_order_;          // placements sorted by that scanline
-    std::vector<RowChain> rows_;                     // per scanline, its pending records
-    std::vector<std::unique_ptr<PolygonRecord[], ChunkDelete>> chunks_;  // the pool of record blocks
-    std::vector<uint32_t> block_next_;               // per block: the next of its scanline's chain
-    std::vector<uint32_t> free_blocks_;
-    size_t blocks_used_max_ = 0;
+    RecordPool pending_;                             // per scanline, the records waiting for it
     // Both:
     std::vector<raster::TriangleSetup> pieces_;      // setups of the pieces of clipped triangles
     std::vector<uint32_t> free_pieces_;              // of pieces_, once their polygon is active
