@@ -1,6 +1,6 @@
 // The two horizons of the floating-horizon method (Wright 1973; Rogers, "Procedural Elements for
 // Computer Graphics", 2nd ed., section 4.2): the highest and the lowest height reached so far over a
-// set of columns, the test of a segment against them and the update with it (steps 5 and 6 of
+// set of columns, the test of a segment against them and the update with it (steps 5 to 7 of
 // docs/algorithms/floating-horizon.md).
 #pragma once
 
