@@ -15,6 +15,9 @@
 #include <vector>
 
 namespace appel {
+// Internal linkage: only appel.cpp includes this, and so the compiler inlines the grid traversal
+// into walk as it would in one file.
+namespace {
 
 // Changes of QI closer than this along an edge (as a fraction of it) happen at one point: where an
 // edge passes behind the vertex of a contour, for example.
@@ -197,4 +200,5 @@ private:
     WalkCounts counts_;
 };
 
+}  // namespace
 }  // namespace appel

@@ -15,6 +15,9 @@
 #include <vector>
 
 namespace floating_horizon {
+// Internal linkage: only floating_horizon.cpp includes this, and so the compiler inlines as it would
+// in one file (the per-column test inside Horizon::classify above all).
+namespace {
 
 // The grid (the layout of hsr/surface.hpp, checked as hsr::find_surface_grid checks it; a plugin
 // links only the SDK, so the rule is restated here).
@@ -175,4 +178,5 @@ inline void choose_order(const hsr::sdk::Scene& scene, const hsr_camera& camera,
     for (const Keyed& k : keyed) order.strip.push_back(k.element);
 }
 
+}  // namespace
 }  // namespace floating_horizon

@@ -12,6 +12,9 @@
 #include <vector>
 
 namespace floating_horizon {
+// Internal linkage: only floating_horizon.cpp includes this, and so the compiler inlines as it would
+// in one file (the per-column test inside Horizon::classify above all).
+namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // A point of a curve counts as on the horizon (and so visible) within this distance, in the
@@ -183,4 +186,5 @@ private:
     std::vector<double> upper_[3], lower_[3];  // per side, per column
 };
 
+}  // namespace
 }  // namespace floating_horizon
