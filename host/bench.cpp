@@ -291,8 +291,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     // Every model is loaded and its cameras made before any timing, so that a bad file fails in a
     // moment rather than after the models before it have been timed. Holding them all is cheap: the
     // peak is Loop-subdividing the bunny (96 MB alone), the loaded meshes are a few MB and a deep
-    // scene stores its mesh once (`hsr bench -r 1 -w 0`: 121 MB peak when each model was loaded in
-    // turn, 110 MB now). Each is dropped once measured.
+    // scene stores its mesh once (`hsr bench -r 1 -w 0`: 110 MB peak). Each is dropped once measured.
     std::vector<PreparedModel> prepared;
     for (const hsr::bench::ModelSpec& spec : models) {
         progress.loading(spec.name);
