@@ -4,6 +4,7 @@
 #include "bench_report.hpp"
 #include "commands.hpp"
 
+#include "hsr/atomic_file.hpp"
 #include "hsr/bench.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
@@ -24,12 +25,10 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <functional>
 #include <iostream>
 #include <optional>
-#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace po = boost::program_options;
@@ -174,19 +173,6 @@ struct PreparedModel {
     hsr::bench::BenchScene scene;
     std::vector<hsr_camera> cameras;  // one per size
 };
-
-// Written only once the results are ready, and made in full before the file is opened: neither a run
-// nor a writer that fails leaves an existing file changed.
-void write_output(const std::string& path, const std::function<void(std::ostream&)>& write) {
-    std::ostringstream content;
-    write(content);
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw hsr::Error("cannot write {}", path);
-    out << content.str();
-    out.close();
-    if (!out) throw hsr::Error("could not finish writing {}", path);
-    std::fprintf(stderr, "wrote %s\n", path.c_str());
-}
 
 }  // namespace
 
@@ -353,10 +339,16 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
 
     std::cout << hsr::bench::format_table(results);
     std::cout.flush();
-    if (given("csv")) write_output(csv_path, [&](std::ostream& out) { hsr::bench::write_csv(out, results); });
+    // Written only once the results are ready, and replaced together once all are written: neither a
+    // run nor a writer that fails leaves an existing file changed.
+    hsr::AtomicFileSet files;
+    if (given("csv")) hsr::bench::write_csv(files.add(csv_path).stream(), results);
     const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(results);
     using hsr::bench::PlotFormat;
-    if (given("svg")) write_output(svg_path, [&](std::ostream& out) { write_plot(out, plots, PlotFormat::svg); });
-    if (given("png")) write_output(png_path, [&](std::ostream& out) { write_plot(out, plots, PlotFormat::png); });
+    if (given("svg")) write_plot(files.add(svg_path).stream(), plots, PlotFormat::svg);
+    if (given("png")) write_plot(files.add(png_path).stream(), plots, PlotFormat::png);
+    files.commit();
+    for (const auto& [option, path] : {std::pair{"csv", &csv_path}, {"svg", &svg_path}, {"png", &png_path}})
+        if (given(option)) std::fprintf(stderr, "wrote %s\n", path->c_str());
     return 0;
 }

@@ -34,7 +34,8 @@ struct OutputFile {
 
 // Checked before any work, so that a mistyped path does not cost a long render or a whole benchmark:
 // each name ends in one of its extensions (any case), is not a folder, lies in a folder that exists
-// and can be written (and, if the file exists, can itself be written), and no two outputs are the
+// and can be written (where the file is made: hsr/atomic_file.hpp; for a symbolic link, the folder
+// of the file it names), the file itself can be written if it exists, and no two outputs are the
 // same file. Throws UsageError for a wrong name, hsr::Error for a folder or file that cannot be
 // written. Nothing is created.
 void check_outputs(const std::vector<OutputFile>& outputs);

@@ -1,6 +1,8 @@
 // Output paths, checked before a command starts its work (commands.hpp).
 #include "commands.hpp"
 
+#include "hsr/atomic_file.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -41,10 +43,15 @@ void hsr::host::check_outputs(const std::vector<OutputFile>& outputs) {
                 throw UsageError("--{} '{}': the name must end in {} (the format written)", out.option, name,
                                  joined(out.extensions, " or "));
         }
-        const fs::path folder = out.path.has_parent_path() ? out.path.parent_path() : fs::path(".");
-        if (!fs::is_directory(folder, ec))
+        // The file is written as a temporary in the folder of the file it replaces (a link is followed),
+        // unless it is a device or a pipe, which is written in place (hsr/atomic_file.hpp).
+        const fs::path destination = hsr::AtomicFile::destination(out.path);
+        const fs::path folder = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
+        const bool in_place = fs::exists(status) && !fs::is_regular_file(status);
+        if (!in_place && !fs::is_directory(folder, ec))
             throw hsr::Error("--{} '{}': the folder '{}' does not exist", out.option, name, folder.string());
-        if (fs::exists(status) ? ::access(out.path.c_str(), W_OK) != 0 : ::access(folder.c_str(), W_OK) != 0)
+        if ((fs::exists(status) && ::access(destination.c_str(), W_OK) != 0) ||
+            (!in_place && ::access(folder.c_str(), W_OK) != 0))
             throw hsr::Error("--{} '{}': cannot write there (permission denied)", out.option, name);
 
         const fs::path resolved = fs::weakly_canonical(fs::absolute(out.path, ec), ec);

@@ -1,7 +1,10 @@
 // hsr render with a hidden-line plugin: the visible edges drawn as SVG or PNG, optionally the
-// algorithm's steps as a JSON-lines trace, and with --stats its counters (render.hpp).
+// algorithm's steps as a JSON-lines trace, and with --stats its counters (render.hpp). The trace
+// streams into a temporary file during the render; both files are replaced together, once the
+// drawing is written too (hsr/atomic_file.hpp).
 #include "render.hpp"
 
+#include "hsr/atomic_file.hpp"
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
 #include "hsr/line_image.hpp"
@@ -10,7 +13,6 @@
 #include <fmt/format.h>
 
 #include <cstdio>
-#include <fstream>
 
 namespace {
 
@@ -30,22 +32,15 @@ void hsr::host::render_line_drawing(const RenderOptions& o, RenderScene scene, L
     if (!scene.scene.instances.empty()) scene.scene = hsr::flatten_instances(scene.scene);
     const hsr_scene scene_view = scene.scene.view();
     hsr::LineSettings settings = plugin.settings;
-    std::ofstream trace_file;
-    if (!o.trace.empty()) {
-        trace_file.open(o.trace, std::ios::binary);
-        if (!trace_file) throw hsr::Error("--trace {}: cannot write the file", o.trace);
-        settings.trace = &trace_file;
-    }
+    hsr::AtomicFileSet files;
+    if (!o.trace.empty()) settings.trace = &files.add(o.trace).stream();
     const hsr::LineDrawing drawing = hsr::render_lines(scene_view, scene.camera, *plugin.remover, settings);
-    if (trace_file.is_open()) {
-        trace_file.close();
-        if (!trace_file) throw hsr::Error("--trace {}: writing failed", o.trace);
-    }
     hsr::LineStyle style = plugin.style;
     // Lines are drawn on white unless --background says otherwise; a .scene file's background is for
     // shaded pictures.
     if (o.was_given("background")) style.background = parse_color_option(o.background, "background");
-    const hsr::LineImageStats drawn = hsr::write_line_drawing(output, drawing, style);
+    const hsr::LineImageStats drawn = hsr::write_line_drawing(files.add(output), drawing, style);
+    files.commit();
     if (o.stats) print_line_stats(drawing, *plugin.remover, scene_view);
     if (!o.trace.empty())
         std::fprintf(stderr, "wrote %s (%llu steps)\n", o.trace.c_str(),

@@ -1,7 +1,9 @@
 // hsr render with a hidden-surface plugin: the shaded picture as PNG, optionally the depth buffer and
 // the depth-complexity and depth-test heat maps, and with --stats the plugin's counters (render.hpp).
+// The files are replaced together, once all of them are written (hsr/atomic_file.hpp).
 #include "render.hpp"
 
+#include "hsr/atomic_file.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/image.hpp"
 #include "hsr/pipeline.hpp"
@@ -65,17 +67,23 @@ void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remov
 }
 
 // The heat maps of --overdraw-out and --depth-tests-out, both on the scale of the depth complexity.
-void write_heat_maps(const RenderOptions& o, const hsr::Frame& frame, const hsr::DepthComplexity& depth_complexity) {
-    if (!o.overdraw_out.empty()) {
-        hsr::write_heat_map_png(o.overdraw_out, frame.width, frame.height, depth_complexity.count, depth_complexity.max);
+void write_heat_maps(const RenderOptions& o, const hsr::Frame& frame, const hsr::DepthComplexity& depth_complexity,
+                     hsr::AtomicFileSet& files) {
+    if (!o.overdraw_out.empty())
+        hsr::write_heat_map_png(files.add(o.overdraw_out), frame.width, frame.height, depth_complexity.count,
+                                depth_complexity.max);
+    if (!o.depth_tests_out.empty())
+        hsr::write_heat_map_png(files.add(o.depth_tests_out), frame.width, frame.height, frame.depth_tests,
+                                depth_complexity.max);
+}
+
+void print_heat_maps_written(const RenderOptions& o, const hsr::DepthComplexity& depth_complexity) {
+    if (!o.overdraw_out.empty())
         std::fprintf(stderr, "wrote %s (depth complexity heat map: black 0 ... pale yellow %u)\n",
                      o.overdraw_out.c_str(), depth_complexity.max);
-    }
-    if (!o.depth_tests_out.empty()) {
-        hsr::write_heat_map_png(o.depth_tests_out, frame.width, frame.height, frame.depth_tests, depth_complexity.max);
+    if (!o.depth_tests_out.empty())
         std::fprintf(stderr, "wrote %s (depth tests heat map: black 0 ... pale yellow %u)\n",
                      o.depth_tests_out.c_str(), depth_complexity.max);
-    }
 }
 
 }  // namespace
@@ -94,12 +102,15 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     hsr::Frame frame =
         hsr::render_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
 
-    hsr::write_png(output, frame.width, frame.height, 3, frame.rgb);
-    if (!o.depth_out.empty()) hsr::write_depth_png(o.depth_out, frame.width, frame.height, frame.depth);
+    hsr::AtomicFileSet files;
+    hsr::write_png(files.add(output), frame.width, frame.height, 3, frame.rgb);
+    if (!o.depth_out.empty()) hsr::write_depth_png(files.add(o.depth_out), frame.width, frame.height, frame.depth);
     std::optional<hsr::DepthComplexity> depth_complexity;
     if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())
         depth_complexity = hsr::measure_depth_complexity(scene_view, scene.camera);
-    if (depth_complexity) write_heat_maps(o, frame, *depth_complexity);
+    if (depth_complexity) write_heat_maps(o, frame, *depth_complexity, files);
+    files.commit();
+    if (depth_complexity) print_heat_maps_written(o, *depth_complexity);
     if (o.stats) print_stats(frame, *plugins.remover, *plugins.lighting, scene_view, depth_complexity);
     if (frame.counter("fragments-shaded") == 0)
         std::fprintf(stderr, "hsr: warning: no triangle covers a pixel centre: the picture is empty (is the model "

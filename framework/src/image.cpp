@@ -1,5 +1,6 @@
 #include "hsr/image.hpp"
 
+#include "hsr/atomic_file.hpp"
 #include "hsr/error.hpp"
 
 #include <cairo.h>
@@ -14,8 +15,7 @@
 
 namespace hsr {
 
-void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
-               std::span<const uint8_t> pixels) {
+void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels) {
     if (pixels.size() != size_t(width) * height * channels)
         throw Error("write_png: {} bytes for a {}x{}x{} image", pixels.size(), width, height, channels);
     png_image image{};
@@ -28,11 +28,18 @@ void write_png(const std::filesystem::path& path, uint32_t width, uint32_t heigh
     case 4: image.format = PNG_FORMAT_RGBA; break;
     default: throw Error("write_png: {} channels are not supported", channels);
     }
-    if (!png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr)) {
+    if (!png_image_write_to_stdio(&image, file.stdio(), 0, pixels.data(), 0, nullptr)) {
         std::string why = image.message;
         png_image_free(&image);
-        throw Error("cannot write {}: {}", path.string(), why);
+        throw Error("cannot write {}: {}", file.target().string(), why);
     }
+}
+
+void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
+               std::span<const uint8_t> pixels) {
+    AtomicFile file(path);
+    write_png(file, width, height, channels, pixels);
+    file.commit();
 }
 
 Image read_png_rgb(const std::filesystem::path& path) {
@@ -54,7 +61,7 @@ Image read_png_rgb(const std::filesystem::path& path) {
     return out;
 }
 
-void write_depth_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
+void write_depth_png(AtomicFile& file, uint32_t width, uint32_t height,
                      std::span<const float> depth) {
     float nearest = std::numeric_limits<float>::infinity();
     float farthest = -std::numeric_limits<float>::infinity();
@@ -70,7 +77,7 @@ void write_depth_png(const std::filesystem::path& path, uint32_t width, uint32_t
         const float t = (depth[i] - nearest) / range;  // 0 nearest .. 1 farthest
         grey[i] = static_cast<uint8_t>(std::lround(255.0f - t * (255.0f - 64.0f)));
     }
-    write_png(path, width, height, 1, grey);
+    write_png(file, width, height, 1, grey);
 }
 
 namespace {
@@ -151,8 +158,8 @@ void draw_legend_labels(std::vector<uint8_t>& rgb, uint32_t width, uint32_t top,
 
 }  // namespace
 
-void write_heat_map_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
-                        std::span<const uint32_t> counts, uint32_t scale_max) {
+void write_heat_map_png(AtomicFile& file, uint32_t width, uint32_t height, std::span<const uint32_t> counts,
+                        uint32_t scale_max) {
     if (counts.size() != size_t(width) * height) throw Error("heat map: {} counts for a {}x{} image", counts.size(), width, height);
     // Below the picture: a black gap, the ramp, and the row of labels.
     constexpr uint32_t gap = 3, ramp = 10, labels = heat_map_legend_height - gap - ramp;
@@ -167,7 +174,7 @@ void write_heat_map_png(const std::filesystem::path& path, uint32_t width, uint3
         }
     }
     draw_legend_labels(rgb, width, height + gap + ramp, labels, scale_max);
-    write_png(path, width, height + heat_map_legend_height, 3, rgb);
+    write_png(file, width, height + heat_map_legend_height, 3, rgb);
 }
 
 }  // namespace hsr

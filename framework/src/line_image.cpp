@@ -1,5 +1,6 @@
 #include "hsr/line_image.hpp"
 
+#include "hsr/atomic_file.hpp"
 #include "hsr/error.hpp"
 
 #include <cairo-svg.h>
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -16,6 +18,14 @@ namespace {
 std::string lower_extension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// ".svg" or ".png"; any other is an hsr::Error.
+std::string drawing_extension(const std::filesystem::path& path) {
+    const std::string ext = lower_extension(path);
+    if (ext != ".svg" && ext != ".png")
+        throw Error("{}: a line drawing is written as .svg or .png, not '{}'", path.string(), ext);
     return ext;
 }
 
@@ -63,6 +73,11 @@ LineImageStats draw(cairo_t* cr, const LineDrawing& d, const LineStyle& style) {
     return stats;
 }
 
+cairo_status_t write_to_file(void* file, const unsigned char* data, unsigned int length) {
+    return std::fwrite(data, 1, length, static_cast<std::FILE*>(file)) == length ? CAIRO_STATUS_SUCCESS
+                                                                                 : CAIRO_STATUS_WRITE_ERROR;
+}
+
 struct SurfaceCloser {
     void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
 };
@@ -77,14 +92,12 @@ bool is_line_drawing_path(const std::filesystem::path& path) {
     return ext == ".svg" || ext == ".png";
 }
 
-LineImageStats write_line_drawing(const std::filesystem::path& path, const LineDrawing& drawing,
-                                  const LineStyle& style) {
-    const std::string ext = lower_extension(path);
-    if (ext != ".svg" && ext != ".png")
-        throw Error("{}: a line drawing is written as .svg or .png, not '{}'", path.string(), ext);
+LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, const LineStyle& style) {
+    const std::filesystem::path& path = file.target();
+    const std::string ext = drawing_extension(path);
     if (drawing.width == 0 || drawing.height == 0) throw Error("{}: the drawing has no size", path.string());
     std::unique_ptr<cairo_surface_t, SurfaceCloser> surface(
-        ext == ".svg" ? cairo_svg_surface_create(path.c_str(), drawing.width, drawing.height)
+        ext == ".svg" ? cairo_svg_surface_create_for_stream(write_to_file, file.stdio(), drawing.width, drawing.height)
                       : cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(drawing.width), int(drawing.height)));
     if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
         throw Error("{}: cannot write: {}", path.string(), cairo_status_to_string(cairo_surface_status(surface.get())));
@@ -97,7 +110,7 @@ LineImageStats write_line_drawing(const std::filesystem::path& path, const LineD
             throw Error("{}: drawing failed: {}", path.string(), cairo_status_to_string(cairo_status(cr.get())));
     }
     if (ext == ".png") {
-        const cairo_status_t status = cairo_surface_write_to_png(surface.get(), path.c_str());
+        const cairo_status_t status = cairo_surface_write_to_png_stream(surface.get(), write_to_file, file.stdio());
         if (status != CAIRO_STATUS_SUCCESS)
             throw Error("{}: cannot write: {}", path.string(), cairo_status_to_string(status));
     } else {
@@ -106,6 +119,15 @@ LineImageStats write_line_drawing(const std::filesystem::path& path, const LineD
             throw Error("{}: cannot write: {}", path.string(),
                         cairo_status_to_string(cairo_surface_status(surface.get())));
     }
+    return stats;
+}
+
+LineImageStats write_line_drawing(const std::filesystem::path& path, const LineDrawing& drawing,
+                                  const LineStyle& style) {
+    drawing_extension(path);  // checked before a file is made
+    AtomicFile file(path);
+    const LineImageStats stats = write_line_drawing(file, drawing, style);
+    file.commit();
     return stats;
 }
 

@@ -1,4 +1,5 @@
-// Image output: 8-bit PNG through libpng.
+// Image output: 8-bit PNG through libpng, into an AtomicFile (hsr/atomic_file.hpp) that the caller
+// commits, or, given a path, into a file of its own committed at once.
 #pragma once
 
 #include <cstdint>
@@ -8,8 +9,11 @@
 
 namespace hsr {
 
+class AtomicFile;
+
 // channels: 1 (grey), 3 (RGB) or 4 (RGBA); rows top to bottom. Throws hsr::Error if the file cannot
 // be written.
+void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels);
 void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
                std::span<const uint8_t> pixels);
 
@@ -24,7 +28,7 @@ Image read_png_rgb(const std::filesystem::path& path);
 
 // Depth buffer as greyscale: nearest covered depth white, farthest covered depth dark grey (64),
 // uncovered pixels black. Only finite values count.
-void write_depth_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
+void write_depth_png(AtomicFile& file, uint32_t width, uint32_t height,
                      std::span<const float> depth);
 
 // Per-pixel counts (depth complexity, depth tests) as a heat map: 0 black, then dark blue through
@@ -32,7 +36,7 @@ void write_depth_png(const std::filesystem::path& path, uint32_t width, uint32_t
 // heat_map_legend_height pixels high shows the ramp from 0 (left) to scale_max (right), labelled
 // with counts, so pictures with the same scale_max compare directly.
 constexpr uint32_t heat_map_legend_height = 28;
-void write_heat_map_png(const std::filesystem::path& path, uint32_t width, uint32_t height,
-                        std::span<const uint32_t> counts, uint32_t scale_max);
+void write_heat_map_png(AtomicFile& file, uint32_t width, uint32_t height, std::span<const uint32_t> counts,
+                        uint32_t scale_max);
 
 }  // namespace hsr

@@ -31,8 +31,12 @@ struct LineImageStats {
     uint64_t visible = 0, hidden = 0, outline = 0;
 };
 
-// By the file's extension: .svg or .png (any other is an hsr::Error). Throws hsr::Error when the file
-// cannot be written.
+class AtomicFile;
+
+// By the target's extension: .svg or .png (any other is an hsr::Error), into an AtomicFile
+// (hsr/atomic_file.hpp) that the caller commits, or, given a path, into a file of its own committed
+// at once. Throws hsr::Error when the file cannot be written.
+LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, const LineStyle& style);
 LineImageStats write_line_drawing(const std::filesystem::path& path, const LineDrawing& drawing,
                                   const LineStyle& style);
 
