@@ -102,12 +102,12 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     hsr::Frame frame =
         hsr::render_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
 
-    hsr::AtomicFileSet files;
-    hsr::write_png(files.add(output), frame.width, frame.height, 3, frame.rgb);
-    if (!o.depth_out.empty()) hsr::write_depth_png(files.add(o.depth_out), frame.width, frame.height, frame.depth);
     std::optional<hsr::DepthComplexity> depth_complexity;
     if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())
         depth_complexity = hsr::measure_depth_complexity(scene_view, scene.camera);
+    hsr::AtomicFileSet files;
+    hsr::write_png(files.add(output), frame.width, frame.height, 3, frame.rgb);
+    if (!o.depth_out.empty()) hsr::write_depth_png(files.add(o.depth_out), frame.width, frame.height, frame.depth);
     if (depth_complexity) write_heat_maps(o, frame, *depth_complexity, files);
     files.commit();
     if (depth_complexity) print_heat_maps_written(o, *depth_complexity);
