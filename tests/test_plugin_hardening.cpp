@@ -1,0 +1,172 @@
+// A broken library on the plugin path (tests/plugins/bad_library.c, one per folder) must not take
+// the hsr executable down: `hsr plugins` lists it as refused with the reason, a command that does not
+// use it works as if it were absent, and asking for it is a one-line error.
+#include "hsr/abi.h"
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int status = -1;  // the exit status; -1 when hsr died from a signal or was timed out
+    std::string out, err;
+};
+
+fs::path scratch_dir() {
+    fs::path dir = fs::path(HSR_BINARY_DIR) / "test-plugin-hardening-scratch";
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// The folder that holds the one broken library of that case.
+std::string bad_folder(const std::string& name) { return std::string(HSR_TEST_PLUGIN_DIR) + "/" + name; }
+
+// Runs `hsr <args> --plugin-path <the case's folder>` with a time limit.
+Run run_hsr_beside(const std::string& name, const std::string& args, const std::string& tag) {
+    const fs::path dir = scratch_dir();
+    const fs::path out = dir / (name + "-" + tag + ".out"), err = dir / (name + "-" + tag + ".err");
+    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/hsr " + args + " --plugin-path " +
+                                bad_folder(name) + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
+    const int raw = std::system(command.c_str());
+    Run r;
+    r.status = WIFEXITED(raw) && WEXITSTATUS(raw) != 124 ? WEXITSTATUS(raw) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+std::string cube() { return std::string(HSR_MODELS_DIR) + "/cube.obj"; }
+
+void require_one_line_error(const Run& r, const std::string& expected) {
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 1);
+    CHECK(r.err.rfind("hsr: error: ", 0) == 0);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_THAT(r.err, Catch::Contains(expected));
+}
+
+// A render with the default plugins succeeds beside the broken library.
+void require_default_render_works(const std::string& name) {
+    const fs::path png = scratch_dir() / (name + ".png");
+    fs::remove(png);
+    const Run r = run_hsr_beside(name, "render " + cube() + " --width 64 --height 64 -o " + png.string(), "render");
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Catch::StartsWith("wrote ") && !Catch::Contains("hsr: error") && !Catch::Contains("hsr: warning"));
+    CHECK(fs::exists(png));
+}
+
+// The whole contract for a library that must be refused.
+void require_refused(const std::string& name, const std::string& reason) {
+    const Run listing = run_hsr_beside(name, "plugins", "plugins");
+    INFO("stdout: " << listing.out << "\nstderr: " << listing.err);
+    CHECK(listing.status == 0);
+    CHECK_THAT(listing.out, Catch::Contains("refused: " + bad_folder(name) + "/" + name + ".so"));
+    CHECK_THAT(listing.out, Catch::Contains(reason));
+    CHECK_THAT(listing.out, Catch::Contains("hidden-surface  zbuffer"));  // the good plugins are still listed
+    CHECK(std::count(listing.out.begin(), listing.out.end(), '\n') < 200);
+
+    require_default_render_works(name);
+
+    const Run asked = run_hsr_beside(name, "render " + cube() + " --width 64 --height 64 -o x.png -a " + name, "asked");
+    require_one_line_error(asked, "no hidden-surface or hidden-line plugin named '" + name + "'");
+    CHECK_THAT(asked.err, Catch::Contains("refused: ") && Catch::Contains(reason));
+}
+
+}  // namespace
+
+TEST_CASE("plugin hardening: an entry symbol that is data, not a function", "[plugin-hardening]") {
+    require_refused("entry-is-data", "'hsr_plugin_entry' is not a function");
+}
+
+TEST_CASE("plugin hardening: a NULL api name", "[plugin-hardening]") {
+    require_refused("null-api", "it is not an hsr plugin (api name differs)");
+}
+
+TEST_CASE("plugin hardening: a NULL plugin name", "[plugin-hardening]") {
+    // Refused before it has a name, so it is found by its file name when asked for.
+    require_refused("null-name", "it has no name");
+}
+
+TEST_CASE("plugin hardening: a NULL parameter table with a parameter count", "[plugin-hardening]") {
+    require_refused("null-params", "its parameter table is missing");
+}
+
+TEST_CASE("plugin hardening: a NULL interface table", "[plugin-hardening]") {
+    require_refused("null-interface-table", "it has no interface table");
+}
+
+TEST_CASE("plugin hardening: a version string pointing into unmapped memory", "[plugin-hardening]") {
+    require_refused("wild-version", "crashed while loading (signal 11");
+}
+
+TEST_CASE("plugin hardening: an interface table pointing into unmapped memory", "[plugin-hardening]") {
+    require_refused("wild-interface-table", "crashed while loading (signal 11");
+}
+
+TEST_CASE("plugin hardening: a name without a NUL within 256 bytes", "[plugin-hardening]") {
+    require_refused("unterminated-name", "its name does not end within 256 bytes");
+}
+
+TEST_CASE("plugin hardening: a parameter count past the parameter array", "[plugin-hardening]") {
+    require_refused("huge-param-count", "it declares 2147483648 parameters, more than the 256 allowed");
+}
+
+TEST_CASE("plugin hardening: a kind outside hsr_plugin_kind", "[plugin-hardening]") {
+    require_refused("kind-99", "unknown plugin kind 99");
+}
+
+TEST_CASE("plugin hardening: a constructor that segfaults", "[plugin-hardening]") {
+    require_refused("constructor-segfault", "crashed while loading (signal 11");
+}
+
+TEST_CASE("plugin hardening: a constructor that calls exit", "[plugin-hardening]") {
+    require_refused("constructor-exit", "exited while loading (status 3)");
+}
+
+TEST_CASE("plugin hardening: a constructor that never returns", "[plugin-hardening][slow]") {
+    require_refused("constructor-hang", "timed out while loading");
+}
+
+TEST_CASE("plugin hardening: an error message without a terminating NUL", "[plugin-hardening]") {
+    const Run listing = run_hsr_beside("unterminated-error", "plugins", "plugins");
+    CHECK(listing.status == 0);
+    CHECK_THAT(listing.out, Catch::Contains("hidden-surface  unterminated-error"));
+    require_default_render_works("unterminated-error");
+
+    const Run asked = run_hsr_beside("unterminated-error", "render " + cube() + " --width 64 --height 64 -o x.png -a unterminated-error", "asked");
+    require_one_line_error(asked, "failed in render (status 4): ");
+    // The plugin filled all HSR_ERROR_MESSAGE_SIZE bytes with 'x'; the last one counts as the
+    // terminator, and nothing after the buffer is printed.
+    const std::string expected_tail = ": " + std::string(HSR_ERROR_MESSAGE_SIZE - 1, 'x') + "\n";
+    CHECK(asked.err.size() >= expected_tail.size());
+    CHECK(asked.err.substr(asked.err.size() - std::min(asked.err.size(), expected_tail.size())) == expected_tail);
+}
+
+TEST_CASE("plugin hardening: an exception thrown across the C ABI", "[plugin-hardening]") {
+    const Run listing = run_hsr_beside("throws-across-abi", "plugins", "plugins");
+    CHECK(listing.status == 0);
+    CHECK_THAT(listing.out, Catch::Contains("hidden-surface  throws-across-abi"));
+    require_default_render_works("throws-across-abi");
+
+    const Run asked = run_hsr_beside("throws-across-abi", "render " + cube() + " --width 64 --height 64 -o x.png -a throws-across-abi", "asked");
+    require_one_line_error(asked, "hidden-surface plugin 'throws-across-abi' let an exception escape from render");
+}
