@@ -421,7 +421,10 @@ const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> ki
     for (const fs::path& d : searched_) where += (where.empty() ? "" : ", ") + d.string();
     std::string refused;
     for (const RejectedLibrary& r : rejected_) {
-        if (r.reason.find("'" + name + "'") != std::string::npos) refused = "; refused: " + r.reason;
+        // A library refused before it named its plugins is matched by its file name (NAME.so, hsr-NAME.so).
+        const std::string stem = r.path.stem().string();
+        if (r.reason.find("'" + name + "'") != std::string::npos || stem == name || stem == "hsr-" + name)
+            refused = "; refused: " + r.reason;
     }
     throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kinds_text, name,
                 where.empty() ? "nowhere" : where, found.empty() ? "none" : found, refused);
