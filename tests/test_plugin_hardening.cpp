@@ -1,14 +1,19 @@
 // A broken library on the plugin path (tests/plugins/bad_library.c, one per folder) must not take
 // the hsr executable down: `hsr plugins` lists it as refused with the reason, a command that does not
-// use it works as if it were absent, and asking for it is a one-line error.
+// use it works as if it were absent, and asking for it is a one-line error. Also the descriptor
+// check's bounds, in-process, against strings and tables that end at an unmapped page.
 #include "hsr/abi.h"
+#include "hsr/plugin_registry.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <sys/mman.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -169,4 +174,103 @@ TEST_CASE("plugin hardening: an exception thrown across the C ABI", "[plugin-har
 
     const Run asked = run_hsr_beside("throws-across-abi", "render " + cube() + " --width 64 --height 64 -o x.png -a throws-across-abi", "asked");
     require_one_line_error(asked, "hidden-surface plugin 'throws-across-abi' let an exception escape from render");
+}
+
+namespace {
+
+// 64 KiB of readable memory followed by an unreadable page: whatever is placed at the end of the
+// readable part cannot be read past without a SIGSEGV.
+struct GuardedPage {
+    static constexpr size_t readable = 64 * 1024;
+    size_t page = static_cast<size_t>(::sysconf(_SC_PAGESIZE));
+    char* base = nullptr;
+    GuardedPage() {
+        void* p = ::mmap(nullptr, readable + page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        REQUIRE(p != MAP_FAILED);
+        base = static_cast<char*>(p);
+        REQUIRE(::mprotect(base + readable, page, PROT_NONE) == 0);
+    }
+    ~GuardedPage() { ::munmap(base, readable + page); }
+    char* end() const { return base + readable; }
+};
+
+// A descriptor check_descriptor accepts, to break one field at a time.
+struct GoodDescriptor {
+    IHiddenSurfaceRemover table{};
+    hsr_param_desc param{sizeof(hsr_param_desc), "level", HSR_PARAM_INT, "3", 0, 10, nullptr, "a level"};
+    hsr_plugin_descriptor d{};
+    GoodDescriptor() {
+        table.struct_size = sizeof table;
+        d = {sizeof d, HSR_API_NAME, HSR_ABI_MAJOR, HSR_ABI_MINOR, HSR_KIND_HIDDEN_SURFACE_REMOVER, "good",
+             "1.0", "fine", &param, 1, &table};
+    }
+};
+
+}  // namespace
+
+TEST_CASE("plugin hardening: descriptor strings are read only within their bound", "[plugin-hardening]") {
+    GoodDescriptor g;
+    REQUIRE(hsr::check_descriptor(g.d).empty());
+    GuardedPage guard;
+    // 300 bytes without a NUL, ending where the readable memory ends: strlen would fault.
+    char* unterminated = guard.end() - 300;
+    std::memset(unterminated, 'a', 300);
+    // 4097 bytes without a NUL: past the bound for texts.
+    char* long_text = guard.end() - 4097;
+    std::memset(long_text, 'b', 4097);
+
+    SECTION("name") {
+        g.d.name = unterminated;
+        CHECK(hsr::check_descriptor(g.d) == "its name does not end within 256 bytes");
+    }
+    SECTION("api") {
+        g.d.api = unterminated;
+        CHECK_THAT(hsr::check_descriptor(g.d), Catch::Contains("not an hsr plugin"));
+    }
+    SECTION("version") {
+        g.d.version = unterminated;
+        CHECK(hsr::check_descriptor(g.d) == "its version does not end within 256 bytes");
+    }
+    SECTION("description") {
+        g.d.description = long_text;
+        CHECK(hsr::check_descriptor(g.d) == "its description does not end within 4096 bytes");
+    }
+    SECTION("parameter name") {
+        g.param.name = unterminated;
+        CHECK(hsr::check_descriptor(g.d) == "its parameter #0 is malformed");
+    }
+    SECTION("parameter help") {
+        g.param.help = long_text;
+        CHECK_THAT(hsr::check_descriptor(g.d), Catch::Contains("does not end within 4096 bytes"));
+    }
+    SECTION("a string that ends just within the bound is fine") {
+        unterminated[255] = '\0';  // 255 characters and the NUL
+        g.d.name = unterminated;
+        CHECK(hsr::check_descriptor(g.d).empty());
+    }
+}
+
+TEST_CASE("plugin hardening: descriptor counts and sizes are bounded", "[plugin-hardening]") {
+    GoodDescriptor g;
+    SECTION("param_count past a one-element array that ends at an unmapped page") {
+        GuardedPage guard;
+        auto* last = reinterpret_cast<hsr_param_desc*>(guard.end() - sizeof(hsr_param_desc));
+        *last = g.param;
+        g.d.params = last;
+        g.d.param_count = 257;
+        CHECK(hsr::check_descriptor(g.d) == "it declares 257 parameters, more than the 256 allowed");
+    }
+    SECTION("a parameter element size beyond the bound") {
+        g.param.struct_size = 1u << 20;
+        CHECK_THAT(hsr::check_descriptor(g.d), Catch::Contains("elements of 1048576 bytes"));
+    }
+    SECTION("an interface table size beyond the bound") {
+        g.table.struct_size = 1u << 20;
+        CHECK_THAT(hsr::check_descriptor(g.d), Catch::Contains("struct_size 1048576, more than the 4096 allowed"));
+    }
+    SECTION("a kind outside the enum is refused before the table is read") {
+        g.d.kind = 0xdeadbeef;
+        g.d.interface_table = reinterpret_cast<const void*>(16);
+        CHECK_THAT(hsr::check_descriptor(g.d), Catch::Contains("unknown plugin kind"));
+    }
 }

@@ -1,3 +1,5 @@
+// Finding and loading plugin libraries: each is probed in a child process, its descriptors are
+// checked defensively (docs/abi.md section 4), and the instance wrappers call through the C ABI.
 #include "hsr/plugin_registry.hpp"
 
 #include "hsr/error.hpp"
