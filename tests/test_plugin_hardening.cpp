@@ -18,6 +18,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -174,6 +175,40 @@ TEST_CASE("plugin hardening: an exception thrown across the C ABI", "[plugin-har
 
     const Run asked = run_hsr_beside("throws-across-abi", "render " + cube() + " --width 64 --height 64 -o x.png -a throws-across-abi", "asked");
     require_one_line_error(asked, "hidden-surface plugin 'throws-across-abi' let an exception escape from render");
+}
+
+TEST_CASE("plugin hardening: several broken libraries in one folder, good ones after them", "[plugin-hardening]") {
+    // The libraries are checked one after the other in one child; each that kills it must be blamed
+    // alone, and the checking go on with the next.
+    const fs::path folder = scratch_dir() / "mixed";
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    const std::vector<std::string> broken = {"constructor-exit", "constructor-segfault", "entry-is-data", "kind-99",
+                                             "wild-version"};
+    for (const std::string& name : broken)
+        fs::copy_file(bad_folder(name) + "/" + name + ".so", folder / (name + ".so"));
+    fs::copy_file(bad_folder("unterminated-error") + "/unterminated-error.so", folder / "unterminated-error.so");
+    fs::copy_file(std::string(HSR_TEST_PLUGIN_DIR) + "/handmade-lines.so", folder / "zz-handmade-lines.so");
+
+    const fs::path out = scratch_dir() / "mixed.out";
+    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/hsr plugins --plugin-path " +
+                                folder.string() + " > " + out.string() + " 2>&1 < /dev/null";
+    const int raw = std::system(command.c_str());
+    const std::string listing = slurp(out);
+    INFO(listing);
+    CHECK((WIFEXITED(raw) && WEXITSTATUS(raw) == 0));
+    CHECK_THAT(listing, Catch::Contains("constructor-exit.so: refused: exited while loading (status 3)"));
+    CHECK_THAT(listing, Catch::Contains("constructor-segfault.so: refused: crashed while loading (signal 11"));
+    CHECK_THAT(listing, Catch::Contains("entry-is-data.so: not an hsr plugin"));
+    CHECK_THAT(listing, Catch::Contains("kind-99.so: plugin 'kind-99' refused: unknown plugin kind 99"));
+    CHECK_THAT(listing, Catch::Contains("wild-version.so: refused: crashed while loading (signal 11"));
+    size_t refused_lines = 0;
+    for (size_t at = listing.find("\nrefused: "); at != std::string::npos; at = listing.find("\nrefused: ", at + 1))
+        ++refused_lines;
+    CHECK(refused_lines == broken.size());
+    CHECK_THAT(listing, Catch::Contains("hidden-surface  unterminated-error"));
+    CHECK_THAT(listing, Catch::Contains("hidden-line     handmade-lines"));
+    CHECK_THAT(listing, Catch::Contains("hidden-surface  zbuffer"));
 }
 
 namespace {

@@ -268,9 +268,10 @@ void write_all(int fd, std::string_view text) {
     }
 }
 
-// The child's side of probe_plugin_library: load, validate, report, and leave without running any
-// exit handler (the parent's and the plugin's belong to the parent).
-[[noreturn]] void run_probe_child(const fs::path& path, int report_fd) {
+// The child's side of probe_plugin_libraries: load and validate each library in turn, report one
+// line per library ("ok" or "refused REASON"), and leave without running any exit handler (the
+// parent's and the plugins' belong to the parent).
+[[noreturn]] void run_probe_child(const std::vector<fs::path>& paths, size_t first, int report_fd) {
     for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGPIPE}) ::signal(sig, SIG_DFL);
     sigset_t none;
     sigemptyset(&none);
@@ -281,26 +282,35 @@ void write_all(int fd, std::string_view text) {
         ::dup2(null, STDOUT_FILENO);
         ::dup2(null, STDERR_FILENO);
     }
-    std::string report;
-    try {
-        load_plugin_library(path);
-        report = "ok\n";
-    } catch (const std::exception& e) {
-        report = std::string("refused\n") + e.what();
-    } catch (...) {
-        report = "refused\n" + path.string() + ": an exception escaped while loading it";
+    std::vector<std::vector<Plugin>> keep_loaded;  // as in the parent, every library stays loaded
+    for (size_t i = first; i < paths.size(); ++i) {
+        std::string report;
+        try {
+            keep_loaded.push_back(load_plugin_library(paths[i]));
+            report = "ok";
+        } catch (const std::exception& e) {
+            report = std::string("refused ") + e.what();
+        } catch (...) {
+            report = "refused " + paths[i].string() + ": an exception escaped while loading it";
+        }
+        std::replace(report.begin(), report.end(), '\n', ' ');
+        write_all(report_fd, report + "\n");
     }
-    write_all(report_fd, report);
     ::_exit(0);
 }
 
-}  // namespace
-
-std::string probe_plugin_library(const fs::path& path, std::chrono::milliseconds timeout) {
+// Runs one child over paths[first..]; fills refusals from first on, up to and including the library
+// the child died on (if it did). Returns the index after the last library with a verdict.
+size_t probe_from(const std::vector<fs::path>& paths, size_t first, std::chrono::milliseconds timeout_each,
+                  std::vector<std::string>& refusals) {
+    const auto could_not_start = [&](int error) {
+        refusals[first] = fmt::format("{}: refused: cannot start a process to check it ({})", paths[first].string(),
+                                      std::strerror(error));
+        return first + 1;
+    };
     int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0)
-        return fmt::format("{}: refused: cannot start a process to check it ({})", path.string(), std::strerror(errno));
-    // Buffered output would otherwise be written twice if the library's constructor calls exit().
+    if (::pipe2(fds, O_CLOEXEC) != 0) return could_not_start(errno);
+    // Buffered output would otherwise be written twice if a library's constructor calls exit().
     std::cout.flush();
     std::cerr.flush();
     std::fflush(nullptr);
@@ -309,26 +319,23 @@ std::string probe_plugin_library(const fs::path& path, std::chrono::milliseconds
         const int fork_error = errno;
         ::close(fds[0]);
         ::close(fds[1]);
-        return fmt::format("{}: refused: cannot start a process to check it ({})", path.string(),
-                           std::strerror(fork_error));
+        return could_not_start(fork_error);
     }
     if (pid == 0) {
         ::close(fds[0]);
-        run_probe_child(path, fds[1]);
+        run_probe_child(paths, first, fds[1]);
     }
     ::close(fds[1]);
 
-    std::string report;
+    // Each library gets its own time limit, counted from the previous one's verdict.
+    size_t next = first;
+    std::string pending;
     bool timed_out = false;
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    for (;;) {
+    auto deadline = std::chrono::steady_clock::now() + timeout_each;
+    while (next < paths.size()) {
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) {
-            timed_out = true;
-            break;
-        }
         pollfd wait_for{fds[0], POLLIN, 0};
-        const int ready = ::poll(&wait_for, 1, static_cast<int>(left.count()));
+        const int ready = left.count() > 0 ? ::poll(&wait_for, 1, static_cast<int>(left.count())) : 0;
         if (ready < 0 && errno == EINTR) continue;
         if (ready <= 0) {
             timed_out = ready == 0;
@@ -338,32 +345,59 @@ std::string probe_plugin_library(const fs::path& path, std::chrono::milliseconds
         const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;  // end of file: the child is done (or gone)
-        report.append(buffer, static_cast<size_t>(n));
+        pending.append(buffer, static_cast<size_t>(n));
+        for (size_t end; (end = pending.find('\n')) != std::string::npos; pending.erase(0, end + 1)) {
+            const std::string_view line(pending.data(), end);
+            constexpr std::string_view refused = "refused ";
+            if (line.rfind(refused, 0) == 0) refusals[next] = std::string(line.substr(refused.size()));
+            ++next;
+            deadline = std::chrono::steady_clock::now() + timeout_each;
+        }
     }
     ::close(fds[0]);
     if (timed_out) ::kill(pid, SIGKILL);
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
     }
+    if (next == paths.size()) return next;
 
+    const std::string path = paths[next].string();
     if (timed_out)
-        return fmt::format("{}: refused: timed out while loading (over {} ms)", path.string(), timeout.count());
-    if (WIFSIGNALED(status))
-        return fmt::format("{}: refused: crashed while loading (signal {}, {})", path.string(), WTERMSIG(status),
-                           ::strsignal(WTERMSIG(status)));
-    constexpr std::string_view ok = "ok\n", refused = "refused\n";
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && report == ok) return {};
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && report.rfind(refused, 0) == 0)
-        return report.substr(refused.size());
-    return fmt::format("{}: refused: exited while loading (status {})", path.string(),
-                       WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+        refusals[next] = fmt::format("{}: refused: timed out while loading (over {} ms)", path, timeout_each.count());
+    else if (WIFSIGNALED(status))
+        refusals[next] = fmt::format("{}: refused: crashed while loading (signal {}, {})", path, WTERMSIG(status),
+                                     ::strsignal(WTERMSIG(status)));
+    else
+        refusals[next] = fmt::format("{}: refused: exited while loading (status {})", path,
+                                     WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    return next + 1;
+}
+
+}  // namespace
+
+std::vector<std::string> probe_plugin_libraries(const std::vector<fs::path>& paths,
+                                                std::chrono::milliseconds timeout_each) {
+    std::vector<std::string> refusals(paths.size());
+    // One child for the lot; when one library kills it, the next child starts after that library.
+    for (size_t first = 0; first < paths.size();) first = probe_from(paths, first, timeout_each, refusals);
+    return refusals;
 }
 #else
-std::string probe_plugin_library(const fs::path&, std::chrono::milliseconds) { return {}; }
+std::vector<std::string> probe_plugin_libraries(const std::vector<fs::path>& paths, std::chrono::milliseconds) {
+    return std::vector<std::string>(paths.size());
+}
 #endif
 
+std::string probe_plugin_library(const fs::path& path, std::chrono::milliseconds timeout) {
+    return probe_plugin_libraries({path}, timeout).front();
+}
+
 void PluginRegistry::add_library(const fs::path& file) {
-    if (std::string refusal = probe_plugin_library(file); !refusal.empty()) {
+    add_probed_library(file, probe_plugin_library(file));
+}
+
+void PluginRegistry::add_probed_library(const fs::path& file, std::string refusal) {
+    if (!refusal.empty()) {
         rejected_.push_back({file, std::move(refusal)});
         return;
     }
@@ -394,7 +428,8 @@ void PluginRegistry::scan_directory(const fs::path& dir) {
         if (e.is_regular_file(ec) && e.path().extension() == suffix) files.push_back(e.path());
     }
     std::sort(files.begin(), files.end());
-    for (const fs::path& f : files) add_library(f);
+    std::vector<std::string> refusals = probe_plugin_libraries(files);
+    for (size_t i = 0; i < files.size(); ++i) add_probed_library(files[i], std::move(refusals[i]));
 }
 
 bool PluginRegistry::contains(hsr_plugin_kind kind, const std::string& name) const {

@@ -51,6 +51,10 @@ std::vector<Plugin> load_plugin_library(const std::filesystem::path& path);
 // crashed while loading (signal 11, ...)", "... timed out while loading", the validation's reason).
 std::string probe_plugin_library(const std::filesystem::path& path,
                                  std::chrono::milliseconds timeout = std::chrono::seconds(5));
+// The same for several libraries, loaded one after the other in one child (a new child after each
+// library that kills one); one refusal (or empty string) per path, in order.
+std::vector<std::string> probe_plugin_libraries(const std::vector<std::filesystem::path>& paths,
+                                                std::chrono::milliseconds timeout_each = std::chrono::seconds(5));
 
 class PluginRegistry {
 public:
@@ -72,6 +76,8 @@ public:
     const std::vector<std::filesystem::path>& searched() const { return searched_; }
 
 private:
+    void add_probed_library(const std::filesystem::path& file, std::string refusal);
+
     std::vector<Plugin> plugins_;
     std::vector<RejectedLibrary> rejected_;
     std::vector<std::filesystem::path> searched_;
