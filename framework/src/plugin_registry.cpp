@@ -1,3 +1,5 @@
+// Finding and loading plugin libraries: each is probed in a child process, its descriptors are
+// checked defensively (docs/abi.md section 4), and the instance wrappers call through the C ABI.
 #include "hsr/plugin_registry.hpp"
 
 #include "hsr/error.hpp"
@@ -7,12 +9,24 @@
 
 #ifndef _WIN32
 #include <dlfcn.h>
+#include <fcntl.h>
+#include <link.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #endif
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
+#include <iostream>
+#include <new>
+#include <optional>
+#include <string_view>
 #include <system_error>
 
 namespace hsr {
@@ -27,6 +41,21 @@ constexpr size_t remover_size_1_0 = offsetof(IHiddenSurfaceRemover, extension);
 constexpr size_t lighting_size_1_0 = offsetof(ILightingModel, extension);
 constexpr size_t line_remover_size_1_2 = offsetof(IHiddenLineRemover, extension);
 constexpr size_t param_desc_size_1_0 = sizeof(hsr_param_desc);
+
+// Bounds on what a descriptor may declare: a plugin's strings and tables are read only within these,
+// so that an unterminated string or a wild count is refused instead of read past its end.
+constexpr size_t max_name_length = 256;    // api, name, version, parameter names
+constexpr size_t max_text_length = 4096;   // descriptions, defaults, choices, help
+constexpr uint32_t max_param_count = 256;
+constexpr uint32_t max_struct_size = 4096; // a parameter description or an interface table
+
+// The string, if s is not NULL and ends within max_length bytes (never reading further).
+std::optional<std::string_view> bounded_string(const char* s, size_t max_length) {
+    if (s == nullptr) return std::nullopt;
+    const size_t length = strnlen(s, max_length);
+    if (length == max_length) return std::nullopt;
+    return std::string_view(s, length);
+}
 
 // Copies the first struct_size bytes of a plugin's struct into a zeroed host struct, so fields the
 // plugin's (older) layout does not have read as NULL / 0.
@@ -43,9 +72,10 @@ std::string plugin_label(const Plugin& p) {
 
 [[noreturn]] void throw_status(const Plugin& plugin, const char* what, hsr_status status,
                                const hsr_error& error) {
-    const char* message = error.message[0] != '\0' ? error.message : "(no message)";
+    // The plugin may have left the buffer unterminated: its last byte counts as the terminator.
+    const std::string_view message(error.message, strnlen(error.message, sizeof error.message - 1));
     throw Error("{} failed in {} (status {}): {}", plugin_label(plugin), what, static_cast<int>(status),
-                message);
+                message.empty() ? "(no message)" : message);
 }
 
 std::vector<std::string> split_path_list(const char* list) {
@@ -80,6 +110,38 @@ void require_functions(const Plugin& plugin, const Table& table) {
         throw Error("{} has a NULL create or destroy function", plugin_label(plugin));
 }
 
+// Calls into a plugin. A C++ exception must not cross the C ABI (the SDK's boundary catches them
+// all), but a plugin written without the SDK may throw anyway: that becomes an hsr::Error rather
+// than std::terminate. hsr::Error and std::bad_alloc pass unchanged: the host's own callbacks
+// (counter sinks) may raise them from inside the call.
+template <class F>
+auto call_plugin(const Plugin& plugin, const char* what, F&& f) {
+    try {
+        return f();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (...) {
+        throw Error("{} let an exception escape from {} across the C ABI", plugin_label(plugin), what);
+    }
+}
+
+// Whether the entry symbol is code: a data symbol of that name would be "called" and crash.
+bool entry_is_function(void* address) {
+#ifndef _WIN32
+    Dl_info info{};
+    void* symbol_entry = nullptr;
+    if (::dladdr1(address, &info, &symbol_entry, RTLD_DL_SYMENT) == 0 || symbol_entry == nullptr)
+        return true;  // the loader cannot tell; the probe process still guards the host
+    const unsigned type = ELF64_ST_TYPE(static_cast<const ElfW(Sym)*>(symbol_entry)->st_info);
+    return type == STT_FUNC || type == STT_GNU_IFUNC;
+#else
+    (void)address;
+    return true;
+#endif
+}
+
 }  // namespace
 
 const char* kind_name(uint32_t kind) {
@@ -93,8 +155,8 @@ const char* kind_name(uint32_t kind) {
 
 std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major, uint32_t host_minor) {
     if (d.struct_size < frozen_descriptor_size) return "its descriptor is too small to be an hsr descriptor";
-    if (d.api == nullptr || std::strcmp(d.api, HSR_API_NAME) != 0)
-        return "it is not an hsr plugin (api name differs)";
+    const auto api = bounded_string(d.api, max_name_length);
+    if (!api || *api != HSR_API_NAME) return "it is not an hsr plugin (api name differs)";
     if (d.abi_major != host_major)
         return fmt::format("it was built for ABI {}.{}, this host speaks ABI {}.{} (major versions must match)",
                            d.abi_major, d.abi_minor, host_major, host_minor);
@@ -110,14 +172,30 @@ std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major
     if (d.kind == HSR_KIND_HIDDEN_LINE_REMOVER && d.abi_minor < 2)
         return fmt::format("it claims ABI {}.{}, but hidden-line plugins came with ABI 1.2", d.abi_major, d.abi_minor);
     if (d.name == nullptr || d.name[0] == '\0') return "it has no name";
+    if (!bounded_string(d.name, max_name_length))
+        return fmt::format("its name does not end within {} bytes", max_name_length);
+    if (d.version != nullptr && !bounded_string(d.version, max_name_length))
+        return fmt::format("its version does not end within {} bytes", max_name_length);
+    if (d.description != nullptr && !bounded_string(d.description, max_text_length))
+        return fmt::format("its description does not end within {} bytes", max_text_length);
     if (d.interface_table == nullptr) return "it has no interface table";
+    if (d.param_count > max_param_count)
+        return fmt::format("it declares {} parameters, more than the {} allowed", d.param_count, max_param_count);
     if (d.param_count > 0 && d.params == nullptr) return "its parameter table is missing";
     if (d.param_count > 0 && d.params[0].struct_size < param_desc_size_1_0)
         return "its parameter table has elements smaller than ABI 1.0's";
+    if (d.param_count > 0 && d.params[0].struct_size > max_struct_size)
+        return fmt::format("its parameter table has elements of {} bytes, more than the {} allowed",
+                           d.params[0].struct_size, max_struct_size);
     for (uint32_t i = 0; i < d.param_count; ++i) {
         const hsr_param_desc& p = param_desc(d, i);
-        if (p.struct_size != d.params[0].struct_size || p.name == nullptr || p.name[0] == '\0')
+        if (p.struct_size != d.params[0].struct_size || p.name == nullptr || p.name[0] == '\0' ||
+            !bounded_string(p.name, max_name_length))
             return fmt::format("its parameter #{} is malformed", i);
+        for (const char* text : {p.default_value, p.choices, p.help})
+            if (text != nullptr && !bounded_string(text, max_text_length))
+                return fmt::format("its parameter '{}' has a text that does not end within {} bytes", p.name,
+                                   max_text_length);
         if (p.type < HSR_PARAM_BOOL || p.type > HSR_PARAM_COLOR)
             return fmt::format("its parameter '{}' has an unknown type", p.name);
         if (p.type == HSR_PARAM_ENUM && p.choices == nullptr)
@@ -135,6 +213,9 @@ std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major
     if (table_size < needed)
         return fmt::format("its interface table has struct_size {}, ABI {} needs at least {}", table_size,
                            d.kind == HSR_KIND_HIDDEN_LINE_REMOVER ? "1.2" : "1.0", needed);
+    if (table_size > max_struct_size)
+        return fmt::format("its interface table has struct_size {}, more than the {} allowed", table_size,
+                           max_struct_size);
     return {};
 }
 
@@ -145,17 +226,25 @@ std::vector<Plugin> load_plugin_library(const fs::path& path) {
     if (ec) throw Error("{}: cannot load library: {}", path.string(), loader_message(path, ec));
     if (!library->has(HSR_ENTRY_SYMBOL))
         throw Error("{}: not an hsr plugin (no '{}' symbol)", path.string(), HSR_ENTRY_SYMBOL);
-    auto entry = library->get<const hsr_plugin_descriptor*(uint32_t)>(HSR_ENTRY_SYMBOL);
+    auto& entry = library->get<const hsr_plugin_descriptor*(uint32_t)>(HSR_ENTRY_SYMBOL);
+    if (!entry_is_function(reinterpret_cast<void*>(&entry)))
+        throw Error("{}: not an hsr plugin ('{}' is not a function)", path.string(), HSR_ENTRY_SYMBOL);
 
     std::vector<Plugin> plugins;
     constexpr uint32_t max_plugins_per_library = 1024;
     for (uint32_t index = 0; index < max_plugins_per_library; ++index) {
-        const hsr_plugin_descriptor* d = entry(index);
+        const hsr_plugin_descriptor* d = nullptr;
+        try {
+            d = entry(index);
+        } catch (...) {
+            throw Error("{}: its '{}' let an exception escape across the C ABI", path.string(), HSR_ENTRY_SYMBOL);
+        }
         if (d == nullptr) break;
         std::string reason = check_descriptor(*d);
         if (!reason.empty()) {
-            std::string name = d->struct_size >= descriptor_size_1_0 && d->name ? d->name : "?";
-            throw Error("{}: plugin '{}' refused: {}", path.string(), name, reason);
+            const auto name = d->struct_size >= descriptor_size_1_0 ? bounded_string(d->name, max_name_length)
+                                                                    : std::nullopt;
+            throw Error("{}: plugin '{}' refused: {}", path.string(), name.value_or("?"), reason);
         }
         Plugin p;
         p.library = library;
@@ -167,7 +256,151 @@ std::vector<Plugin> load_plugin_library(const fs::path& path) {
     return plugins;
 }
 
+#ifndef _WIN32
+namespace {
+
+void write_all(int fd, std::string_view text) {
+    while (!text.empty()) {
+        const ssize_t n = ::write(fd, text.data(), text.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;
+        text.remove_prefix(static_cast<size_t>(n));
+    }
+}
+
+// The child's side of probe_plugin_libraries: load and validate each library in turn, report one
+// line per library ("ok" or "refused REASON"), and leave without running any exit handler (the
+// parent's and the plugins' belong to the parent).
+[[noreturn]] void run_probe_child(const std::vector<fs::path>& paths, size_t first, int report_fd) {
+    for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGPIPE}) ::signal(sig, SIG_DFL);
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    const rlimit no_core{0, 0};
+    ::setrlimit(RLIMIT_CORE, &no_core);
+    if (int null = ::open("/dev/null", O_RDWR); null >= 0) {
+        ::dup2(null, STDOUT_FILENO);
+        ::dup2(null, STDERR_FILENO);
+    }
+    std::vector<std::vector<Plugin>> keep_loaded;  // as in the parent, every library stays loaded
+    for (size_t i = first; i < paths.size(); ++i) {
+        std::string report;
+        try {
+            keep_loaded.push_back(load_plugin_library(paths[i]));
+            report = "ok";
+        } catch (const std::exception& e) {
+            report = std::string("refused ") + e.what();
+        } catch (...) {
+            report = "refused " + paths[i].string() + ": an exception escaped while loading it";
+        }
+        std::replace(report.begin(), report.end(), '\n', ' ');
+        write_all(report_fd, report + "\n");
+    }
+    ::_exit(0);
+}
+
+// Runs one child over paths[first..]; fills refusals from first on, up to and including the library
+// the child died on (if it did). Returns the index after the last library with a verdict.
+size_t probe_from(const std::vector<fs::path>& paths, size_t first, std::chrono::milliseconds timeout_each,
+                  std::vector<std::string>& refusals) {
+    const auto could_not_start = [&](int error) {
+        refusals[first] = fmt::format("{}: refused: cannot start a process to check it ({})", paths[first].string(),
+                                      std::strerror(error));
+        return first + 1;
+    };
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return could_not_start(errno);
+    // Buffered output would otherwise be written twice if a library's constructor calls exit().
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        const int fork_error = errno;
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return could_not_start(fork_error);
+    }
+    if (pid == 0) {
+        ::close(fds[0]);
+        run_probe_child(paths, first, fds[1]);
+    }
+    ::close(fds[1]);
+
+    // Each library gets its own time limit, counted from the previous one's verdict.
+    size_t next = first;
+    std::string pending;
+    bool timed_out = false;
+    auto deadline = std::chrono::steady_clock::now() + timeout_each;
+    while (next < paths.size()) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        pollfd wait_for{fds[0], POLLIN, 0};
+        const int ready = left.count() > 0 ? ::poll(&wait_for, 1, static_cast<int>(left.count())) : 0;
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready <= 0) {
+            timed_out = ready == 0;
+            break;
+        }
+        char buffer[4096];
+        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;  // end of file: the child is done (or gone)
+        pending.append(buffer, static_cast<size_t>(n));
+        for (size_t end; (end = pending.find('\n')) != std::string::npos; pending.erase(0, end + 1)) {
+            const std::string_view line(pending.data(), end);
+            constexpr std::string_view refused = "refused ";
+            if (line.rfind(refused, 0) == 0) refusals[next] = std::string(line.substr(refused.size()));
+            ++next;
+            deadline = std::chrono::steady_clock::now() + timeout_each;
+        }
+    }
+    ::close(fds[0]);
+    if (timed_out) ::kill(pid, SIGKILL);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (next == paths.size()) return next;
+
+    const std::string path = paths[next].string();
+    if (timed_out)
+        refusals[next] = fmt::format("{}: refused: timed out while loading (over {} ms)", path, timeout_each.count());
+    else if (WIFSIGNALED(status))
+        refusals[next] = fmt::format("{}: refused: crashed while loading (signal {}, {})", path, WTERMSIG(status),
+                                     ::strsignal(WTERMSIG(status)));
+    else
+        refusals[next] = fmt::format("{}: refused: exited while loading (status {})", path,
+                                     WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    return next + 1;
+}
+
+}  // namespace
+
+std::vector<std::string> probe_plugin_libraries(const std::vector<fs::path>& paths,
+                                                std::chrono::milliseconds timeout_each) {
+    std::vector<std::string> refusals(paths.size());
+    // One child for the lot; when one library kills it, the next child starts after that library.
+    for (size_t first = 0; first < paths.size();) first = probe_from(paths, first, timeout_each, refusals);
+    return refusals;
+}
+#else
+std::vector<std::string> probe_plugin_libraries(const std::vector<fs::path>& paths, std::chrono::milliseconds) {
+    return std::vector<std::string>(paths.size());
+}
+#endif
+
+std::string probe_plugin_library(const fs::path& path, std::chrono::milliseconds timeout) {
+    return probe_plugin_libraries({path}, timeout).front();
+}
+
 void PluginRegistry::add_library(const fs::path& file) {
+    add_probed_library(file, probe_plugin_library(file));
+}
+
+void PluginRegistry::add_probed_library(const fs::path& file, std::string refusal) {
+    if (!refusal.empty()) {
+        rejected_.push_back({file, std::move(refusal)});
+        return;
+    }
     try {
         for (Plugin& p : load_plugin_library(file)) {
             auto same = std::find_if(plugins_.begin(), plugins_.end(), [&](const Plugin& q) {
@@ -195,7 +428,8 @@ void PluginRegistry::scan_directory(const fs::path& dir) {
         if (e.is_regular_file(ec) && e.path().extension() == suffix) files.push_back(e.path());
     }
     std::sort(files.begin(), files.end());
-    for (const fs::path& f : files) add_library(f);
+    std::vector<std::string> refusals = probe_plugin_libraries(files);
+    for (size_t i = 0; i < files.size(); ++i) add_probed_library(files[i], std::move(refusals[i]));
 }
 
 bool PluginRegistry::contains(hsr_plugin_kind kind, const std::string& name) const {
@@ -224,7 +458,10 @@ const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> ki
     for (const fs::path& d : searched_) where += (where.empty() ? "" : ", ") + d.string();
     std::string refused;
     for (const RejectedLibrary& r : rejected_) {
-        if (r.reason.find("'" + name + "'") != std::string::npos) refused = "; refused: " + r.reason;
+        // A library refused before it named its plugins is matched by its file name (NAME.so, hsr-NAME.so).
+        const std::string stem = r.path.stem().string();
+        if (r.reason.find("'" + name + "'") != std::string::npos || stem == name || stem == "hsr-" + name)
+            refused = "; refused: " + r.reason;
     }
     throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kinds_text, name,
                 where.empty() ? "nowhere" : where, found.empty() ? "none" : found, refused);
@@ -254,18 +491,26 @@ HiddenSurfaceRemover::HiddenSurfaceRemover(const Plugin& plugin, const std::vect
     if (table_.render == nullptr) throw Error("{} has a NULL render function", plugin_label(plugin_));
     ParamValues values = resolve_params(plugin.descriptor, settings);
     hsr_error error{};
-    hsr_status status = table_.create(values.data(), values.size(), &instance_, &error);
+    hsr_status status = call_plugin(plugin_, "create", [&] {
+        return table_.create(values.data(), values.size(), &instance_, &error);
+    });
     if (status != HSR_OK) throw_status(plugin_, "create", status, error);
 }
 
 HiddenSurfaceRemover::~HiddenSurfaceRemover() {
-    if (instance_ != nullptr) table_.destroy(instance_);
+    if (instance_ == nullptr) return;
+    try {
+        table_.destroy(instance_);
+    } catch (...) {
+        std::cerr << "hsr: warning: " << plugin_label(plugin_) << " let an exception escape from destroy\n";
+    }
 }
 
 void HiddenSurfaceRemover::render(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
                                   const hsr_counter_sink* counters) {
     hsr_error error{};
-    hsr_status status = table_.render(instance_, &scene, &camera, &target, counters, &error);
+    hsr_status status =
+        call_plugin(plugin_, "render", [&] { return table_.render(instance_, &scene, &camera, &target, counters, &error); });
     if (status != HSR_OK) throw_status(plugin_, "render", status, error);
 }
 
@@ -280,23 +525,31 @@ LightingModel::LightingModel(const Plugin& plugin, const std::vector<Setting>& s
         throw Error("{} has a NULL prepare or shade function", plugin_label(plugin_));
     ParamValues values = resolve_params(plugin.descriptor, settings);
     hsr_error error{};
-    hsr_status status = table_.create(values.data(), values.size(), &instance_, &error);
+    hsr_status status = call_plugin(plugin_, "create", [&] {
+        return table_.create(values.data(), values.size(), &instance_, &error);
+    });
     if (status != HSR_OK) throw_status(plugin_, "create", status, error);
 }
 
 LightingModel::~LightingModel() {
-    if (instance_ != nullptr) table_.destroy(instance_);
+    if (instance_ == nullptr) return;
+    try {
+        table_.destroy(instance_);
+    } catch (...) {
+        std::cerr << "hsr: warning: " << plugin_label(plugin_) << " let an exception escape from destroy\n";
+    }
 }
 
 void LightingModel::prepare(const hsr_scene& scene, const hsr_shading_context& context) {
     hsr_error error{};
-    hsr_status status = table_.prepare(instance_, &scene, &context, &error);
+    hsr_status status =
+        call_plugin(plugin_, "prepare", [&] { return table_.prepare(instance_, &scene, &context, &error); });
     if (status != HSR_OK) throw_status(plugin_, "prepare", status, error);
 }
 
 void LightingModel::shade(hsr_fragment_batch& batch) const {
     hsr_error error{};
-    hsr_status status = table_.shade(instance_, &batch, &error);
+    hsr_status status = call_plugin(plugin_, "shade", [&] { return table_.shade(instance_, &batch, &error); });
     if (status != HSR_OK) throw_status(plugin_, "shade", status, error);
 }
 
@@ -310,19 +563,28 @@ HiddenLineRemover::HiddenLineRemover(const Plugin& plugin, const std::vector<Set
     if (table_.render_lines == nullptr) throw Error("{} has a NULL render_lines function", plugin_label(plugin_));
     ParamValues values = resolve_params(plugin.descriptor, settings);
     hsr_error error{};
-    hsr_status status = table_.create(values.data(), values.size(), &instance_, &error);
+    hsr_status status = call_plugin(plugin_, "create", [&] {
+        return table_.create(values.data(), values.size(), &instance_, &error);
+    });
     if (status != HSR_OK) throw_status(plugin_, "create", status, error);
 }
 
 HiddenLineRemover::~HiddenLineRemover() {
-    if (instance_ != nullptr) table_.destroy(instance_);
+    if (instance_ == nullptr) return;
+    try {
+        table_.destroy(instance_);
+    } catch (...) {
+        std::cerr << "hsr: warning: " << plugin_label(plugin_) << " let an exception escape from destroy\n";
+    }
 }
 
 void HiddenLineRemover::render_lines(const hsr_scene& scene, const hsr_camera& camera, const hsr_line_request& request,
                                      const hsr_segment_sink& segments, const hsr_trace_sink* trace,
                                      const hsr_counter_sink* counters) {
     hsr_error error{};
-    hsr_status status = table_.render_lines(instance_, &scene, &camera, &request, &segments, trace, counters, &error);
+    hsr_status status = call_plugin(plugin_, "render_lines", [&] {
+        return table_.render_lines(instance_, &scene, &camera, &request, &segments, trace, counters, &error);
+    });
     if (status != HSR_OK) throw_status(plugin_, "render_lines", status, error);
 }
 

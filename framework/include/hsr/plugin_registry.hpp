@@ -5,6 +5,7 @@
 #include "hsr/abi.h"
 #include "hsr/params.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <initializer_list>
 #include <memory>
@@ -38,14 +39,28 @@ struct RejectedLibrary {
     std::string reason;
 };
 
-// Loads one library and returns its plugins; throws hsr::Error with the reason when the file is not
-// a loadable hsr plugin library (no entry symbol, wrong ABI, ...).
+// Loads one library into this process and returns its plugins; throws hsr::Error with the reason
+// when the file is not a loadable hsr plugin library (no entry symbol, wrong ABI, ...). Loading runs
+// the library's constructors, so a library not yet known to be harmless goes through
+// probe_plugin_library first.
 std::vector<Plugin> load_plugin_library(const std::filesystem::path& path);
+
+// Loads and validates the library as load_plugin_library does, but in a child process, so that a
+// constructor or descriptor that crashes, exits or hangs takes down only the child. Returns an empty
+// string when the library loaded and every descriptor passed, else the refusal ("PATH: refused:
+// crashed while loading (signal 11, ...)", "... timed out while loading", the validation's reason).
+std::string probe_plugin_library(const std::filesystem::path& path,
+                                 std::chrono::milliseconds timeout = std::chrono::seconds(5));
+// The same for several libraries, loaded one after the other in one child (a new child after each
+// library that kills one); one refusal (or empty string) per path, in order.
+std::vector<std::string> probe_plugin_libraries(const std::vector<std::filesystem::path>& paths,
+                                                std::chrono::milliseconds timeout_each = std::chrono::seconds(5));
 
 class PluginRegistry {
 public:
     // Scans each directory (non-recursively) for shared libraries; a directory that does not exist
-    // is remembered as searched. Libraries that are not acceptable plugins are recorded as rejected.
+    // is remembered as searched. Each library is probed (probe_plugin_library) before it is loaded
+    // here; libraries that are not acceptable plugins are recorded as rejected.
     void scan_directory(const std::filesystem::path& dir);
     void add_library(const std::filesystem::path& file);
 
@@ -61,6 +76,8 @@ public:
     const std::vector<std::filesystem::path>& searched() const { return searched_; }
 
 private:
+    void add_probed_library(const std::filesystem::path& file, std::string refusal);
+
     std::vector<Plugin> plugins_;
     std::vector<RejectedLibrary> rejected_;
     std::vector<std::filesystem::path> searched_;
