@@ -8,6 +8,7 @@
 #include "hsr/bench.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/params.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
@@ -75,6 +76,7 @@ std::pair<uint32_t, uint32_t> parse_size(const std::string& text) {
         throw UsageError("--sizes: '{}' is not a size (512 or 800x600)", text);
     if (w == 0 || h == 0 || w > hsr::max_image_side || h > hsr::max_image_side)
         throw UsageError("--sizes: {}: each side must be between 1 and {}", text, hsr::max_image_side);
+    hsr::check_limit(&hsr::Limits::image_pixels, w * h, fmt::format("--sizes: {}", text));
     return {uint32_t(w), uint32_t(h)};
 }
 
@@ -178,7 +180,7 @@ struct PreparedModel {
 
 int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::string algorithms_list, models_list, sizes_list = "1024", lighting_text = "blinn-phong";
-    std::vector<std::string> algorithm_specs, plugin_dirs;
+    std::vector<std::string> algorithm_specs, plugin_dirs, limit_settings;
     std::string csv_path, svg_path, png_path, models_dir_text;
     int64_t repetitions = 5, warmup = 1, threads = 0;
     bool quick = false;
@@ -208,7 +210,8 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
          "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
         ("threads", po::value(&threads)->default_value(0), "shading threads (0 = one per core)")
         ("models-dir", po::value(&models_dir_text), "folder of the named models (default: ./models or the source tree's)")
-        ("plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
+        ("plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
+        ("limit", po::value(&limit_settings)->composing(), hsr::describe_limit_option().c_str());
     po::variables_map vm;
     const po::parsed_options parsed = po::command_line_parser(args).options(options).run();
     po::store(parsed, vm);
@@ -228,6 +231,11 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     if (repetitions < 1 || repetitions > 100000) throw UsageError("--repetitions must be between 1 and 100000");
     if (warmup < 0 || warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
     if (threads < 0 || threads > 1024) throw UsageError("--threads must be between 0 and 1024");
+    try {
+        hsr::set_limits(hsr::limits_from_settings(limit_settings));
+    } catch (const hsr::Error& e) {
+        throw UsageError("{}", e.what());
+    }
     std::vector<std::pair<uint32_t, uint32_t>> sizes;
     for (const std::string& s : split_list(sizes_list, "sizes")) sizes.push_back(parse_size(s));
     refuse_repeats(sizes, [](const auto& size) { return fmt::format("size {}x{}", size.first, size.second); });

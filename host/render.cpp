@@ -4,6 +4,7 @@
 #include "render.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/params.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
@@ -24,6 +25,8 @@ namespace {
 
 using hsr::host::RenderOptions;
 using hsr::host::UsageError;
+
+constexpr int64_t max_threads = 1024;
 
 // The options shown by --help; parsing stores their values into o.
 po::options_description render_option_descriptions(RenderOptions& o) {
@@ -84,7 +87,9 @@ po::options_description render_option_descriptions(RenderOptions& o) {
         ("heightmap-height", po::value(&o.heightmap_height)->default_value(0.0, "auto"),
          "with --heightmap: the height of a white pixel (pixels are 1 apart); auto = a fifth of the larger side")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
-        ("threads", po::value(&o.threads)->default_value(0), "shading threads (0 = one per core)")
+        ("threads", po::value(&o.threads)->default_value(0),
+         fmt::format("shading threads, at most {} (0 = one per core)", max_threads).c_str())
+        ("limit", po::value(&o.limits)->composing(), hsr::describe_limit_option().c_str())
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
     return general;
 }
@@ -128,6 +133,12 @@ void check_render_options(const RenderOptions& o) {
         throw UsageError("--heightmap-height goes with --heightmap");
     if (o.width <= 0 || o.height <= 0 || o.width > hsr::max_image_side || o.height > hsr::max_image_side)
         throw UsageError("image size {}x{}: each side must be between 1 and {}", o.width, o.height, hsr::max_image_side);
+    if (o.was_given("width") || o.was_given("height"))  // else a .scene file may set it (load_render_scene)
+        hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(o.width) * uint64_t(o.height),
+                         fmt::format("image size {}x{}", o.width, o.height));
+    if (o.threads < 0 || o.threads > max_threads)
+        throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, max_threads);
+    hsr::check_limit(&hsr::Limits::lights, o.lights.size(), "--light");
     for (const auto& [option, value] :
          {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
         if (!std::isfinite(value)) throw UsageError("--{} must be a finite number", option);
@@ -156,13 +167,13 @@ hsr::host::LineDrawingPlugin make_line_drawing_plugin(const RenderOptions& o, co
     else if (o.edges == "all")
         plugin.settings.edges = hsr::EdgeSelection::kAll;
     else
-        throw UsageError("--edges '{}': expected 'all' or 'features'", o.edges);
+        throw UsageError("--edges '{}': expected 'all' or 'features'", hsr::printable(o.edges));
     if (o.hidden_lines == "hidden")
         plugin.style.hidden = hsr::HiddenLines::kHidden;
     else if (o.hidden_lines == "dashed")
         plugin.style.hidden = hsr::HiddenLines::kDashed;
     else
-        throw UsageError("--hidden '{}': expected 'dashed' or 'hidden'", o.hidden_lines);
+        throw UsageError("--hidden '{}': expected 'dashed' or 'hidden'", hsr::printable(o.hidden_lines));
     plugin.settings.want_hidden = plugin.style.hidden == hsr::HiddenLines::kDashed;
     plugin.settings.crease_angle_degrees = o.crease_angle;
     plugin.remover = std::make_unique<hsr::HiddenLineRemover>(
@@ -243,6 +254,11 @@ int hsr::host::run_render(const std::vector<std::string>& args) {
     if (options.help) {
         print_render_help(options.plugin_dirs);
         return 0;
+    }
+    try {
+        hsr::set_limits(hsr::limits_from_settings(options.limits));
+    } catch (const hsr::Error& e) {
+        throw UsageError("{}", e.what());
     }
     check_render_options(options);
     const hsr::PluginRegistry registry = scan_plugins(options.plugin_dirs);

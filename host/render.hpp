@@ -36,6 +36,7 @@ struct RenderOptions {
     std::string lighting = default_lighting;
     std::vector<std::string> lights;
     std::vector<std::string> plugin_dirs;
+    std::vector<std::string> limits;  // NAME=N (limits.hpp)
     std::string background = default_background;
     std::string color;
     std::string depth_out;
@@ -51,7 +52,7 @@ struct RenderOptions {
     float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40;
     bool orthographic = false;
     bool stats = false;
-    uint32_t threads = 0;
+    int64_t threads = 0;  // signed, so that a negative number is refused rather than wrapped
     int64_t width = 1024, height = 1024;
     // The options named on the command line, as opposed to left at their defaults.
     std::set<std::string> given;

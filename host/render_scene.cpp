@@ -6,6 +6,7 @@
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_builder.hpp"
@@ -32,7 +33,7 @@ hsr::InstanceGrid parse_repeat(const std::string& text, float gap, float jitter)
     if (text.find_first_not_of("0123456789x") != std::string::npos ||
         std::sscanf(text.c_str(), "%llu%c%llu%c%llu%c", &c, &x1, &r, &x2, &l, &extra) != 5 || x1 != 'x' || x2 != 'x' ||
         c == 0 || r == 0 || l == 0)
-        throw UsageError("--repeat '{}': expected COLUMNSxROWSxLAYERS, each at least 1, e.g. 4x3x20", text);
+        throw UsageError("--repeat '{}': expected COLUMNSxROWSxLAYERS, each at least 1, e.g. 4x3x20", hsr::printable(text));
     constexpr unsigned long long max_side = 100000;
     if (c > max_side || r > max_side || l > max_side)
         throw UsageError("--repeat '{}': at most {} along each side", text, max_side);
@@ -95,11 +96,18 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
     if (!o.repeat.empty()) {
         if (!scene.instances.empty())
             throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line); use one or the other",
-                             path.string());
-        scene = hsr::make_instance_grid(scene, parse_repeat(o.repeat, o.repeat_gap, o.repeat_jitter));
+                             hsr::printable(path.string(), hsr::kMaxQuotedPathChars));
+        const hsr::InstanceGrid grid = parse_repeat(o.repeat, o.repeat_gap, o.repeat_jitter);
+        try {
+            scene = hsr::make_instance_grid(scene, grid);
+        } catch (const hsr::Error& e) {
+            throw hsr::Error("--repeat {}: {}", o.repeat, e.what());
+        }
     }
     for (const std::string& warning : scene.warnings) std::fprintf(stderr, "hsr: warning: %s\n", warning.c_str());
     hsr::check_image_size(view.width, view.height);
+    hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(view.width) * view.height,
+                     fmt::format("image size {}x{}", view.width, view.height));
     loaded.camera = pixel_camera ? hsr::make_pixel_camera(view.width, view.height, scene.bounds_min.z, scene.bounds_max.z)
                                  : hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, view);
     return loaded;

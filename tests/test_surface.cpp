@@ -187,7 +187,8 @@ TEST_CASE("surface: the range syntax", "[surface]") {
     CHECK(error_of([] { hsr::parse_surface_range("-3:3,1:2,5000x2"); }) ==
           "surface range \"-3:3,1:2,5000x2\": 5000x2 samples; at most 4096 per side");
     CHECK(error_of([] { hsr::parse_surface_range("-3:3,1:2,2000x2000"); }) ==
-          "surface range \"-3:3,1:2,2000x2000\": 2000x2000 = 4000000 samples; at most 1048576 in all");
+          "surface range \"-3:3,1:2,2000x2000\": 2000x2000: 4000000 grid samples, over the limit of 1048576 (raise it "
+          "with --limit surface-samples=N)");
     CHECK(error_of([] { hsr::parse_surface_range("-3:3,1:inf"); }) ==
           "surface range \"-3:3,1:inf\": the bounds must be finite numbers");
 }

@@ -143,6 +143,9 @@ hsr_light resolve_light(const LightSpec& light, const hsr_camera& camera) {
                                                : glm::mat3(camera_to_world) * vector;
     }
     if (light.type == HSR_LIGHT_DIRECTIONAL) vector = glm::normalize(vector);
+    if (!finite3(vector))
+        throw Error("a light at {}, {}, {} ({} space) is too far away for single precision", light.vector.x,
+                    light.vector.y, light.vector.z, light.camera_space ? "camera" : "world");
     hsr_light out{};
     out.struct_size = sizeof out;
     out.type = light.type;

@@ -2,6 +2,7 @@
 // turns instances back into plain triangles for plugins built against ABI 1.0.
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -72,7 +73,12 @@ SceneData make_instance_grid(const SceneData& model, const InstanceGrid& grid) {
     if (grid.columns == 0 || grid.rows == 0 || grid.layers == 0)
         throw Error("instance grid: columns, rows and layers must be at least 1");
     const uint64_t count = uint64_t(grid.columns) * grid.rows * grid.layers;
-    if (count > 10'000'000) throw Error("instance grid: {} instances is too many (at most 10,000,000)", count);
+    const std::string copies = fmt::format("{}x{}x{} copies of {} triangles", grid.columns, grid.rows, grid.layers,
+                                           model.triangle_count());
+    check_limit(&Limits::instances, count, copies);
+    if (count > std::numeric_limits<uint32_t>::max())
+        throw Error("{}: {} instances, more than a scene can hold", copies, count);
+    check_limit(&Limits::triangles, count * model.triangle_count(), copies);  // at most 2^32 * 2^32
     if (!(grid.gap >= 0.0f) || !std::isfinite(grid.gap)) throw Error("instance grid: gap must be 0 or more");
 
     SceneData scene = model;
@@ -137,9 +143,15 @@ SceneData flatten_instances(const hsr_scene& scene) {
         triangles += i.triangle_count;
         vertices += i.vertex_count;
     }
+    const std::string what = fmt::format("{} instances copied out into plain triangles", instances.size());
+    check_limit(&Limits::stored_triangles, triangles, what);
+    // Every vertex an instance uses belongs to one of its triangles: a scene that says otherwise is
+    // bounded by the same limit.
+    if (vertices > 3 * limits().stored_triangles)
+        throw Error("{}: {} vertices, over 3 per triangle of the limit of {} stored triangles (raise it with --limit "
+                    "stored-triangles=N)", what, vertices, limits().stored_triangles);
     if (triangles > std::numeric_limits<int32_t>::max() || vertices > std::numeric_limits<uint32_t>::max())
-        throw Error("the instanced scene has {} triangles when copied out, too many for a plugin built against "
-                    "ABI 1.0", triangles);
+        throw Error("{}: {} triangles, too many for a plugin built against ABI 1.0", what, triangles);
     flat.positions.reserve(3 * vertices);
     flat.indices.reserve(3 * triangles);
     flat.face_normals.reserve(3 * triangles);

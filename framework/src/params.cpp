@@ -82,7 +82,7 @@ PluginSpec parse_plugin_spec(std::string_view text) {
     PluginSpec spec;
     size_t colon = text.find(':');
     spec.name = std::string(trim(text.substr(0, colon)));
-    if (spec.name.empty()) throw Error("plugin name missing in '{}'", text);
+    if (spec.name.empty()) throw Error("plugin name missing in '{}'", printable(text));
     if (colon == std::string_view::npos) return spec;
     std::string_view rest = text.substr(colon + 1);
     while (!rest.empty()) {
@@ -94,10 +94,11 @@ PluginSpec parse_plugin_spec(std::string_view text) {
         if (eq == std::string_view::npos) {
             // A bare number is most likely the middle of a colour written with commas.
             const bool number_like = std::isdigit(static_cast<unsigned char>(item.front())) || item.front() == '.';
-            throw Error("'{}' in '{}' is not key=value{}", item, text, number_like ? " (a colour is written r/g/b)" : "");
+            throw Error("'{}' in '{}' is not key=value{}", printable(item), printable(text),
+                        number_like ? " (a colour is written r/g/b)" : "");
         }
         std::string key(trim(item.substr(0, eq)));
-        if (key.empty()) throw Error("empty key in '{}'", text);
+        if (key.empty()) throw Error("empty key in '{}'", printable(text));
         spec.settings.emplace_back(key, std::string(trim(item.substr(eq + 1))));
     }
     return spec;
@@ -116,18 +117,19 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
         else if (t == "false" || t == "0" || t == "no" || t == "off")
             v.number = 0;
         else
-            throw Error("'{}' is not a boolean (true or false; also yes/no, on/off, 1/0)", text);
+            throw Error("'{}' is not a boolean (true or false; also yes/no, on/off, 1/0)", printable(text));
         break;
     }
     case HSR_PARAM_INT:
     case HSR_PARAM_FLOAT: {
         double number = 0;
         if (!parse_double(text, number))
-            throw Error("'{}' is not a number", text);
+            throw Error("'{}' is not a number", printable(text));
         if (desc.type == HSR_PARAM_INT && number != std::floor(number))
-            throw Error("'{}' is not a whole number", text);
+            throw Error("'{}' is not a whole number", printable(text));
         if (number < desc.min || number > desc.max)
-            throw Error("{} is out of range [{}, {}]", trim(text), format_number(desc.min), format_number(desc.max));
+            throw Error("{} is out of range [{}, {}]", printable(trim(text)), format_number(desc.min),
+                        format_number(desc.max));
         v.number = number;
         break;
     }
@@ -136,13 +138,13 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
         std::string t(trim(text));
         auto it = std::find(choices.begin(), choices.end(), t);
         if (it == choices.end())
-            throw Error("'{}' is not one of {}", text, desc.choices ? desc.choices : "(no choices)");
+            throw Error("'{}' is not one of {}", printable(text), desc.choices ? desc.choices : "(no choices)");
         v.number = static_cast<double>(it - choices.begin());
         break;
     }
     case HSR_PARAM_COLOR:
         if (!parse_color(text, v.color))
-            throw Error("'{}' is not a colour (r/g/b with channels in [0, 1], or #rrggbb)", text);
+            throw Error("'{}' is not a colour (r/g/b with channels in [0, 1], or #rrggbb)", printable(text));
         break;
     default:
         throw Error("unknown parameter type {}", static_cast<int>(desc.type));
@@ -160,12 +162,12 @@ ParamValues resolve_params(const hsr_plugin_descriptor& plugin, const std::vecto
         if (std::find(known.begin(), known.end(), key) == known.end()) {
             std::string list;
             for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-            throw Error("plugin '{}' has no parameter '{}' (it has: {})", plugin_name, key,
+            throw Error("plugin '{}' has no parameter '{}' (it has: {})", plugin_name, printable(key),
                         list.empty() ? "none" : list);
         }
         for (size_t j = 0; j < i; ++j)
             if (settings[j].first == key)
-                throw Error("parameter '{}' of plugin '{}' is given twice", key, plugin_name);
+                throw Error("parameter '{}' of plugin '{}' is given twice", printable(key), plugin_name);
     }
 
     ParamValues out;

@@ -3,6 +3,7 @@
 // property lines (name, color, transforms, vertices) describe, until the next top-level statement.
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/scene_builder.hpp"
 #include "hsr/scene_file.hpp"
 
@@ -13,6 +14,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <map>
 
 namespace hsr {
 namespace {
@@ -80,29 +82,31 @@ public:
 
     SceneFile parse() {
         std::error_code ec;
-        if (!std::filesystem::exists(file_, ec)) throw Error("{}: no such file", file_.string());
-        std::ifstream in(file_);
-        if (!in) throw Error("{}: cannot open the file for reading", file_.string());
-        std::string text;
-        std::size_t number = 0;
-        while (std::getline(in, text)) {
-            ++number;
-            Statement statement{number, split_words(text, number)};
-            if (!statement.words.empty()) handle(statement);
-        }
+        if (!std::filesystem::exists(file_, ec)) throw Error("{}: no such file", path_text());
+        // The repeat line first, wherever it stands, so that each mesh is checked against the
+        // triangles its copies will draw as soon as it is loaded.
+        for_each_statement([&](const Statement& s) {
+            if (s.words[0] == "repeat") repeat(s);
+        });
+        for_each_statement([&](const Statement& s) {
+            if (s.words[0] == "repeat")
+                finish_object();
+            else
+                handle(s);
+        });
         finish_object();
-        if (builder_.object_count() == 0) throw Error("{}: the scene has no mesh or polygon", file_.string());
+        if (builder_.object_count() == 0) throw Error("{}: the scene has no mesh or polygon", path_text());
         try {
             result_.scene = builder_.build();
         } catch (const Error& e) {
-            throw Error("{}: {}", file_.string(), e.what());
+            throw Error("{}: {}", path_text(), printable(e.what(), std::string::npos));
         }
         if (repeat_) result_.scene = make_instance_grid(result_.scene, *repeat_);
         if (result_.pixel_camera && !result_.width) {
             glm::vec3 top = result_.scene.bounds_max;
             if (!(top.x >= 1.0f && top.y >= 1.0f && top.x <= 16384.0f && top.y <= 16384.0f))
                 throw Error("{}: `camera pixel` needs `size W H` here (the scene's top right corner is at {}, {})",
-                            file_.string(), top.x, top.y);
+                            path_text(), top.x, top.y);
             result_.width = static_cast<uint32_t>(std::ceil(top.x));
             result_.height = static_cast<uint32_t>(std::ceil(top.y));
         }
@@ -110,8 +114,25 @@ public:
     }
 
 private:
+    // The message quotes the file's words through printable(); what a mesh file's reader says is
+    // made one line here.
     [[noreturn]] void fail(std::size_t line, const std::string& message) const {
-        throw Error("{}:{}: {}", file_.string(), line, message);
+        throw Error("{}:{}: {}", path_text(), line, printable(message, std::string::npos));
+    }
+
+    std::string path_text() const { return printable(file_.string(), kMaxQuotedPathChars); }
+
+    template <class Handle>
+    void for_each_statement(Handle handle) const {
+        std::ifstream in(file_);
+        if (!in) throw Error("{}: cannot open the file for reading", path_text());
+        std::string text;
+        std::size_t number = 0;
+        while (std::getline(in, text)) {
+            ++number;
+            const Statement statement{number, split_words(text, number)};
+            if (!statement.words.empty()) handle(statement);
+        }
     }
 
     // Words separated by spaces; "double quotes" keep spaces; '#' at the start of a word starts a
@@ -138,7 +159,7 @@ private:
 
     float number(const Statement& s, std::size_t index, const char* what) const {
         std::optional<float> v = to_float(s.words[index]);
-        if (!v) fail(s.line, fmt::format("{} '{}' is not a finite number", what, s.words[index]));
+        if (!v) fail(s.line, fmt::format("{} '{}' is not a finite number", what, printable(s.words[index])));
         return *v;
     }
 
@@ -183,7 +204,7 @@ private:
                 const std::string& word = s.words[static_cast<std::size_t>(k) + 1];
                 auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), size[k]);
                 if (ec != std::errc() || end != word.data() + word.size() || size[k] == 0 || size[k] > 16384)
-                    fail(s.line, fmt::format("image size '{}' is not a whole number in [1, 16384]", word));
+                    fail(s.line, fmt::format("image size '{}' is not a whole number in [1, 16384]", printable(word)));
             }
             result_.width = size[0];
             result_.height = size[1];
@@ -196,18 +217,16 @@ private:
             std::string spec;
             for (std::size_t i = 1; i < s.words.size(); ++i) spec += s.words[i];
             try {
+                check_limit(&Limits::lights, result_.lights.size() + 1, "");
                 result_.lights.push_back(parse_light_spec(spec));
             } catch (const Error& e) {
                 fail(s.line, e.what());
             }
-        } else if (keyword == "repeat") {
-            finish_object();
-            repeat(s);
         } else if (keyword == "name" || keyword == "color" || keyword == "translate" || keyword == "rotate" ||
                    keyword == "scale" || keyword == "crease" || keyword == "vertex") {
             property(s);
         } else {
-            fail(s.line, fmt::format("unknown statement '{}'", keyword));
+            fail(s.line, fmt::format("unknown statement '{}'", printable(keyword)));
         }
     }
 
@@ -223,11 +242,17 @@ private:
             const std::string& word = s.words[k + 1];
             auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), *counts[k]);
             if (ec != std::errc() || end != word.data() + word.size() || *counts[k] == 0 || *counts[k] > 100000)
-                fail(s.line, fmt::format("repeat count '{}' is not a whole number in [1, 100000]", word));
+                fail(s.line, fmt::format("repeat count '{}' is not a whole number in [1, 100000]", printable(word)));
+        }
+        try {
+            check_limit(&Limits::instances, uint64_t(grid.columns) * grid.rows * grid.layers, "");
+        } catch (const Error& e) {
+            fail(s.line, e.what());
         }
         for (std::size_t i = 4; i < s.words.size(); i += 2) {
             const std::string& key = s.words[i];
-            if (key != "gap" && key != "jitter") fail(s.line, fmt::format("unknown repeat setting '{}' (gap, jitter)", key));
+            if (key != "gap" && key != "jitter")
+                fail(s.line, fmt::format("unknown repeat setting '{}' (gap, jitter)", printable(key)));
             if (i + 1 >= s.words.size()) fail(s.line, fmt::format("repeat setting '{}' needs a value", key));
             const float value = number(s, i + 1, key.c_str());
             if (key == "gap") {
@@ -258,7 +283,8 @@ private:
                 continue;
             }
             if (key != "yaw" && key != "pitch" && key != "zoom")
-                fail(s.line, fmt::format("unknown camera setting '{}' (yaw, pitch, zoom, orthographic, perspective)", key));
+                fail(s.line, fmt::format("unknown camera setting '{}' (yaw, pitch, zoom, orthographic, perspective)",
+                                         printable(key)));
             if (i + 1 >= s.words.size()) fail(s.line, fmt::format("camera setting '{}' needs a value", key));
             float value = number(s, ++i, key.c_str());
             if (key == "yaw") result_.yaw_degrees = value;
@@ -339,7 +365,18 @@ private:
             if (object.kind == Kind::mesh) {
                 std::filesystem::path path(object.path);
                 if (path.is_relative()) path = folder_ / path;
-                builder_.add_model_file(path.lexically_normal(), object.options);
+                path = path.lexically_normal();
+                // A file named again is copied, not read again: many lines of one large mesh reach
+                // the triangle limits in moments.
+                const auto read = mesh_objects_.find(path.string());
+                if (read == mesh_objects_.end()) {
+                    mesh_objects_.emplace(path.string(), builder_.object_count());
+                    builder_.add_model_file(path, object.options);
+                } else {
+                    MeshOptions options = object.options;
+                    if (options.name.empty()) options.name = path.stem().string();  // as add_model_file names it
+                    builder_.add_copy(read->second, options);
+                }
             } else if (object.kind == Kind::polygon) {
                 if (object.vertices.size() < 3)
                     fail(object.line, fmt::format("the polygon has {} vertex lines; it needs at least 3",
@@ -350,14 +387,30 @@ private:
                     std::reverse(object.vertices.begin(), object.vertices.end());
                 builder_.add_polygon(object.vertices, object.options.color, object.options.name);
             }
+            if (object.kind != Kind::none) check_triangles();
         } catch (const Error& e) {
-            if (std::string_view(e.what()).starts_with(file_.string() + ":")) throw;
+            if (std::string_view(e.what()).starts_with(path_text() + ":")) throw;
             fail(object.line, e.what());
+        }
+    }
+
+    // The triangles so far against the limits, as each object is added: a file of many large meshes
+    // stops at the one that goes over.
+    void check_triangles() {
+        scene_triangles_ += builder_.objects().back().indices.size() / 3;
+        check_limit(&Limits::stored_triangles, scene_triangles_, "the meshes and polygons up to here");
+        if (repeat_) {
+            const uint64_t copies = uint64_t(repeat_->columns) * repeat_->rows * repeat_->layers;
+            check_limit(&Limits::triangles, copies * scene_triangles_,
+                        fmt::format("the meshes and polygons up to here ({} triangles) repeated {}x{}x{}",
+                                    scene_triangles_, repeat_->columns, repeat_->rows, repeat_->layers));
         }
     }
 
     std::filesystem::path file_, folder_;
     SceneBuilder builder_;
+    uint64_t scene_triangles_ = 0;
+    std::map<std::string, std::size_t> mesh_objects_;  // each mesh file read: the object it made
     SceneFile result_;
     PendingObject object_;
     std::size_t camera_line_ = 0;
@@ -368,7 +421,7 @@ private:
 LightSpec parse_light_spec(std::string_view text) {
     auto fail = [&](const std::string& problem) -> Error {
         return Error("light '{}': {} (expected e.g. point:1,2,3 or dir:0,0,1,intensity=0.8,color=1/0.9/0.8)",
-                     text, problem);
+                     printable(text), problem);
     };
     std::size_t colon = text.find(':');
     if (colon == std::string_view::npos) throw fail("missing ':' after the light type");
@@ -376,46 +429,53 @@ LightSpec parse_light_spec(std::string_view text) {
     LightSpec light;
     if (type == "point") light.type = HSR_LIGHT_POINT;
     else if (type == "dir" || type == "directional") light.type = HSR_LIGHT_DIRECTIONAL;
-    else throw fail(fmt::format("unknown light type '{}' (point or dir)", type));
+    else throw fail(fmt::format("unknown light type '{}' (point or dir)", printable(type)));
 
     std::vector<std::string_view> parts = split(text.substr(colon + 1), ',');
     if (parts.size() < 3) throw fail("needs three coordinates x,y,z");
     for (int k = 0; k < 3; ++k) {
         std::optional<float> v = to_float(parts[static_cast<std::size_t>(k)]);
-        if (!v) throw fail(fmt::format("coordinate '{}' is not a finite number", parts[static_cast<std::size_t>(k)]));
+        if (!v) throw fail(fmt::format("coordinate '{}' is not a finite number",
+                                                printable(parts[static_cast<std::size_t>(k)])));
         light.vector[k] = *v;
     }
     bool seen_intensity = false, seen_color = false, seen_space = false;
     for (std::size_t i = 3; i < parts.size(); ++i) {
         std::size_t equals = parts[i].find('=');
-        if (equals == std::string_view::npos) throw fail(fmt::format("'{}' is not key=value", parts[i]));
+        if (equals == std::string_view::npos) throw fail(fmt::format("'{}' is not key=value", printable(parts[i])));
         std::string key = lower(std::string(parts[i].substr(0, equals)));
         std::string_view value = parts[i].substr(equals + 1);
         if (key == "intensity") {
             std::optional<float> v = to_float(value);
-            if (!v || *v < 0.0f) throw fail(fmt::format("intensity '{}' is not a number >= 0", value));
+            if (!v || *v < 0.0f) throw fail(fmt::format("intensity '{}' is not a number >= 0", printable(value)));
             if (seen_intensity) throw fail("intensity given twice");
             seen_intensity = true;
             light.intensity = *v;
         } else if (key == "color" || key == "colour") {
             std::optional<glm::vec3> c = parse_color_text(value);
-            if (!c) throw fail(fmt::format("colour '{}' is not r/g/b in [0, 1] or #rrggbb", value));
+            if (!c) throw fail(fmt::format("colour '{}' is not r/g/b in [0, 1] or #rrggbb", printable(value)));
             if (seen_color) throw fail("colour given twice");
             seen_color = true;
             light.color = *c;
         } else if (key == "space") {
-            if (value != "camera" && value != "world") throw fail(fmt::format("space '{}' is not camera or world", value));
+            if (value != "camera" && value != "world") throw fail(fmt::format("space '{}' is not camera or world", printable(value)));
             if (seen_space) throw fail("space given twice");
             seen_space = true;
             light.camera_space = value == "camera";
         } else {
-            throw fail(fmt::format("unknown key '{}' (intensity, color, space)", key));
+            throw fail(fmt::format("unknown key '{}' (intensity, color, space)", printable(key)));
         }
     }
     if (light.type == HSR_LIGHT_DIRECTIONAL) {
-        float length = glm::length(light.vector);
-        if (!(length > 0.0f) || !std::isfinite(length)) throw fail("a direction cannot be zero");
-        light.vector /= length;
+        const float length = glm::length(light.vector);
+        if (length > 0.0f && std::isfinite(length)) {
+            light.vector /= length;
+        } else {  // the length overflows or underflows a float (dir:3e38,3e38,3e38): in double
+            const glm::dvec3 direction(light.vector);
+            const double exact = glm::length(direction);
+            if (!(exact > 0.0)) throw fail("a direction cannot be zero");
+            light.vector = glm::vec3(direction / exact);
+        }
     }
     return light;
 }

@@ -2,6 +2,7 @@
 #include "hsr/surface.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 
 #include <fmt/format.h>
 #include <muParser.h>
@@ -68,9 +69,7 @@ void check_samples(uint64_t columns, uint64_t rows, const std::string& what) {
         throw Error("{}: {}x{} samples; a surface needs at least 2 per side", what, columns, rows);
     if (columns > kSurfaceMaxSide || rows > kSurfaceMaxSide)
         throw Error("{}: {}x{} samples; at most {} per side", what, columns, rows, kSurfaceMaxSide);
-    if (columns * rows > kSurfaceMaxSamples)
-        throw Error("{}: {}x{} = {} samples; at most {} in all", what, columns, rows, columns * rows,
-                    kSurfaceMaxSamples);
+    check_limit(&Limits::surface_samples, columns * rows, fmt::format("{}: {}x{}", what, columns, rows));
 }
 
 // The mesh of the layout in surface.hpp from the lattice and the heights (row-major).
@@ -228,6 +227,29 @@ struct PngRows {
     std::vector<png_bytep> rows;
 };
 
+// Only the header: out.width and out.height, nothing allocated for the pixels. Returns false with
+// context.message set on a libpng error.
+bool read_png_size(std::FILE* file, PngContext& context, PngRows& out) {
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, png_fail, png_quiet);
+    png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+    if (info == nullptr) {
+        png_destroy_read_struct(&png, nullptr, nullptr);
+        std::snprintf(context.message, sizeof context.message, "libpng could not start");
+        return false;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(&png, &info, nullptr);
+        return false;
+    }
+    png_init_io(png, file);
+    png_set_user_limits(png, 1u << 16, 1u << 16);
+    png_read_info(png, info);
+    out.width = png_get_image_width(png, info);
+    out.height = png_get_image_height(png, info);
+    png_destroy_read_struct(&png, &info, nullptr);
+    return true;
+}
+
 // Returns false with context.message set on a libpng error. Only C calls and vector operations on
 // objects that live in the caller happen between setjmp and a possible longjmp.
 bool read_png_rows(std::FILE* file, PngContext& context, PngRows& out) {
@@ -267,20 +289,25 @@ bool read_png_rows(std::FILE* file, PngContext& context, PngRows& out) {
     return true;
 }
 
-GreyImage read_png_grey(const std::filesystem::path& path) {
+// check_size(width, height) sees the header's size before the pixels are allocated, and throws to
+// refuse it.
+template <class CheckSize>
+GreyImage read_png_grey(const std::filesystem::path& path, const std::string& what, CheckSize check_size) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!file) throw Error("heightmap {}: cannot open it: {}", path.string(), std::strerror(errno));
+    if (!file) throw Error("{}: cannot open it: {}", what, std::strerror(errno));
     png_byte signature[8] = {};
     if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0)
-        throw Error("heightmap {}: not a PNG file", path.string());
+        throw Error("{}: not a PNG file", what);
     PngContext context;
     PngRows rows;
-    // libpng reads the signature again from the start.
+    // libpng reads the signature again from the start, each time.
     std::rewind(file.get());
-    if (!read_png_rows(file.get(), context, rows))
-        throw Error("heightmap {}: cannot read it as PNG: {}", path.string(), context.message);
+    if (!read_png_size(file.get(), context, rows)) throw Error("{}: cannot read it as PNG: {}", what, context.message);
+    check_size(rows.width, rows.height);
+    std::rewind(file.get());
+    if (!read_png_rows(file.get(), context, rows)) throw Error("{}: cannot read it as PNG: {}", what, context.message);
     if (rows.channels != 1 && rows.channels != 3)
-        throw Error("heightmap {}: unexpected PNG layout ({} channels after expansion)", path.string(), rows.channels);
+        throw Error("{}: unexpected PNG layout ({} channels after expansion)", what, rows.channels);
     GreyImage image;
     image.width = rows.width;
     image.height = rows.height;
@@ -315,7 +342,7 @@ void check_surface_range(const SurfaceRange& r) {
 }
 
 SurfaceRange parse_surface_range(std::string_view text) {
-    const std::string quoted = fmt::format("surface range \"{}\"", text);
+    const std::string quoted = fmt::format("surface range \"{}\"", printable(text));
     const std::string form = "expected X0:X1,Y0:Y1 or X0:X1,Y0:Y1,COLUMNSxROWS, e.g. -3:3,-3:3,80x80";
     const std::vector<std::string> parts = split(text, ',');
     if (parts.size() != 2 && parts.size() != 3) throw Error("{}: {}", quoted, form);
@@ -324,10 +351,11 @@ SurfaceRange parse_surface_range(std::string_view text) {
     for (int axis = 0; axis < 2; ++axis) {
         const std::vector<std::string> bounds = split(parts[axis], ':');
         if (bounds.size() != 2)
-            throw Error("{}: the {} part \"{}\" is not FROM:TO; {}", quoted, axis_names[axis], parts[axis], form);
+            throw Error("{}: the {} part \"{}\" is not FROM:TO; {}", quoted, axis_names[axis], printable(parts[axis]),
+                        form);
         const std::optional<double> a = parse_number(bounds[0]), b = parse_number(bounds[1]);
-        if (!a) throw Error("{}: \"{}\" is not a number", quoted, bounds[0]);
-        if (!b) throw Error("{}: \"{}\" is not a number", quoted, bounds[1]);
+        if (!a) throw Error("{}: \"{}\" is not a number", quoted, printable(bounds[0]));
+        if (!b) throw Error("{}: \"{}\" is not a number", quoted, printable(bounds[1]));
         if (!std::isfinite(*a) || !std::isfinite(*b)) throw Error("{}: the bounds must be finite numbers", quoted);
         if (!(*a < *b))
             throw Error("{}: {} runs from {} to {}; the first must be smaller", quoted, axis_names[axis], *a, *b);
@@ -338,11 +366,12 @@ SurfaceRange parse_surface_range(std::string_view text) {
         std::string counts = parts[2];
         std::replace(counts.begin(), counts.end(), 'X', 'x');
         const std::vector<std::string> sides = split(counts, 'x');
-        if (sides.size() > 2) throw Error("{}: the count \"{}\" is not N or COLUMNSxROWS", quoted, parts[2]);
+        if (sides.size() > 2)
+            throw Error("{}: the count \"{}\" is not N or COLUMNSxROWS", quoted, printable(parts[2]));
         const std::optional<uint32_t> columns = parse_count(sides[0]);
         const std::optional<uint32_t> rows = sides.size() == 2 ? parse_count(sides[1]) : columns;
         if (!columns || !rows)
-            throw Error("{}: the count \"{}\" is not N or COLUMNSxROWS (whole numbers)", quoted, parts[2]);
+            throw Error("{}: the count \"{}\" is not N or COLUMNSxROWS (whole numbers)", quoted, printable(parts[2]));
         range.columns = *columns;
         range.rows = *rows;
     }
@@ -352,9 +381,9 @@ SurfaceRange parse_surface_range(std::string_view text) {
 
 SceneData make_formula_surface(const std::string& formula, SurfaceRange range, glm::vec3 color) {
     check_surface_range(range);
-    const std::string what = fmt::format("formula \"{}\"", formula);
+    const std::string what = fmt::format("formula \"{}\"", printable(formula));
     check_color(color, what);
-    if (trim(formula).empty()) throw Error("formula \"{}\": the formula is empty; write z as a function of x and y", formula);
+    if (trim(formula).empty()) throw Error("{}: the formula is empty; write z as a function of x and y", what);
     double x = 0.5 * (range.x0 + range.x1), y = 0.5 * (range.y0 + range.y1);
     mu::Parser parser;
     try {
@@ -364,12 +393,12 @@ SceneData make_formula_surface(const std::string& formula, SurfaceRange range, g
         parser.SetExpr(formula);
         parser.Eval();  // parses now, so that syntax errors are reported before any grid point
     } catch (const mu::Parser::exception_type& e) {
-        std::string message = e.GetMsg();
+        std::string message = printable(e.GetMsg(), 2 * kMaxQuotedChars);
         while (!message.empty() && (message.back() == '.' || message.back() == ' ')) message.pop_back();
         if (message.find("position") == std::string::npos && e.GetPos() >= 0)
             message += fmt::format(" at position {}", e.GetPos());
         if (e.GetCode() == mu::ecUNASSIGNABLE_TOKEN)
-            message += fmt::format(" (the variables are x and y; \"{}\" is not a known name)", e.GetToken());
+            message += fmt::format(" (the variables are x and y; \"{}\" is not a known name)", printable(e.GetToken()));
         throw Error("{}: {}", what, message);
     }
 
@@ -384,7 +413,7 @@ SceneData make_formula_surface(const std::string& formula, SurfaceRange range, g
             try {
                 z = parser.Eval();
             } catch (const mu::Parser::exception_type& e) {
-                throw Error("{}: {} at x = {}, y = {}", what, e.GetMsg(), x, y);
+                throw Error("{}: {} at x = {}, y = {}", what, printable(e.GetMsg(), 2 * kMaxQuotedChars), x, y);
             }
             const float stored = float(z);
             if (!std::isfinite(stored))
@@ -398,7 +427,7 @@ SceneData make_formula_surface(const std::string& formula, SurfaceRange range, g
 }
 
 SceneData make_heightmap_surface(const std::filesystem::path& png, const HeightmapOptions& options) {
-    const std::string what = fmt::format("heightmap {}", png.string());
+    const std::string what = fmt::format("heightmap {}", printable(png.string(), kMaxQuotedPathChars));
     if (!(std::isfinite(options.spacing) && options.spacing > 0))
         throw Error("{}: the spacing {} must be a number greater than 0", what, options.spacing);
     if (!(std::isfinite(options.height) && options.height >= 0))
@@ -408,13 +437,15 @@ SceneData make_heightmap_surface(const std::filesystem::path& png, const Heightm
     std::error_code ec;
     if (!std::filesystem::is_regular_file(png, ec))
         throw Error("{}: {}", what, std::filesystem::exists(png, ec) ? "is not a file" : "no such file");
-    const GreyImage image = read_png_grey(png);
-    const uint32_t C = (image.width - 1) / options.step + 1, R = (image.height - 1) / options.step + 1;
-    check_samples(C, R,
-                  options.step > 1 ? fmt::format("{} ({}x{} pixels, every {}th)", what, image.width, image.height,
-                                                 options.step)
-                                   : fmt::format("{} ({}x{} pixels; a step above 1 uses fewer)", what, image.width,
-                                                 image.height));
+    auto grid_side = [&](uint32_t pixels) { return (pixels - 1) / options.step + 1; };
+    const GreyImage image = read_png_grey(png, what, [&](uint32_t width, uint32_t height) {
+        const std::string size = fmt::format("{} ({}x{} pixels", what, width, height);
+        check_limit(&Limits::heightmap_pixels, uint64_t(width) * height, size + ")");
+        check_samples(grid_side(width), grid_side(height),
+                      options.step > 1 ? fmt::format("{}, every {}th)", size, options.step)
+                                       : size + "; a step above 1 uses fewer)");
+    });
+    const uint32_t C = grid_side(image.width), R = grid_side(image.height);
     const double spacing = options.spacing;
     const double height = options.height > 0 ? options.height : double(std::max(C, R) - 1) * spacing / 5.0;
     if (!std::isfinite(float(height))) throw Error("{}: the height {} does not fit a float", what, height);

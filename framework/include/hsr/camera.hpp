@@ -32,7 +32,8 @@ hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const C
 hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max);
 
 // A light spec in world space for this camera: camera-space vectors (x right, y up, z toward the
-// viewer, eye at the origin) are carried through the inverse view matrix.
+// viewer, eye at the origin) are carried through the inverse view matrix. Throws hsr::Error when the
+// result does not fit a float (a point light near the largest float).
 hsr_light resolve_light(const LightSpec& light, const hsr_camera& camera);
 
 }  // namespace hsr

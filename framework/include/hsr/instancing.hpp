@@ -23,7 +23,8 @@ hsr_instance make_instance(uint32_t first_triangle, uint32_t triangle_count, uin
 // stored once; the result has one hsr_instance per placement. `gap` is the space between
 // neighbours as a fraction of the model's largest extent; each placement is turned about the
 // vertical axis by a pseudo-random angle in [-yaw_jitter_degrees, +yaw_jitter_degrees] (fixed seed,
-// so the same grid every time).
+// so the same grid every time). Throws hsr::Error, before allocating, when the copies or the
+// triangles they draw are over the limits `instances` and `triangles` (limits.hpp).
 struct InstanceGrid {
     uint32_t columns = 1, rows = 1, layers = 1;
     float gap = 0.25f;
@@ -32,7 +33,9 @@ struct InstanceGrid {
 SceneData make_instance_grid(const SceneData& model, const InstanceGrid& grid);
 
 // The same picture without instances: every instance's triangles copied out into world space (what
-// a host hands a plugin built against ABI 1.0). A scene without instances is returned as it is.
+// a host hands a plugin built against ABI 1.0, and a hidden-line plugin). A scene without instances is
+// returned as it is. Throws hsr::Error, before allocating, when the copy is over the limit
+// `stored-triangles` (limits.hpp).
 SceneData flatten_instances(const SceneData& scene);
 // The same from a scene view (whose arrays must stay valid meanwhile).
 SceneData flatten_instances(const hsr_scene& scene);

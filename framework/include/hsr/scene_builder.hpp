@@ -48,6 +48,14 @@ public:
         std::string source;             // for messages: the file, or the object's name
         uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
     };
+    const std::vector<Object>& objects() const { return objects_; }  // as added, in order
+    // Object `index` added once more with other options: what add_model_file adds for a file it read
+    // before, without reading it again.
+    void add_copy(std::size_t index, const MeshOptions& options) {
+        Object copy = objects_.at(index);
+        copy.options = options;
+        objects_.push_back(std::move(copy));
+    }
 
 private:
     std::vector<Object> objects_;

@@ -35,10 +35,9 @@
 
 namespace hsr {
 
-// Samples per side are at least 2 and at most this; in all at most kSurfaceMaxSamples (about two
-// million triangles).
+// Samples per side are at least 2 and at most this; in all at most the limit `surface-samples`
+// (limits.hpp).
 inline constexpr uint32_t kSurfaceMaxSide = 4096;
-inline constexpr uint64_t kSurfaceMaxSamples = uint64_t(1) << 20;
 
 struct SurfaceRange {
     double x0 = -1, x1 = 1;  // x0 < x1
@@ -52,7 +51,7 @@ struct SurfaceRange {
 // negative and use an exponent ("-3:3,-3:3,80x80", "0:6.2832,-1e1:1e1,200x50"); spaces around the
 // separators are allowed. Without a count the grid is 64 x 64. Throws hsr::Error naming the text and
 // what is wrong: a missing or malformed part, X0 >= X1, a non-finite bound, fewer than 2 or more
-// than kSurfaceMaxSide samples per side, more than kSurfaceMaxSamples in all.
+// than kSurfaceMaxSide samples per side, more than the limit `surface-samples` in all.
 SurfaceRange parse_surface_range(std::string_view text);
 // Throws hsr::Error for the same mistakes in a range built in code.
 void check_surface_range(const SurfaceRange& range);
@@ -84,8 +83,9 @@ struct HeightmapOptions {
 // in [0, 1] is its grey level (any bit depth; 16-bit kept exact) or, for a colour image, its
 // luminance 0.2126 R + 0.7152 G + 0.0722 B of the stored values (no gamma decoding); alpha is ignored;
 // height = options.height * v. Throws hsr::Error when the file is missing or not a readable PNG, when
-// the image (after step) has fewer than 2 samples per side or too many (the limits above), or for bad
-// options.
+// the image (after step) has fewer than 2 samples per side or too many (the limits above), when the
+// image has more pixels than the limit `heightmap-pixels` (checked from its header, before its pixels
+// are read), or for bad options.
 SceneData make_heightmap_surface(const std::filesystem::path& png, const HeightmapOptions& options = {});
 
 // The grid a scene is laid out as (the layout above), as find_surface_grid reads it back.
