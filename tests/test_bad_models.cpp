@@ -96,6 +96,12 @@ TEST_CASE("bad models: an OBJ vertex reference with a long run of slashes", "[ba
     const Refusal r = refusal_of(file);
     CHECK_THAT(r.message, Catch::Contains("slashes.obj:4:") && Catch::Contains("more than two '/'"));
     CHECK(r.seconds < 5);
+
+    // OpenMesh reads a comment after a face's corners as more corners: it may not hide the slashes.
+    const std::string commented_slashes = "f 1 2 3 #" + std::string(2 << 20, '/') + "\n";
+    const auto start = std::chrono::steady_clock::now();
+    CHECK(hsr::load_model(write_scratch("commented-slashes.obj", triangle_obj + commented_slashes)).indices.size() == 3);
+    CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 5);
 }
 
 // OpenMesh splits a polygon into a fan in time quadratic in its corners (100,000 corners: 35 s).

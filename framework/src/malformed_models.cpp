@@ -99,7 +99,8 @@ public:
     }
 
     // Returns the text for OpenMesh's reader: material-library lines become comments, as OpenMesh
-    // would open any path named there (a device or a pipe reads forever) and hsr uses no materials.
+    // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
+    // comments after data on a line become spaces, as OpenMesh would read them as data.
     std::string check_obj(std::string text) const {
         std::vector<Line> lines = tokenize(text, '#');
         long long vertices = 0;
@@ -138,6 +139,15 @@ public:
             fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                            largest, vertices));
         for (std::size_t offset : material_libraries) text[offset] = '#';
+        for (const Line& line : lines) {
+            const std::string_view last = line.tokens.back();
+            const auto data_end = static_cast<std::size_t>(last.data() + last.size() - text.data());
+            const std::size_t line_end = std::min(text.find('\n', data_end), text.size());
+            const std::size_t comment = std::string_view(text).substr(data_end, line_end - data_end).find('#');
+            if (comment != std::string_view::npos)
+                std::fill(text.begin() + static_cast<std::ptrdiff_t>(data_end + comment),
+                          text.begin() + static_cast<std::ptrdiff_t>(line_end), ' ');
+        }
         return text;
     }
 
