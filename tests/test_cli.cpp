@@ -90,6 +90,30 @@ TEST_CASE("cli: NaN vertices", "[cli]") {
     require_one_line_error(run_hsr("render " + nan.string() + " -o x.png", "nan"), "nan.off");
 }
 
+TEST_CASE("cli: every model in tests/data/bad is refused with exit status 1 and one line", "[cli]") {
+    int files = 0;
+    for (const fs::directory_entry& entry : fs::directory_iterator(fs::path(HSR_SOURCE_DIR) / "tests/data/bad")) {
+        const std::string name = entry.path().filename().string();
+        INFO(name);
+        const Run r = run_hsr("render " + entry.path().string() + " -o x.png", "bad-" + name);
+        require_one_line_error(r, name);
+        CHECK(r.status == 1);
+        ++files;
+    }
+    CHECK(files >= 5);
+}
+
+TEST_CASE("cli: an OBJ naming a pipe as its material library does not wait on it", "[cli]") {
+    const fs::path pipe = scratch_dir() / "materials.fifo";
+    fs::remove(pipe);
+    REQUIRE(std::system(("mkfifo " + pipe.string()).c_str()) == 0);
+    const fs::path obj = write_file("pipe-materials.obj", "mtllib materials.fifo\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const Run r = run_hsr("render " + obj.string() + " -o " + (scratch_dir() / "pipe-materials.png").string(), "pipe-materials");
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 0);
+    fs::remove(pipe);
+}
+
 TEST_CASE("cli: an unknown plugin says where it looked and what it found", "[cli]") {
     const Run r = run_hsr("render " + model("cube.obj") + " --algorithm no-such-algorithm -o x.png", "unknown-plugin");
     require_one_line_error(r, "no hidden-surface or hidden-line plugin named 'no-such-algorithm'");

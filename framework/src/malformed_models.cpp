@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstring>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace hsr {
@@ -67,15 +68,23 @@ std::optional<long long> parse_integer(std::string_view token) {
     return value;
 }
 
+// OpenMesh splits a polygon into a fan in time quadratic in its corners (each new triangle
+// searches the first corner's growing fan), so a face takes at most this many.
+constexpr long long max_face_corners = 1000;
+const std::string too_many_corners = fmt::format("a face with more than {} vertices", max_face_corners);
+
+// Text from the file in single quotes, as printable() makes it.
+std::string in_quotes(std::string_view text) { return fmt::format("'{}'", printable(text)); }
+
 class TextChecker {
 public:
     explicit TextChecker(const std::filesystem::path& file) : file_(file) {}
 
     [[noreturn]] void fail(std::size_t line, const std::string& message) const {
-        throw Error("{}:{}: {}", file_.string(), line, message);
+        throw Error("{}:{}: {}", printable(file_.string(), std::string_view::npos), line, message);
     }
     [[noreturn]] void fail(const std::string& message) const {
-        throw Error("{}: {}", file_.string(), message);
+        throw Error("{}: {}", printable(file_.string(), std::string_view::npos), message);
     }
 
     // The first three tokens from `first` must be finite numbers representable as float.
@@ -83,30 +92,41 @@ public:
         if (line.tokens.size() < first + 3) fail(line.number, "a vertex needs 3 coordinates");
         for (std::size_t i = first; i < first + 3; ++i) {
             std::optional<double> v = parse_number(line.tokens[i]);
-            if (!v) fail(line.number, fmt::format("vertex coordinate '{}' is not a number", line.tokens[i]));
+            if (!v) fail(line.number, fmt::format("vertex coordinate {} is not a number", in_quotes(line.tokens[i])));
             if (!std::isfinite(*v) || std::fabs(*v) > FLT_MAX)
-                fail(line.number, fmt::format("vertex coordinate '{}' is not a finite number", line.tokens[i]));
+                fail(line.number, fmt::format("vertex coordinate {} is not a finite number", in_quotes(line.tokens[i])));
         }
     }
 
-    void check_obj(std::string_view text) const {
+    // Returns the text for OpenMesh's reader: material-library lines become comments, as OpenMesh
+    // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
+    // comments after data on a line become spaces, as OpenMesh would read them as data.
+    std::string check_obj(std::string text) const {
         std::vector<Line> lines = tokenize(text, '#');
         long long vertices = 0;
         long long largest = 0;
         std::size_t largest_line = 0;
+        std::vector<std::size_t> material_libraries;  // byte offsets of the keyword
         for (const Line& line : lines) {
             std::string_view kind = line.tokens[0];
             if (kind == "v") {
                 coordinates(line, 1);
                 ++vertices;
+            } else if (kind == "mtllib") {
+                material_libraries.push_back(static_cast<std::size_t>(kind.data() - text.data()));
             } else if (kind == "f") {
                 if (line.tokens.size() < 4) fail(line.number, "a face needs at least 3 vertices");
+                if (line.tokens.size() - 1 > max_face_corners) fail(line.number, too_many_corners);
                 for (std::size_t i = 1; i < line.tokens.size(); ++i) {
                     std::string_view ref = line.tokens[i];
+                    // vertex, vertex/texture, vertex//normal or vertex/texture/normal: OpenMesh's
+                    // reader takes time quadratic in the number of slashes.
+                    if (std::count(ref.begin(), ref.end(), '/') > 2)
+                        fail(line.number, fmt::format("{} is not a vertex reference (more than two '/')", in_quotes(ref)));
                     std::optional<long long> index = parse_integer(ref.substr(0, ref.find('/')));
                     if (!index || *index == 0)
-                        fail(line.number, fmt::format("'{}' is not a vertex reference", ref));
-                    if (*index < 0 && -*index > vertices)
+                        fail(line.number, fmt::format("{} is not a vertex reference", in_quotes(ref)));
+                    if (*index < -vertices)
                         fail(line.number, fmt::format("vertex reference {} goes before the first vertex", *index));
                     if (*index > largest) {
                         largest = *index;
@@ -118,6 +138,17 @@ public:
         if (largest > vertices)
             fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                            largest, vertices));
+        for (std::size_t offset : material_libraries) text[offset] = '#';
+        for (const Line& line : lines) {
+            const std::string_view last = line.tokens.back();
+            const auto data_end = static_cast<std::size_t>(last.data() + last.size() - text.data());
+            const std::size_t line_end = std::min(text.find('\n', data_end), text.size());
+            const std::size_t comment = std::string_view(text).substr(data_end, line_end - data_end).find('#');
+            if (comment != std::string_view::npos)
+                std::fill(text.begin() + static_cast<std::ptrdiff_t>(data_end + comment),
+                          text.begin() + static_cast<std::ptrdiff_t>(line_end), ' ');
+        }
+        return text;
     }
 
     // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line.
@@ -147,7 +178,8 @@ public:
         std::optional<long long> face_count = parse_integer(counts[1]);
         if (!vertex_count || !face_count || *vertex_count < 0 || *face_count < 0)
             fail(counts_line, "the vertex and face counts must be non-negative integers");
-        if (static_cast<long long>(lines.size() - next) < *vertex_count + *face_count)
+        const auto lines_left = static_cast<long long>(lines.size() - next);  // one per vertex and face
+        if (*vertex_count > lines_left || *face_count > lines_left - *vertex_count)
             fail(fmt::format("ends early: the header promises {} vertices and {} faces", *vertex_count,
                              *face_count));
         std::string cleaned = keyword + "\n" + std::string(counts[0]) + " " + std::string(counts[1]) + " 0\n";
@@ -163,13 +195,14 @@ public:
             const Line& line = lines[next++];
             append(line);
             std::optional<long long> corners = parse_integer(line.tokens[0]);
-            if (!corners) fail(line.number, fmt::format("'{}' is not a corner count", line.tokens[0]));
+            if (!corners) fail(line.number, fmt::format("{} is not a corner count", in_quotes(line.tokens[0])));
             if (*corners < 3) fail(line.number, "a face needs at least 3 vertices");
-            if (static_cast<long long>(line.tokens.size()) < *corners + 1)
+            if (*corners > max_face_corners) fail(line.number, too_many_corners);
+            if (*corners > static_cast<long long>(line.tokens.size()) - 1)
                 fail(line.number, fmt::format("the face lists fewer than its {} vertices", *corners));
             for (long long i = 1; i <= *corners; ++i) {
                 std::optional<long long> index = parse_integer(line.tokens[i]);
-                if (!index) fail(line.number, fmt::format("'{}' is not a vertex index", line.tokens[i]));
+                if (!index) fail(line.number, fmt::format("{} is not a vertex index", in_quotes(line.tokens[i])));
                 if (*index < 0 || *index >= *vertex_count)
                     fail(line.number, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                                   *index, *vertex_count));
@@ -230,7 +263,7 @@ public:
                     fail(line.number, "expected: format ascii|binary_little_endian|binary_big_endian 1.0");
                 format = std::string(line.tokens[1]);
                 if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-                    fail(line.number, fmt::format("unknown PLY format '{}'", format));
+                    fail(line.number, fmt::format("unknown PLY format {}", in_quotes(format)));
             } else if (key == "element") {
                 std::optional<long long> count =
                     line.tokens.size() == 3 ? parse_integer(line.tokens[2]) : std::nullopt;
@@ -248,10 +281,13 @@ public:
                 else
                     elements.back().properties.push_back({std::string(line.tokens[2]), std::string(line.tokens[1]), {}});
             } else if (key != "comment" && key != "obj_info") {
-                fail(line.number, fmt::format("unknown PLY header line '{}'", key));
+                fail(line.number, fmt::format("unknown PLY header line {}", in_quotes(key)));
             }
         }
         if (format.empty()) fail("the PLY header has no format line");
+        for (const Element& element : elements)
+            if (element.properties.empty() && element.count > 0)  // nothing bounds a reader's loop over it
+                fail(fmt::format("element {} has {} entries but no properties", in_quotes(element.name), element.count));
 
         // The body, as a stream of numbers: tokens for ASCII, fixed-size values for binary.
         // `where` is a line number for ASCII (0 when binary, whose messages name no line).
@@ -277,17 +313,17 @@ public:
                     token_index = 0;
                 }
                 if (line_index >= body_lines.size())
-                    fail(fmt::format("ends early while reading the '{}' elements", element.name));
+                    fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
                 const Line& line = body_lines[line_index];
                 where = line.number;
                 std::string_view token = line.tokens[token_index++];
                 std::optional<double> v = parse_number(token);
-                if (!v) fail(where, fmt::format("'{}' is not a number", token));
+                if (!v) fail(where, fmt::format("{} is not a number", in_quotes(token)));
                 return *v;
             }
             const std::size_t size = static_cast<std::size_t>(type_size(type));
             if (body.size() - byte < size)
-                fail(fmt::format("ends early while reading the '{}' elements", element.name));
+                fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
             unsigned char raw[8];
             std::memcpy(raw, body.data() + byte, size);
             byte += size;
@@ -324,6 +360,7 @@ public:
                     if (!(count >= 0) || count != std::floor(count)) fail_at(fmt::format("{} is not a list length", count));
                     const bool indices = is_face && (property.name == "vertex_indices" || property.name == "vertex_index");
                     if (indices && count < 3) fail_at(fmt::format("face {} has fewer than 3 vertices", e));
+                    if (indices && count > max_face_corners) fail_at(too_many_corners);
                     for (double i = 0; i < count; ++i) {
                         double index = next(element, property.type);
                         if (!indices) continue;
@@ -368,7 +405,9 @@ private:
 
 }  // namespace
 
-void check_obj_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_obj(text); }
+std::string check_obj_text(const std::filesystem::path& file, std::string text) {
+    return TextChecker(file).check_obj(std::move(text));
+}
 
 std::string check_off_text(const std::filesystem::path& file, std::string_view text) {
     return TextChecker(file).check_off(text);
@@ -377,5 +416,21 @@ std::string check_off_text(const std::filesystem::path& file, std::string_view t
 void check_ply_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_ply(text); }
 
 void check_stl_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_stl(text); }
+
+std::string printable(std::string_view text, std::size_t limit) {
+    std::string shown;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (shown.size() >= limit) {
+            shown += "...";
+            break;
+        }
+        const auto byte = static_cast<unsigned char>(text[i]);
+        if (byte >= 0x20 && byte < 0x7f)
+            shown += static_cast<char>(byte);
+        else
+            shown += fmt::format("\\x{:02x}", byte);
+    }
+    return shown;
+}
 
 }  // namespace hsr

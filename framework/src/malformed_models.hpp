@@ -10,11 +10,17 @@
 
 namespace hsr {
 
-void check_obj_text(const std::filesystem::path& file, std::string_view text);
+// Returns the text for OpenMesh's OBJ reader, with lines that would make it open other files
+// commented out.
+std::string check_obj_text(const std::filesystem::path& file, std::string text);
 // Returns the text re-written for OpenMesh's OFF reader, which accepts neither comment lines nor
 // the counts on the header line.
 std::string check_off_text(const std::filesystem::path& file, std::string_view text);
 void check_ply_text(const std::filesystem::path& file, std::string_view text);  // ASCII or binary
 void check_stl_text(const std::filesystem::path& file, std::string_view text);  // ASCII or binary
+
+// Text from a file as it may appear in a one-line message: bytes other than printable ASCII as
+// \xNN, and at most `limit` characters of the text, then "...".
+std::string printable(std::string_view text, std::size_t limit = 80);
 
 }  // namespace hsr

@@ -3,8 +3,8 @@
 // face of the opposite half-edge).
 //
 // Text files are checked before OpenMesh sees them (malformed_models.hpp), OpenMesh's own messages
-// are captured instead of printed, and what it loaded is checked again. ASCII OFF goes to OpenMesh
-// as the check re-writes it.
+// are captured instead of printed, and what it loaded is checked again. OBJ and ASCII OFF go to
+// OpenMesh as the checks re-write them.
 #include "model_reader.hpp"
 
 #include "hsr/error.hpp"
@@ -24,6 +24,7 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 namespace hsr {
 namespace {
@@ -31,7 +32,7 @@ namespace {
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 using Object = SceneBuilder::Object;
 
-std::string display(const std::filesystem::path& file) { return file.string(); }
+std::string display(const std::filesystem::path& file) { return printable(file.string(), std::string::npos); }
 
 std::string lower(std::string text) {
     std::transform(text.begin(), text.end(), text.begin(),
@@ -165,7 +166,7 @@ Object read_model_object(const std::filesystem::path& file) {
     {
         std::string text = read_whole_file(file);
         switch (format) {
-        case Format::obj: check_obj_text(file, text); break;
+        case Format::obj: cleaned = check_obj_text(file, std::move(text)); break;
         case Format::off: cleaned = check_off_text(file, text); break;
         case Format::ply: check_ply_text(file, text); break;
         case Format::stl: check_stl_text(file, text); break;
@@ -180,9 +181,10 @@ Object read_model_object(const std::filesystem::path& file) {
         OpenMeshCapture capture;
         try {
             if (cleaned) {
-                std::istringstream stream(*cleaned);
+                std::istringstream stream(std::move(*cleaned));
+                cleaned.reset();
                 OpenMesh::IO::Options options;
-                read = OpenMesh::IO::read_mesh(mesh, stream, ".off", options);
+                read = OpenMesh::IO::read_mesh(mesh, stream, format == Format::obj ? ".obj" : ".off", options);
             } else {
                 read = OpenMesh::IO::read_mesh(mesh, file.string());
             }
@@ -196,7 +198,7 @@ Object read_model_object(const std::filesystem::path& file) {
     if (!read) {
         std::string reason = first_line(chatter);
         throw Error("{}: could not be parsed as {}{}", display(file), lower(file.extension().string()).substr(1),
-                    reason.empty() ? "" : " (" + reason + ")");
+                    reason.empty() ? "" : " (" + printable(reason) + ")");
     }
     if (chatter.find("invalid vertex index") != std::string::npos ||
         chatter.find("invalid faces") != std::string::npos)
