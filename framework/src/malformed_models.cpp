@@ -417,20 +417,4 @@ void check_ply_text(const std::filesystem::path& file, std::string_view text) { 
 
 void check_stl_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_stl(text); }
 
-std::string printable(std::string_view text, std::size_t limit) {
-    std::string shown;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        if (shown.size() >= limit) {
-            shown += "...";
-            break;
-        }
-        const auto byte = static_cast<unsigned char>(text[i]);
-        if (byte >= 0x20 && byte < 0x7f)
-            shown += static_cast<char>(byte);
-        else
-            shown += fmt::format("\\x{:02x}", byte);
-    }
-    return shown;
-}
-
 }  // namespace hsr

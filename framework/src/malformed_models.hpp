@@ -19,8 +19,4 @@ std::string check_off_text(const std::filesystem::path& file, std::string_view t
 void check_ply_text(const std::filesystem::path& file, std::string_view text);  // ASCII or binary
 void check_stl_text(const std::filesystem::path& file, std::string_view text);  // ASCII or binary
 
-// Text from a file as it may appear in a one-line message: bytes other than printable ASCII as
-// \xNN, and at most `limit` characters of the text, then "...".
-std::string printable(std::string_view text, std::size_t limit = 80);
-
 }  // namespace hsr
