@@ -1,6 +1,7 @@
 // The hsr executable as a user meets it: every bad input gives one line on stderr and a non-zero
 // exit status; a good one writes a picture whose pixels make sense.
 #include "hsr/abi.h"
+#include "cli_support.hpp"
 #include "hsr/image.hpp"
 
 #include <catch2/catch.hpp>
@@ -20,37 +21,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-    int status = -1;
-    std::string out, err;
-};
-
-fs::path scratch_dir() {
-    fs::path dir = fs::path(HSR_BINARY_DIR) / "test-cli-scratch";
-    fs::create_directories(dir);
-    return dir;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// Runs `hsr <args>` with a time limit; returns exit status and output.
-Run run_hsr(const std::string& args, const std::string& tag) {
-    const fs::path dir = scratch_dir();
-    const fs::path out = dir / (tag + ".out"), err = dir / (tag + ".err");
-    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/hsr " + args + " > " +
-                                out.string() + " 2> " + err.string() + " < /dev/null";
-    const int raw = std::system(command.c_str());
-    Run r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-}
+using cli::Run;
+using cli::require_one_line_error;
+using cli::run_hsr;
+using cli::scratch_dir;
+using cli::slurp;
 
 fs::path write_file(const std::string& name, const std::string& text) {
     const fs::path p = scratch_dir() / name;
@@ -59,15 +34,6 @@ fs::path write_file(const std::string& name, const std::string& text) {
 }
 
 std::string model(const char* name) { return std::string(HSR_MODELS_DIR) + "/" + name; }
-
-// One line, naming the problem, exit status 1 or 2 (not a crash: a signal gives -1 or >= 128).
-void require_one_line_error(const Run& r, const std::string& expected) {
-    INFO("stderr: " << r.err);
-    CHECK((r.status == 1 || r.status == 2));
-    CHECK(r.err.rfind("hsr: error: ", 0) == 0);
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_THAT(r.err, Catch::Contains(expected));
-}
 
 }  // namespace
 

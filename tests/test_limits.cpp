@@ -3,6 +3,7 @@
 // is allocated, and goes through once the limit is raised with --limit; user text in a message is
 // escaped and cut. The answers are written out by hand: exact messages, counts worked out from the
 // inputs, and files (PNG headers, scene files) built here byte by byte.
+#include "cli_support.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"
@@ -32,23 +33,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch_dir() {
-    const fs::path dir = fs::path(HSR_BINARY_DIR) / "test-limits-scratch";
-    fs::create_directories(dir);
-    return dir;
-}
+using cli::Run;
+using cli::require_one_line_error;
+using cli::run_hsr;
+using cli::scratch_dir;
+using cli::slurp;
 
 fs::path write_file(const std::string& name, const std::string& bytes) {
     const fs::path path = scratch_dir() / name;
     std::ofstream(path, std::ios::binary) << bytes;
     return path;
-}
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 template <class F>
@@ -114,32 +108,6 @@ std::string square_polygon(float x) {
 
 // ---------------------------------------------------------------------------------------------
 // The hsr executable
-
-struct Run {
-    int status = -1;
-    std::string out, err;
-};
-
-Run run_hsr(const std::string& args, const std::string& tag) {
-    const fs::path dir = scratch_dir();
-    const fs::path out = dir / (tag + ".out"), err = dir / (tag + ".err");
-    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/hsr " + args + " > " + out.string() +
-                                " 2> " + err.string() + " < /dev/null";
-    const int raw = std::system(command.c_str());
-    Run r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-}
-
-void require_one_line_error(const Run& r, const std::string& expected) {
-    INFO("stderr: " << r.err);
-    CHECK((r.status == 1 || r.status == 2));
-    CHECK(r.err.rfind("hsr: error: ", 0) == 0);
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_THAT(r.err, Catch::Contains(expected));
-}
 
 void require_success(const Run& r) {
     INFO("stderr: " << r.err);

@@ -2,6 +2,7 @@
 // the hsr executable down: `hsr plugins` lists it as refused with the reason, a command that does not
 // use it works as if it were absent, and asking for it is a one-line error. Also the descriptor
 // check's bounds, in-process, against strings and tables that end at an unmapped page.
+#include "cli_support.hpp"
 #include "hsr/abi.h"
 #include "hsr/plugin_registry.hpp"
 
@@ -24,49 +25,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-    int status = -1;  // the exit status; -1 when hsr died from a signal or was timed out
-    std::string out, err;
-};
-
-fs::path scratch_dir() {
-    fs::path dir = fs::path(HSR_BINARY_DIR) / "test-plugin-hardening-scratch";
-    fs::create_directories(dir);
-    return dir;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using cli::Run;
+using cli::scratch_dir;
+using cli::slurp;
 
 // The folder that holds the one broken library of that case.
 std::string bad_folder(const std::string& name) { return std::string(HSR_TEST_PLUGIN_DIR) + "/" + name; }
 
 // Runs `hsr <args> --plugin-path <the case's folder>` with a time limit.
 Run run_hsr_beside(const std::string& name, const std::string& args, const std::string& tag) {
-    const fs::path dir = scratch_dir();
-    const fs::path out = dir / (name + "-" + tag + ".out"), err = dir / (name + "-" + tag + ".err");
-    const std::string command = "timeout 60 " + std::string(HSR_BINARY_DIR) + "/hsr " + args + " --plugin-path " +
-                                bad_folder(name) + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
-    const int raw = std::system(command.c_str());
-    Run r;
-    r.status = WIFEXITED(raw) && WEXITSTATUS(raw) != 124 ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+    return cli::run_hsr(args + " --plugin-path " + bad_folder(name), name + "-" + tag);
 }
 
 std::string cube() { return std::string(HSR_MODELS_DIR) + "/cube.obj"; }
 
-void require_one_line_error(const Run& r, const std::string& expected) {
-    INFO("stderr: " << r.err);
+// One line naming the problem, exit status 1.
+void require_plugin_error(const Run& r, const std::string& expected) {
+    cli::require_one_line_error(r, expected);
     CHECK(r.status == 1);
-    CHECK(r.err.rfind("hsr: error: ", 0) == 0);
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_THAT(r.err, Catch::Contains(expected));
 }
 
 // A render with the default plugins succeeds beside the broken library.
@@ -93,7 +69,7 @@ void require_refused(const std::string& name, const std::string& reason) {
     require_default_render_works(name);
 
     const Run asked = run_hsr_beside(name, "render " + cube() + " --width 64 --height 64 -o x.png -a " + name, "asked");
-    require_one_line_error(asked, "no hidden-surface or hidden-line plugin named '" + name + "'");
+    require_plugin_error(asked, "no hidden-surface or hidden-line plugin named '" + name + "'");
     CHECK_THAT(asked.err, Catch::Contains("refused: ") && Catch::Contains(reason));
 }
 
@@ -159,7 +135,7 @@ TEST_CASE("plugin hardening: an error message without a terminating NUL", "[plug
     require_default_render_works("unterminated-error");
 
     const Run asked = run_hsr_beside("unterminated-error", "render " + cube() + " --width 64 --height 64 -o x.png -a unterminated-error", "asked");
-    require_one_line_error(asked, "failed in render (status 4): ");
+    require_plugin_error(asked, "failed in render (status 4): ");
     // The plugin filled all HSR_ERROR_MESSAGE_SIZE bytes with 'x'; the last one counts as the
     // terminator, and nothing after the buffer is printed.
     const std::string expected_tail = ": " + std::string(HSR_ERROR_MESSAGE_SIZE - 1, 'x') + "\n";
@@ -174,7 +150,7 @@ TEST_CASE("plugin hardening: an exception thrown across the C ABI", "[plugin-har
     require_default_render_works("throws-across-abi");
 
     const Run asked = run_hsr_beside("throws-across-abi", "render " + cube() + " --width 64 --height 64 -o x.png -a throws-across-abi", "asked");
-    require_one_line_error(asked, "hidden-surface plugin 'throws-across-abi' let an exception escape from render");
+    require_plugin_error(asked, "hidden-surface plugin 'throws-across-abi' let an exception escape from render");
 }
 
 TEST_CASE("plugin hardening: several broken libraries in one folder, good ones after them", "[plugin-hardening]") {
