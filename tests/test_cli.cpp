@@ -26,12 +26,7 @@ using cli::require_one_line_error;
 using cli::run_hsr;
 using cli::scratch_dir;
 using cli::slurp;
-
-fs::path write_file(const std::string& name, const std::string& text) {
-    const fs::path p = scratch_dir() / name;
-    std::ofstream(p) << text;
-    return p;
-}
+using cli::write_file;
 
 std::string model(const char* name) { return std::string(HSR_MODELS_DIR) + "/" + name; }
 

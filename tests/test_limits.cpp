@@ -38,12 +38,7 @@ using cli::require_one_line_error;
 using cli::run_hsr;
 using cli::scratch_dir;
 using cli::slurp;
-
-fs::path write_file(const std::string& name, const std::string& bytes) {
-    const fs::path path = scratch_dir() / name;
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-}
+using cli::write_file;
 
 template <class F>
 std::string error_of(F&& f) {

@@ -35,6 +35,13 @@ inline std::string slurp(const std::filesystem::path& path) {
     return s.str();
 }
 
+// Writes bytes to <name> in the scratch folder; returns its path.
+inline std::filesystem::path write_file(const std::string& name, const std::string& bytes) {
+    const std::filesystem::path path = scratch_dir() / name;
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+}
+
 // Runs `hsr <args>` with no input and a time limit; stdout and stderr go to <tag>.out and <tag>.err
 // in the scratch folder.
 inline Run run_hsr(const std::string& args, const std::string& tag, int timeout_seconds = 60) {
