@@ -12,11 +12,13 @@
 #include "hsr/params.hpp"
 #include "hsr/scene_builder.hpp"
 #include "hsr/scene_file.hpp"
+#include "hsr/subdivide.hpp"
 #include "hsr/surface.hpp"
 #include "test_models.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -183,7 +185,7 @@ TEST_CASE("limits: NAME=N settings, and the message of a limit reached", "[limit
     CHECK(limits.image_pixels == UINT64_MAX);
     CHECK(limits.lights == hsr::Limits{}.lights);
     CHECK_THAT(error_of([&] { hsr::apply_limit_setting(limits, "polygons=5"); }),
-               Catch::StartsWith("--limit: unknown limit 'polygons' (limits: triangles, stored-triangles, instances, "
+               Catch::StartsWith("--limit: unknown limit 'polygons' (limits: triangles, stored-triangles, model-bytes, instances, "
                                  "lights, surface-samples, heightmap-pixels, image-pixels)"));
     CHECK_THAT(error_of([&] { hsr::apply_limit_setting(limits, "lights"); }), Catch::Contains("expected NAME=N"));
     for (const char* bad : {"lights=0", "lights=-1", "lights=1e3", "lights=", "lights=18446744073709551616"})
@@ -203,6 +205,7 @@ TEST_CASE("limits: the defaults take everything the docs and tests render", "[li
     // 3 million triangles; hierarchical-zbuffer.md: 1920 monkeys.
     CHECK(defaults.triangles >= uint64_t(4 * 3 * 20) * 69666);
     CHECK(defaults.stored_triangles >= 3'000'000);
+    CHECK(defaults.model_bytes >= 74'000'000);  // an OBJ of 2 million triangles, written with 6 decimals
     CHECK(defaults.instances >= 8 * 6 * 40);
     // The surface and height-map sizes of before: 4096 x 4096 pixels read, 2^20 samples used.
     CHECK(defaults.surface_samples == uint64_t(1) << 20);
@@ -328,6 +331,87 @@ TEST_CASE("limits: a .scene file's triangles, counted as each object is added", 
     const fs::path many = write_file("many-copies.scene", "mesh missing.obj\nrepeat 1000 1000 2\n");
     CHECK(error_of([&] { hsr::load_scene_file(many); }) ==
           many.string() + ":2: 2000000 instances, over the limit of 1000000 (raise it with --limit instances=N)");
+}
+
+TEST_CASE("limits: a model file's faces are counted before OpenMesh reads it", "[limits][models]") {
+    // Each file holds 4 triangles' worth of faces, written in its format's own way: a quad counts 2.
+    const fs::path obj = write_file("four.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+                                                "f 1 2 3 4\nf 1 2 5\nf 2 3 5\n");
+    const fs::path off = write_file("four.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
+                                                "4 0 1 2 3\n3 0 1 4\n3 1 2 4\n");
+    const fs::path ply = write_file("four.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                                                "property float y\nproperty float z\nelement face 3\n"
+                                                "property list uchar int vertex_indices\nend_header\n"
+                                                "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n4 0 1 2 3\n3 0 1 4\n3 1 2 4\n");
+    std::string facets;
+    for (const char* corners : {"0 0 0\nvertex 1 0 0\nvertex 1 1 0", "0 0 0\nvertex 1 1 0\nvertex 0 1 0",
+                                "0 0 0\nvertex 1 0 0\nvertex 0 0 1", "1 0 0\nvertex 1 1 0\nvertex 0 0 1"})
+        facets += std::string("facet normal 0 0 1\nouter loop\nvertex ") + corners + "\nendloop\nendfacet\n";
+    const fs::path stl = write_file("four.stl", "solid four\n" + facets + "endsolid four\n");
+    // A binary STL declaring 4 triangles of 50 bytes each, all zero: the count is read from its header.
+    const fs::path binary_stl = write_file("four-binary.stl", std::string(80, ' ') + std::string("\x04\0\0\0", 4) +
+                                                                 std::string(200, '\0'));
+
+    hsr::Limits limits;
+    limits.stored_triangles = 3;
+    {
+        ScopedLimits scoped(limits);
+        for (const fs::path& file : {obj, off, ply, stl, binary_stl})
+            CHECK(error_of([&] { hsr::load_model(file); }) ==
+                  file.string() + ": 4 stored triangles, over the limit of 3 (raise it with --limit stored-triangles=N)");
+    }
+    limits.stored_triangles = 4;
+    ScopedLimits scoped(limits);
+    for (const fs::path& file : {obj, off, ply, stl}) CHECK(hsr::load_model(file).triangle_count() == 4);
+}
+
+TEST_CASE("limits: a model file's size is checked before it is read, and only regular files are read",
+          "[limits][models]") {
+    const fs::path obj = write_file("triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");  // 32 bytes
+    REQUIRE(fs::file_size(obj) == 32);
+    hsr::Limits limits;
+    limits.model_bytes = 31;
+    {
+        ScopedLimits scoped(limits);
+        CHECK(error_of([&] { hsr::load_model(obj); }) ==
+              obj.string() + ": 32 bytes, over the limit of 31 (raise it with --limit model-bytes=N)");
+    }
+    limits.model_bytes = 32;
+    {
+        ScopedLimits scoped(limits);
+        CHECK(hsr::load_model(obj).triangle_count() == 1);
+    }
+    // A pipe or a device would be read for ever (or until memory runs out).
+    const fs::path pipe = scratch_dir() / "pipe.obj";
+    fs::remove(pipe);
+    REQUIRE(mkfifo(pipe.c_str(), 0600) == 0);
+    CHECK(error_of([&] { hsr::load_model(pipe); }) == pipe.string() + ": is not a regular file");
+    const fs::path device = scratch_dir() / "zero.obj";
+    fs::remove(device);
+    fs::create_symlink("/dev/zero", device);
+    CHECK(error_of([&] { hsr::load_model(device); }) == device.string() + ": is not a regular file");
+}
+
+TEST_CASE("limits: Loop subdivision counts the triangles it would make first", "[limits][models]") {
+    const fs::path cube = test_models::path("cube.obj");  // 12 triangles: 48, 192, 768 after 1, 2, 3 levels
+    hsr::Limits limits;
+    limits.stored_triangles = 767;
+    {
+        ScopedLimits scoped(limits);
+        CHECK(error_of([&] { hsr::load_model_subdivided(cube, 3); }) ==
+              "Loop subdivision: 3 levels of 12 triangles: 768 stored triangles, over the limit of 767 (raise it "
+              "with --limit stored-triangles=N)");
+    }
+    limits.stored_triangles = 768;
+    ScopedLimits scoped(limits);
+    CHECK(hsr::load_model_subdivided(cube, 3).triangle_count() == 768);
+}
+
+TEST_CASE("limits: a PNG read back is checked against image-pixels from its header", "[limits]") {
+    const fs::path huge = png_header_claiming(40000, 40000, "read-back-huge.png");
+    CHECK_THAT(error_of([&] { hsr::read_png_rgb(huge); }),
+               Catch::EndsWith("read-back-huge.png: 1600000000 pixels, over the limit of 67108864 (raise it with "
+                               "--limit image-pixels=N)"));
 }
 
 TEST_CASE("limits: a mesh file named many times is read once and copied", "[limits][scene]") {

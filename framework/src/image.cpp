@@ -2,6 +2,7 @@
 
 #include "hsr/atomic_file.hpp"
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 
 #include <cairo.h>
 #include <fmt/format.h>
@@ -48,6 +49,12 @@ Image read_png_rgb(const std::filesystem::path& path) {
     if (!png_image_begin_read_from_file(&image, path.c_str()))
         throw Error("cannot read {}: {}", path.string(), image.message);
     image.format = PNG_FORMAT_RGB;
+    try {
+        check_limit(&Limits::image_pixels, uint64_t(image.width) * image.height, printable(path.string()));
+    } catch (...) {
+        png_image_free(&image);
+        throw;
+    }
     Image out;
     out.width = image.width;
     out.height = image.height;

@@ -3,6 +3,7 @@
 #include "malformed_models.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 
 #include <algorithm>
 #include <array>
@@ -25,30 +26,42 @@ struct Line {
     std::vector<std::string_view> tokens;
 };
 
-// Splits text into lines of whitespace-separated tokens; text from `comment` to the end of a line
-// is dropped (pass '\0' for none). Lines without tokens are skipped.
-std::vector<Line> tokenize(std::string_view text, char comment) {
-    std::vector<Line> lines;
-    std::size_t number = 0, pos = 0;
-    while (pos < text.size()) {
-        std::size_t end = text.find('\n', pos);
-        if (end == std::string_view::npos) end = text.size();
-        std::string_view line = text.substr(pos, end - pos);
-        pos = end + 1;
-        ++number;
-        if (comment != '\0') line = line.substr(0, line.find(comment));
-        Line parsed{number, {}};
-        std::size_t i = 0;
-        while (i < line.size()) {
-            while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-            std::size_t start = i;
-            while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-            if (i > start) parsed.tokens.push_back(line.substr(start, i - start));
+// The lines of a text one at a time, as whitespace-separated tokens: text from `comment` to the end
+// of a line is dropped ('\0' for none) and lines without tokens are skipped. Only the current line
+// is held, so checking a file takes memory for its longest line, not for the whole file in tokens.
+class LineReader {
+public:
+    LineReader(std::string_view text, char comment, std::size_t lines_before = 0)
+        : text_(text), comment_(comment), line_{lines_before, {}} {}
+
+    // The next line with tokens, or nullptr at the end of the text; valid until the next call.
+    const Line* next() {
+        while (pos_ < text_.size()) {
+            std::size_t end = text_.find('\n', pos_);
+            if (end == std::string_view::npos) end = text_.size();
+            std::string_view line = text_.substr(pos_, end - pos_);
+            pos_ = end + 1;
+            ++line_.number;
+            if (comment_ != '\0') line = line.substr(0, line.find(comment_));
+            line_.tokens.clear();
+            std::size_t i = 0;
+            while (i < line.size()) {
+                while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+                std::size_t start = i;
+                while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+                if (i > start) line_.tokens.push_back(line.substr(start, i - start));
+            }
+            if (!line_.tokens.empty()) return &line_;
         }
-        if (!parsed.tokens.empty()) lines.push_back(std::move(parsed));
+        return nullptr;
     }
-    return lines;
-}
+
+private:
+    std::string_view text_;
+    char comment_;
+    std::size_t pos_ = 0;
+    Line line_;
+};
 
 std::optional<double> parse_number(std::string_view token) {
     if (!token.empty() && token.front() == '+') token.remove_prefix(1);
@@ -71,6 +84,10 @@ std::optional<long long> parse_integer(std::string_view token) {
 // OpenMesh splits a polygon into a fan in time quadratic in its corners (each new triangle
 // searches the first corner's growing fan), so a face takes at most this many.
 constexpr long long max_face_corners = 1000;
+// Real PLY files have a few elements of a few properties; these bound what a header can make the
+// checks store.
+constexpr std::size_t max_ply_elements = 1000;
+constexpr std::size_t max_ply_properties = 1000;
 const std::string too_many_corners = fmt::format("a face with more than {} vertices", max_face_corners);
 
 // Text from the file in single quotes, as printable() makes it.
@@ -101,13 +118,14 @@ public:
     // Returns the text for OpenMesh's reader: material-library lines become comments, as OpenMesh
     // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
     // comments after data on a line become spaces, as OpenMesh would read them as data.
-    std::string check_obj(std::string text) const {
-        std::vector<Line> lines = tokenize(text, '#');
+    std::string check_obj(std::string text) {
+        LineReader lines(text, '#');
         long long vertices = 0;
         long long largest = 0;
         std::size_t largest_line = 0;
         std::vector<std::size_t> material_libraries;  // byte offsets of the keyword
-        for (const Line& line : lines) {
+        while (const Line* next_line = lines.next()) {
+            const Line& line = *next_line;
             std::string_view kind = line.tokens[0];
             if (kind == "v") {
                 coordinates(line, 1);
@@ -117,6 +135,7 @@ public:
             } else if (kind == "f") {
                 if (line.tokens.size() < 4) fail(line.number, "a face needs at least 3 vertices");
                 if (line.tokens.size() - 1 > max_face_corners) fail(line.number, too_many_corners);
+                count_face(line.tokens.size() - 1);
                 for (std::size_t i = 1; i < line.tokens.size(); ++i) {
                     std::string_view ref = line.tokens[i];
                     // vertex, vertex/texture, vertex//normal or vertex/texture/normal: OpenMesh's
@@ -139,7 +158,9 @@ public:
             fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                            largest, vertices));
         for (std::size_t offset : material_libraries) text[offset] = '#';
-        for (const Line& line : lines) {
+        LineReader again(text, '#');
+        while (const Line* next_line = again.next()) {
+            const Line& line = *next_line;
             const std::string_view last = line.tokens.back();
             const auto data_end = static_cast<std::size_t>(last.data() + last.size() - text.data());
             const std::size_t line_end = std::min(text.find('\n', data_end), text.size());
@@ -152,10 +173,11 @@ public:
     }
 
     // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line.
-    std::string check_off(std::string_view text) const {
-        std::vector<Line> lines = tokenize(text, '#');
-        if (lines.empty()) fail("is empty");
-        const Line& header = lines[0];
+    std::string check_off(std::string_view text) {
+        LineReader lines(text, '#');
+        const Line* first = lines.next();
+        if (!first) fail("is empty");
+        const Line header = *first;
         std::string keyword = std::string(header.tokens[0]);
         if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0 ||
             keyword.find_first_not_of("STCN4nOF") != std::string::npos)
@@ -165,34 +187,37 @@ public:
             fail(header.number, "binary OFF is not supported (OpenMesh reads it unreliably); use ASCII OFF or PLY");
         if (keyword.find_first_of("4n") != std::string::npos)
             fail(header.number, fmt::format("{} (homogeneous or n-dimensional) files are not supported", keyword));
-        std::size_t next = 1;
         std::size_t counts_line = header.number;
         if (counts.empty()) {
-            if (lines.size() < 2) fail(header.number, "the vertex and face counts are missing");
-            counts = lines[1].tokens;
-            counts_line = lines[1].number;
-            next = 2;
+            const Line* second = lines.next();
+            if (!second) fail(header.number, "the vertex and face counts are missing");
+            counts = second->tokens;
+            counts_line = second->number;
         }
         if (counts.size() < 2) fail(counts_line, "expected the vertex and face counts");
         std::optional<long long> vertex_count = parse_integer(counts[0]);
         std::optional<long long> face_count = parse_integer(counts[1]);
         if (!vertex_count || !face_count || *vertex_count < 0 || *face_count < 0)
             fail(counts_line, "the vertex and face counts must be non-negative integers");
-        const auto lines_left = static_cast<long long>(lines.size() - next);  // one per vertex and face
-        if (*vertex_count > lines_left || *face_count > lines_left - *vertex_count)
-            fail(fmt::format("ends early: the header promises {} vertices and {} faces", *vertex_count,
-                             *face_count));
+        auto next_line = [&]() -> const Line& {  // one line per vertex and face
+            const Line* line = lines.next();
+            if (!line)
+                fail(fmt::format("ends early: the header promises {} vertices and {} faces", *vertex_count,
+                                 *face_count));
+            return *line;
+        };
         std::string cleaned = keyword + "\n" + std::string(counts[0]) + " " + std::string(counts[1]) + " 0\n";
         auto append = [&cleaned](const Line& line) {
             for (std::string_view token : line.tokens) (cleaned += token) += ' ';
             cleaned += '\n';
         };
         for (long long v = 0; v < *vertex_count; ++v) {
-            coordinates(lines[next], 0);  // x y z come first
-            append(lines[next++]);
+            const Line& line = next_line();
+            coordinates(line, 0);  // x y z come first
+            append(line);
         }
         for (long long f = 0; f < *face_count; ++f) {
-            const Line& line = lines[next++];
+            const Line& line = next_line();
             append(line);
             std::optional<long long> corners = parse_integer(line.tokens[0]);
             if (!corners) fail(line.number, fmt::format("{} is not a corner count", in_quotes(line.tokens[0])));
@@ -200,6 +225,7 @@ public:
             if (*corners > max_face_corners) fail(line.number, too_many_corners);
             if (*corners > static_cast<long long>(line.tokens.size()) - 1)
                 fail(line.number, fmt::format("the face lists fewer than its {} vertices", *corners));
+            count_face(static_cast<uint64_t>(*corners));
             for (long long i = 1; i <= *corners; ++i) {
                 std::optional<long long> index = parse_integer(line.tokens[i]);
                 if (!index) fail(line.number, fmt::format("{} is not a vertex index", in_quotes(line.tokens[i])));
@@ -213,7 +239,7 @@ public:
 
     // Walks the whole file the way a PLY reader would, ASCII or binary, so that OpenMesh only sees
     // files whose counts match their contents.
-    void check_ply(std::string_view text) const {
+    void check_ply(std::string_view text) {
         // The header: lines up to end_header.
         std::size_t header_end = std::string_view::npos;  // byte offset of the body
         for (std::size_t pos = 0; pos < text.size();) {
@@ -227,8 +253,9 @@ public:
             if (eol == std::string_view::npos) break;
             pos = eol + 1;
         }
-        std::vector<Line> lines = tokenize(text.substr(0, header_end == std::string_view::npos ? text.size() : header_end), '\0');
-        if (lines.empty() || lines[0].number != 1 || lines[0].tokens.size() != 1 || lines[0].tokens[0] != "ply")
+        LineReader lines(text.substr(0, header_end == std::string_view::npos ? text.size() : header_end), '\0');
+        const Line* first = lines.next();
+        if (!first || first->number != 1 || first->tokens.size() != 1 || first->tokens[0] != "ply")
             fail(1, "not a PLY file (its first line must be ply)");
         if (header_end == std::string_view::npos) fail("the PLY header has no end_header line");
 
@@ -254,8 +281,8 @@ public:
 
         std::vector<Element> elements;
         std::string format;
-        for (std::size_t i = 1; i < lines.size(); ++i) {
-            const Line& line = lines[i];
+        while (const Line* next_line = lines.next()) {
+            const Line& line = *next_line;
             std::string_view key = line.tokens[0];
             if (key == "end_header") break;
             if (key == "format") {
@@ -268,9 +295,13 @@ public:
                 std::optional<long long> count =
                     line.tokens.size() == 3 ? parse_integer(line.tokens[2]) : std::nullopt;
                 if (!count || *count < 0) fail(line.number, "expected: element <name> <count>");
+                if (elements.size() == max_ply_elements)
+                    fail(line.number, fmt::format("more than {} elements", max_ply_elements));
                 elements.push_back({std::string(line.tokens[1]), *count, {}});
             } else if (key == "property") {
                 if (elements.empty()) fail(line.number, "property before any element");
+                if (elements.back().properties.size() == max_ply_properties)
+                    fail(line.number, fmt::format("more than {} properties in one element", max_ply_properties));
                 bool list = line.tokens.size() >= 2 && line.tokens[1] == "list";
                 if (list ? (line.tokens.size() != 5 || !type_size(line.tokens[2]) || !type_size(line.tokens[3]))
                          : (line.tokens.size() != 3 || !type_size(line.tokens[1])))
@@ -294,13 +325,11 @@ public:
         const bool ascii = format == "ascii";
         const bool swap = (format == "binary_big_endian") == (std::endian::native == std::endian::little);
         const std::string_view body = text.substr(header_end);
-        std::vector<Line> body_lines;
-        if (ascii) {
-            body_lines = tokenize(body, '\0');
-            const auto header_lines = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(header_end), '\n'));
-            for (Line& line : body_lines) line.number += header_lines;
-        }
-        std::size_t line_index = 0, token_index = 0, byte = 0;
+        const auto header_lines = static_cast<std::size_t>(
+            std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(header_end), '\n'));
+        LineReader body_lines(ascii ? body : std::string_view(), '\0', header_lines);
+        const Line* line = nullptr;
+        std::size_t token_index = 0, byte = 0;
         std::size_t where = 0;
         auto fail_at = [&](const std::string& message) {
             if (ascii) fail(where, message);
@@ -308,15 +337,14 @@ public:
         };
         auto next = [&](const Element& element, std::string_view type) -> double {
             if (ascii) {
-                while (line_index < body_lines.size() && token_index >= body_lines[line_index].tokens.size()) {
-                    ++line_index;
+                while (line == nullptr || token_index >= line->tokens.size()) {
+                    line = body_lines.next();
                     token_index = 0;
+                    if (line == nullptr)
+                        fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
                 }
-                if (line_index >= body_lines.size())
-                    fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
-                const Line& line = body_lines[line_index];
-                where = line.number;
-                std::string_view token = line.tokens[token_index++];
+                where = line->number;
+                std::string_view token = line->tokens[token_index++];
                 std::optional<double> v = parse_number(token);
                 if (!v) fail(where, fmt::format("{} is not a number", in_quotes(token)));
                 return *v;
@@ -361,6 +389,7 @@ public:
                     const bool indices = is_face && (property.name == "vertex_indices" || property.name == "vertex_index");
                     if (indices && count < 3) fail_at(fmt::format("face {} has fewer than 3 vertices", e));
                     if (indices && count > max_face_corners) fail_at(too_many_corners);
+                    if (indices) count_face(static_cast<uint64_t>(count));
                     for (double i = 0; i < count; ++i) {
                         double index = next(element, property.type);
                         if (!indices) continue;
@@ -373,7 +402,7 @@ public:
         }
     }
 
-    void check_stl(std::string_view text) const {
+    void check_stl(std::string_view text) {
         bool ascii = text.size() >= 5 && text.substr(0, 5) == "solid";
         if (text.size() >= 84) {
             uint32_t triangles = 0;
@@ -387,6 +416,7 @@ public:
             if (text.size() < 84 + 50ull * triangles)
                 fail(fmt::format("binary STL is truncated: it declares {} triangles but holds {}", triangles,
                                  (text.size() - 84) / 50));
+            count_face(3, triangles);
             for (uint32_t t = 0; t < triangles; ++t) {  // normal, 3 corners, attribute bytes
                 float corners[9];
                 std::memcpy(corners, text.data() + 84 + 50ull * t + 12, sizeof corners);
@@ -395,12 +425,24 @@ public:
             }
             return;
         }
-        for (const Line& line : tokenize(text, '\0'))
-            if (line.tokens[0] == "vertex") coordinates(line, 1);
+        LineReader lines(text, '\0');
+        while (const Line* line = lines.next()) {
+            if (line->tokens[0] == "vertex") coordinates(*line, 1);
+            if (line->tokens[0] == "facet") count_face(3);
+        }
     }
 
 private:
+    // A face of `corners` vertices is stored as corners - 2 triangles; the stored-triangles limit is
+    // checked as faces are counted, before OpenMesh allocates anything.
+    void count_face(uint64_t corners, uint64_t faces = 1) {
+        triangles_ += faces * (corners - 2);
+        if (triangles_ > limits().stored_triangles)
+            check_limit(&Limits::stored_triangles, triangles_, printable(file_.string(), std::string_view::npos));
+    }
+
     std::filesystem::path file_;
+    uint64_t triangles_ = 0;
 };
 
 }  // namespace

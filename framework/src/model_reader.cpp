@@ -8,6 +8,7 @@
 #include "model_reader.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 #include "malformed_models.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -112,9 +113,17 @@ std::string read_whole_file(const std::filesystem::path& file) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) throw Error("{}: no such file", display(file));
     if (std::filesystem::is_directory(file, ec)) throw Error("{}: is a directory, not a model file", display(file));
+    // A device or a pipe could be read forever.
+    if (!std::filesystem::is_regular_file(file, ec)) throw Error("{}: is not a regular file", display(file));
+    const std::uintmax_t size = std::filesystem::file_size(file, ec);
+    if (ec) throw Error("{}: cannot read the file size", display(file));
+    check_limit(&Limits::model_bytes, size, display(file));
     std::ifstream in(file, std::ios::binary);
     if (!in) throw Error("{}: cannot open the file for reading", display(file));
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string text;
+    text.resize(size);
+    in.read(text.data(), static_cast<std::streamsize>(size));
+    text.resize(static_cast<std::size_t>(in.gcount()));  // the file may have shrunk meanwhile
     if (in.bad()) throw Error("{}: read error", display(file));
     return text;
 }

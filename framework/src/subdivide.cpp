@@ -5,6 +5,7 @@
 #include "hsr/subdivide.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
@@ -33,6 +34,9 @@ void check_levels(int levels) {
 // edges as boundary edges.
 Triangles subdivide(const Triangles& in, int levels) {
     if (levels == 0) return in;
+    const uint64_t triangles = in.indices.size() / 3;  // each level makes four of each triangle
+    check_limit(&Limits::stored_triangles, triangles << (2 * levels),
+                fmt::format("Loop subdivision: {} levels of {} triangles", levels, triangles));
     TriMesh mesh;
     mesh.reserve(in.positions.size(), 3 * in.indices.size() / 2, in.indices.size() / 3);
     for (const glm::vec3& p : in.positions) mesh.add_vertex(TriMesh::Point(p.x, p.y, p.z));
