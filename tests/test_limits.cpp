@@ -390,6 +390,19 @@ TEST_CASE("limits: a model file's size is checked before it is read, and only re
     fs::remove(device);
     fs::create_symlink("/dev/zero", device);
     CHECK(error_of([&] { hsr::load_model(device); }) == device.string() + ": is not a regular file");
+
+    // A .scene file: the same two checks.
+    const fs::path scene = write_file("one-light.scene", "light dir:0,0,1\n");  // 16 bytes
+    limits.model_bytes = 15;
+    {
+        ScopedLimits scoped(limits);
+        CHECK(error_of([&] { hsr::load_scene_file(scene); }) ==
+              scene.string() + ": 16 bytes, over the limit of 15 (raise it with --limit model-bytes=N)");
+    }
+    const fs::path scene_device = scratch_dir() / "zero.scene";
+    fs::remove(scene_device);
+    fs::create_symlink("/dev/zero", scene_device);
+    CHECK(error_of([&] { hsr::load_scene_file(scene_device); }) == scene_device.string() + ": is not a regular file");
 }
 
 TEST_CASE("limits: Loop subdivision counts the triangles it would make first", "[limits][models]") {

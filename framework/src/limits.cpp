@@ -17,7 +17,7 @@ constexpr std::array<LimitInfo, 8> table{{
      "triangles stored one by one: a model file's faces (counted before it is read), a .scene file's "
      "meshes and polygons together, a Loop-subdivided bench model, or an instanced scene copied out for "
      "a hidden-line plugin or a plugin built against ABI 1.0"},
-    {"model-bytes", &Limits::model_bytes, "bytes", "size of one model file, checked before it is read"},
+    {"model-bytes", &Limits::model_bytes, "bytes", "size of one model or .scene file, checked before it is read"},
     {"instances", &Limits::instances, "instances", "copies placed by --repeat or a .scene file's repeat"},
     {"lights", &Limits::lights, "lights", "lights of one picture (--light, a .scene file's light lines)"},
     {"surface-samples", &Limits::surface_samples, "grid samples", "grid samples of --surface and --heightmap"},

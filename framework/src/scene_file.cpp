@@ -124,6 +124,11 @@ private:
 
     template <class Handle>
     void for_each_statement(Handle handle) const {
+        std::error_code ec;
+        if (std::filesystem::exists(file_, ec) && !std::filesystem::is_regular_file(file_, ec))
+            throw Error("{}: is not a regular file", path_text());  // a pipe or a device: read for ever
+        if (const std::uintmax_t size = std::filesystem::file_size(file_, ec); !ec)
+            check_limit(&Limits::model_bytes, size, path_text());
         std::ifstream in(file_);
         if (!in) throw Error("{}: cannot open the file for reading", path_text());
         std::string text;

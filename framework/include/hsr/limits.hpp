@@ -16,7 +16,7 @@ struct Limits {
     // Triangles stored one by one: a .scene file's meshes and polygons together, or an instanced
     // scene copied out (flatten_instances).
     uint64_t stored_triangles = 5'000'000;
-    uint64_t model_bytes = 1u << 29;         // size of one model file (512 MiB), before it is read
+    uint64_t model_bytes = 1u << 29;         // one model or .scene file (512 MiB), before it is read
     uint64_t instances = 1'000'000;          // copies placed by --repeat or a .scene `repeat`
     uint64_t lights = 1'000;
     uint64_t surface_samples = 1u << 20;     // grid samples of --surface and --heightmap
