@@ -21,7 +21,7 @@ uint32_t count_flag(const hsr::EdgeList& edges, uint32_t flag) {
 
 }  // namespace
 
-TEST_CASE("edges: a cube has 12 edges, all creases; seen from a corner 6 are silhouettes", "[edges]") {
+TEST_CASE("edges: a cube has 12 edges, all creases, and seen from a corner 6 are silhouettes", "[edges]") {
     const hsr::SceneData& cube = model("cube.obj");
     REQUIRE(cube.triangle_count() == 12);
     const hsr_scene scene = cube.view();

@@ -238,7 +238,7 @@ TEST_CASE("ZPyramid: with an unlimited budget the answer is exact", "[zpyramid]"
     }
 }
 
-TEST_CASE("ZPyramid: a hidden rectangle costs a few cells; sizes and resets", "[zpyramid]") {
+TEST_CASE("ZPyramid: a hidden rectangle costs a few cells, sizes and resets", "[zpyramid]") {
     hsr::raster::ZPyramid pyramid;
     pyramid.reset(1000, 700);
     DepthImage image(1000, 700);

@@ -451,7 +451,7 @@ TEST_CASE("limits: lights", "[limits][scene]") {
     CHECK(hsr::load_scene_file(scene).lights.size() == 1001);
 }
 
-TEST_CASE("lights: a direction near the largest float is a direction; a point light there is refused",
+TEST_CASE("lights: a direction near the largest float is a direction, a point light there is refused",
           "[limits][lights]") {
     // Its length overflows a float, but not the direction: (1, 1, 1) / sqrt 3.
     const hsr::LightSpec light = hsr::parse_light_spec("dir:3e38,3e38,3e38");
@@ -558,7 +558,7 @@ TEST_CASE("cli: the default limits refuse the large requests with one line, quic
                            "1000x1000x1: 204000000 triangles to draw, over the limit of 200000000");
 }
 
-TEST_CASE("cli: --threads must be 0 or more; a long direction is fine", "[limits][cli]") {
+TEST_CASE("cli: --threads must be 0 or more, and a long direction is fine", "[limits][cli]") {
     const std::string cube = model("cube.obj");
     require_one_line_error(run_hsr("render " + cube + " --threads -1" + out_png("th"), "threads-negative"),
                            "--threads -1: expected 0 (one per core) to 1024");
