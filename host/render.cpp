@@ -11,6 +11,7 @@
 
 #include <boost/program_options.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -49,6 +50,11 @@ po::options_description render_option_descriptions(RenderOptions& o) {
         ("pitch", po::value(&o.pitch)->default_value(0), "tilt: positive looks from above, degrees")
         ("zoom", po::value(&o.zoom)->default_value(1), "magnification; 1 fits the model to the view")
         ("ortho", po::bool_switch(&o.orthographic), "orthographic instead of perspective projection")
+        ("fov", po::value(&o.fov)->default_value(35), "vertical field of view of the perspective projection, degrees")
+        ("eye", po::value(&o.eye), "x,y,z: look from this point (world space) instead of orbiting with --yaw and "
+         "--pitch; the picture is not framed to the model, --zoom still magnifies")
+        ("target", po::value(&o.target), "x,y,z: the point the --eye looks at (default: the centre of the model's bounds)")
+        ("up", po::value(&o.up), "x,y,z: the direction that is up on screen with --eye (default 0,1,0)")
         ("light", po::value(&o.lights)->composing(),
          "light, repeatable: point:x,y,z or dir:x,y,z (toward the light), camera space (x right, y up, "
          "z toward you), optionally followed by ,intensity=I,color=r/g/b (docs/scene-format.md). "
@@ -143,6 +149,16 @@ void check_render_options(const RenderOptions& o) {
          {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
         if (!std::isfinite(value)) throw UsageError("--{} must be a finite number", option);
     if (!(o.zoom > 0)) throw UsageError("--zoom must be positive");
+    if (!(o.fov > 0 && o.fov < 180)) throw UsageError("--fov must be between 0 and 180 degrees");
+    if (o.eye.empty()) {
+        for (const char* option : {"target", "up"})
+            if (o.was_given(option)) throw UsageError("--{} goes with --eye", option);
+    } else {
+        for (const char* option : {"yaw", "pitch"})
+            if (o.was_given(option)) throw UsageError("--eye replaces --{}: give one or the other", option);
+        for (const auto& [option, text] : {std::pair{"eye", &o.eye}, {"target", &o.target}, {"up", &o.up}})
+            if (!text->empty()) hsr::host::parse_vector_option(*text, option);  // parsed again where it is used
+    }
     hsr::host::parse_color_option(o.background, "background");  // parsed again where it is used
     if (o.repeat.empty())
         for (const char* option : {"repeat-gap", "repeat-jitter"})
@@ -243,6 +259,21 @@ glm::vec3 hsr::host::parse_color_option(const std::string& text, const char* opt
     } catch (const hsr::Error& e) {
         throw UsageError("--{}: {}", option, e.what());
     }
+}
+
+glm::vec3 hsr::host::parse_vector_option(const std::string& text, const char* option) {
+    glm::vec3 v{};
+    std::size_t start = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::size_t comma = k < 2 ? text.find(',', start) : text.size();
+        const std::string_view part = std::string_view(text).substr(start, comma == std::string::npos ? 0 : comma - start);
+        const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v[k]);
+        if (comma == std::string::npos || part.empty() || ec != std::errc() || end != part.data() + part.size() ||
+            !std::isfinite(v[k]))
+            throw UsageError("--{} '{}': expected x,y,z (three finite numbers)", option, hsr::printable(text));
+        start = comma + 1;
+    }
+    return v;
 }
 
 fs::path hsr::host::model_path(const RenderOptions& o) {

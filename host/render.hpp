@@ -49,7 +49,8 @@ struct RenderOptions {
     std::string surface, range, heightmap;
     double heightmap_height = 0.0;
     float repeat_gap = 0.25f, repeat_jitter = 0.0f;
-    float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40;
+    float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40, fov = 35;
+    std::string eye, target, up;  // x,y,z each: a look-at camera
     bool orthographic = false;
     bool stats = false;
     int64_t threads = 0;  // signed, so that a negative number is refused rather than wrapped
@@ -62,6 +63,9 @@ struct RenderOptions {
 
 // A colour option's value, "r/g/b" or "#rrggbb"; a mistake is a UsageError naming the option.
 glm::vec3 parse_color_option(const std::string& text, const char* option);
+// A point or vector option's value, "x,y,z" of finite numbers; a mistake is a UsageError naming
+// the option.
+glm::vec3 parse_vector_option(const std::string& text, const char* option);
 
 // The file the scene comes from: MODEL, or --heightmap's PNG, or "surface" for --surface. Its stem
 // names the default output.

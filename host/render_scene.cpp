@@ -47,13 +47,15 @@ hsr::InstanceGrid parse_repeat(const std::string& text, float gap, float jitter)
     return grid;
 }
 
-// The scene file's image size and orbit view, where the command line leaves them open.
+// The scene file's image size and view, where the command line leaves them open.
 void apply_scene_file_view(const hsr::SceneFile& file, const RenderOptions& o, hsr::CameraSettings& view) {
     if (file.width && !o.was_given("width")) view.width = *file.width;
     if (file.height && !o.was_given("height")) view.height = *file.height;
     if (file.yaw_degrees && !o.was_given("yaw")) view.yaw_degrees = *file.yaw_degrees;
     if (file.pitch_degrees && !o.was_given("pitch")) view.pitch_degrees = *file.pitch_degrees;
     if (file.zoom && !o.was_given("zoom")) view.zoom = *file.zoom;
+    if (file.fov_y_degrees && !o.was_given("fov")) view.fov_y_degrees = *file.fov_y_degrees;
+    if (file.look_at && !view.look_at && !o.was_given("yaw") && !o.was_given("pitch")) view.look_at = file.look_at;
     if (file.orthographic && !o.orthographic) view.orthographic = *file.orthographic;
 }
 
@@ -70,6 +72,14 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
     view.pitch_degrees = o.pitch;
     view.zoom = o.zoom;
     view.orthographic = o.orthographic;
+    view.fov_y_degrees = o.fov;
+    if (!o.eye.empty()) {
+        hsr::LookAt look_at;
+        look_at.eye = parse_vector_option(o.eye, "eye");
+        if (!o.target.empty()) look_at.target = parse_vector_option(o.target, "target");
+        if (!o.up.empty()) look_at.up = parse_vector_option(o.up, "up");
+        view.look_at = look_at;
+    }
     if (!o.surface.empty()) {
         const hsr::SurfaceRange range = o.range.empty() ? hsr::SurfaceRange{} : hsr::parse_surface_range(o.range);
         loaded.scene = hsr::make_formula_surface(o.surface, range,
@@ -109,6 +119,6 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
     hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(view.width) * view.height,
                      fmt::format("image size {}x{}", view.width, view.height));
     loaded.camera = pixel_camera ? hsr::make_pixel_camera(view.width, view.height, scene.bounds_min.z, scene.bounds_max.z)
-                                 : hsr::make_orbit_camera(scene.bounds_min, scene.bounds_max, view);
+                                 : hsr::make_camera(scene.bounds_min, scene.bounds_max, view);
     return loaded;
 }

@@ -270,6 +270,97 @@ TEST_CASE("orbit camera: a tiny model fills the view as a large one does", "[cam
     }
 }
 
+TEST_CASE("look-at camera: a hand-worked projection", "[camera][look-at]") {
+    // Eye on +z at distance 5 from the origin, 90 degrees of field of view, 100 x 100 pixels: the
+    // plane through the origin spans x, y in [-5, 5], so (1, 0, 0) lands 1/5 of the half-width right
+    // of the centre, (0, 1, 0) 1/5 above it.
+    hsr::CameraSettings s;
+    s.width = s.height = 100;
+    s.fov_y_degrees = 90;
+    s.look_at = hsr::LookAt{{0, 0, 5}, glm::vec3(0, 0, 0), {0, 1, 0}};
+    const hsr_camera c = hsr::make_camera(glm::vec3(-1), glm::vec3(1), s);
+    CHECK(project(c, {0, 0, 0}).x == Approx(50.0));
+    CHECK(project(c, {0, 0, 0}).y == Approx(50.0));
+    CHECK(project(c, {1, 0, 0}).x == Approx(60.0));
+    CHECK(project(c, {0, 1, 0}).y == Approx(40.0));
+    CHECK(project(c, {0, 0, 0}).w == Approx(5.0));  // clip w is the distance along the line of sight
+    CHECK(project(c, {1, 0, 2.5}).x == Approx(70.0));  // half as far: twice as far from the centre
+    CHECK(glm::length(vec(c.eye) - glm::dvec3(0, 0, 5)) < 1e-6);
+    CHECK(glm::length(vec(c.view_direction) - glm::dvec3(0, 0, -1)) < 1e-6);
+    // The near and far planes enclose the bounding sphere (radius sqrt 3) seen from the eye.
+    CHECK(c.far_plane == Approx(5.0 + 1.02 * std::sqrt(3.0)));
+    CHECK(c.near_plane == Approx(5.0 - 1.02 * std::sqrt(3.0)));
+    // Zoom 2 halves the field of view's tangent.
+    s.zoom = 2;
+    CHECK(hsr::make_camera(glm::vec3(-1), glm::vec3(1), s).projection[0] == Approx(2.0f));
+}
+
+TEST_CASE("look-at camera: the textbook eye at (40, 40, 40) looking at the origin", "[camera][look-at]") {
+    hsr::CameraSettings s;
+    s.width = s.height = 64;
+    s.look_at = hsr::LookAt{{40, 40, 40}, glm::vec3(0, 0, 0), {0, 1, 0}};
+    const hsr_camera c = hsr::make_camera(glm::vec3(-1), glm::vec3(1), s);
+    CHECK(glm::length(vec(c.view_direction) + glm::normalize(glm::dvec3(1, 1, 1))) < 1e-6);
+    CHECK(project(c, {0, 0, 0}).x == Approx(32.0));
+    CHECK(project(c, {0, 0, 0}).y == Approx(32.0));
+    CHECK(project(c, {0, 0, 0}).w == Approx(40.0 * std::sqrt(3.0)));
+    // +y stays up on screen; the corner (1, 1, 1) is nearest, (-1, -1, -1) farthest, both on the centre.
+    CHECK(project(c, {0, 1, 0}).y < 32.0);
+    CHECK(project(c, {1, 1, 1}).x == Approx(32.0));
+    CHECK(project(c, {1, 1, 1}).depth < project(c, {0, 0, 0}).depth);
+    CHECK(project(c, {-1, -1, -1}).depth > project(c, {0, 0, 0}).depth);
+    // Without a target it looks at the centre of the bounds.
+    s.look_at->target.reset();
+    const hsr_camera centred = hsr::make_camera(glm::vec3(1, 1, 1), glm::vec3(3, 3, 3), s);
+    CHECK(project(centred, {2, 2, 2}).x == Approx(32.0));
+    CHECK(project(centred, {2, 2, 2}).y == Approx(32.0));
+}
+
+TEST_CASE("look-at camera: from the orbit camera's eye it is the orbit camera", "[camera][look-at]") {
+    for (bool ortho : {false, true}) {
+        for (float yaw : {0.0f, 40.0f, -130.0f}) {
+            INFO("orthographic " << ortho << ", yaw " << yaw);
+            hsr::CameraSettings s;
+            s.orthographic = ortho;
+            s.width = 200;
+            s.height = 120;
+            s.yaw_degrees = yaw;
+            s.pitch_degrees = 25;
+            s.zoom = 1.5f;
+            const hsr_camera orbit = hsr::make_orbit_camera(box_min, box_max, s);
+            s.look_at = hsr::LookAt{{orbit.eye[0], orbit.eye[1], orbit.eye[2]}, std::nullopt, {0, 1, 0}};
+            const hsr_camera look = hsr::make_camera(box_min, box_max, s);
+            for (int k = 0; k < 16; ++k) {
+                CHECK(look.view[k] == Approx(orbit.view[k]).margin(1e-5));
+                CHECK(look.projection[k] == Approx(orbit.projection[k]).margin(1e-5));
+            }
+            CHECK(look.near_plane == Approx(orbit.near_plane));
+            CHECK(look.far_plane == Approx(orbit.far_plane));
+            CHECK(look.projection_type == orbit.projection_type);
+        }
+    }
+}
+
+TEST_CASE("look-at camera: an eye on the target, an up along the line of sight, numbers too large",
+          "[camera][look-at]") {
+    hsr::CameraSettings s;
+    s.look_at = hsr::LookAt{{0, 0, 0}, glm::vec3(0, 0, 0), {0, 1, 0}};
+    CHECK_THROWS_WITH(hsr::make_camera(box_min, box_max, s), "look-at camera: the eye and the target are the same point");
+    s.look_at = hsr::LookAt{{0, 5, 0}, glm::vec3(0, 0, 0), {0, 1, 0}};
+    CHECK_THROWS_WITH(hsr::make_camera(box_min, box_max, s),
+                      "look-at camera: the up vector (0, 1, 0) is zero or along the line of sight");
+    s.look_at->up = {0, 0, 0};
+    CHECK_THROWS_WITH(hsr::make_camera(box_min, box_max, s), Catch::Contains("is zero or along the line of sight"));
+    s.look_at->up = {0, 0, 1};
+    CHECK_NOTHROW(hsr::make_camera(box_min, box_max, s));  // looking straight down, +z up on screen
+    s.look_at->eye = {1e30f, 0, 0};
+    CHECK_THROWS_WITH(hsr::make_camera(box_min, box_max, s),
+                      Catch::StartsWith("look-at camera: the eye is too far from the scene for single precision"));
+    s.look_at->eye = {NAN, 0, 0};
+    CHECK_THROWS_WITH(hsr::make_camera(box_min, box_max, s),
+                      "look-at camera: the eye, target and up must be finite numbers");
+}
+
 TEST_CASE("pixel camera: (x, y, z) lands on window (x, H - y), larger z nearer", "[camera][pixel]") {
     const hsr_camera c = hsr::make_pixel_camera(64, 48, -20.0f, 28.0f);
     CHECK(c.struct_size == sizeof(hsr_camera));

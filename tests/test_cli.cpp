@@ -181,6 +181,48 @@ TEST_CASE("cli: plugins lists every plugin with its parameters", "[cli]") {
                              Catch::Contains("shininess="));
 }
 
+TEST_CASE("cli: --eye looks from a point, and the cube covers the square worked out by hand", "[cli][look-at]") {
+    // Eye at (0, 0, 5) looking at the origin, 90 degrees of field of view, 96 x 96 pixels: the
+    // front face (z = 1, x and y in [-1, 1]) is 4 away, so it spans 1/4 of the half-width (48) each
+    // side of the centre: 36 to 60, so columns and rows 36 to 59 hold its pixel centres. The side
+    // faces are hidden behind it (they recede from the eye inside that square).
+    const fs::path png = scratch_dir() / "eye.png";
+    const Run r = run_hsr("render " + model("cube.obj") + " --eye 0,0,5 --target 0,0,0 --up 0,1,0 --fov 90 "
+                          "--width 96 --height 96 --background 0/0/0 -o " + png.string(), "eye");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const hsr::Image img = hsr::read_png_rgb(png);
+    uint32_t left = img.width, right = 0, top = img.height, bottom = 0;
+    for (uint32_t y = 0; y < img.height; ++y)
+        for (uint32_t x = 0; x < img.width; ++x) {
+            const uint8_t* p = &img.pixels[3 * (size_t(y) * img.width + x)];
+            if (p[0] == 0 && p[1] == 0 && p[2] == 0) continue;
+            left = std::min(left, x), right = std::max(right, x);
+            top = std::min(top, y), bottom = std::max(bottom, y);
+        }
+    CHECK(left == 36);
+    CHECK(right == 59);
+    CHECK(top == 36);
+    CHECK(bottom == 59);
+
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --eye 0,0,5 --yaw 10 -o x.png", "eye-yaw"),
+                           "--eye replaces --yaw: give one or the other");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --target 0,0,0 -o x.png", "target-alone"),
+                           "--target goes with --eye");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --eye 0,0 -o x.png", "eye-two"),
+                           "--eye '0,0': expected x,y,z (three finite numbers)");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --eye 0,5,0 -o x.png", "eye-up"),
+                           "is zero or along the line of sight");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --fov 0 -o x.png", "fov"),
+                           "--fov must be between 0 and 180 degrees");
+    // A .scene file's look-at camera is used unless the command line orbits.
+    const fs::path scene = write_file("look.scene", "mesh " + model("cube.obj") + "\ncamera look-at eye 0 0 5 fov 90\n");
+    const fs::path from_scene = scratch_dir() / "eye-scene.png";
+    REQUIRE(run_hsr("render " + scene.string() + " --width 96 --height 96 --background 0/0/0 -o " +
+                    from_scene.string(), "eye-scene").status == 0);
+    CHECK(hsr::read_png_rgb(from_scene).pixels == img.pixels);
+}
+
 TEST_CASE("cli: a render writes a PNG with the model in the middle and background at the corners", "[cli]") {
     const fs::path png = scratch_dir() / "cube.png";
     const fs::path depth = scratch_dir() / "cube-depth.png";
@@ -204,7 +246,7 @@ TEST_CASE("cli: a render writes a PNG with the model in the middle and backgroun
     CHECK(d.pixels[3 * (32 * 96 + 48)] >= 64);                // covered: grey to white
 }
 
-TEST_CASE("cli: --repeat makes a deep scene; --stats, --overdraw-out and --depth-tests-out show it", "[cli]") {
+TEST_CASE("cli: --repeat makes a deep scene, and --stats, --overdraw-out and --depth-tests-out show it", "[cli]") {
     const fs::path dir = scratch_dir();
     const fs::path picture = dir / "deep.png", overdraw = dir / "deep-overdraw.png", tests = dir / "deep-tests.png";
     const Run r = run_hsr("render " + model("cube.obj") + " --repeat 2x1x5 --ortho --width 64 --height 48 --stats -o " +

@@ -518,7 +518,7 @@ TEST_CASE("zero-area and non-manifold triangles never produce NaN", "[scene][mes
     }
 }
 
-TEST_CASE("transforms move positions and normals; mirrors keep the front outside", "[scene][transform]") {
+TEST_CASE("transforms move positions and normals, and mirrors keep the front outside", "[scene][transform]") {
     const fs::path cube = models_dir / "cube.obj";
     SECTION("translate") {
         hsr::MeshOptions options;
@@ -818,6 +818,30 @@ TEST_CASE("scene files: transforms apply in the order written, paths resolve nex
     CHECK(f.lights[0].type == HSR_LIGHT_POINT);
 }
 
+TEST_CASE("scene files: camera look-at with eye, target, up, fov and zoom", "[scene][file]") {
+    TempDir dir;
+    fs::copy_file(models_dir / "cube.obj", dir.path / "cube.obj");
+    const fs::path file = dir.write("look.scene", "mesh cube.obj\n"
+                                                  "camera look-at eye 40 40 40 target 0 0.5 0 up 0 0 1 fov 20 zoom 1.5\n");
+    const hsr::SceneFile f = hsr::load_scene_file(file);
+    REQUIRE(f.look_at);
+    CHECK(f.look_at->eye == glm::vec3(40, 40, 40));
+    REQUIRE(f.look_at->target);
+    CHECK(*f.look_at->target == glm::vec3(0, 0.5f, 0));
+    CHECK(f.look_at->up == glm::vec3(0, 0, 1));
+    CHECK(f.fov_y_degrees == 20.0f);
+    CHECK(f.zoom == 1.5f);
+    CHECK_FALSE(f.orthographic);
+
+    const fs::path defaults = dir.write("eye-only.scene", "mesh cube.obj\ncamera look-at eye 1 2 3 orthographic\n");
+    const hsr::SceneFile g = hsr::load_scene_file(defaults);
+    REQUIRE(g.look_at);
+    CHECK_FALSE(g.look_at->target);  // the centre of the bounds
+    CHECK(g.look_at->up == glm::vec3(0, 1, 0));
+    CHECK(g.orthographic == true);
+    CHECK_FALSE(g.fov_y_degrees);
+}
+
 TEST_CASE("scene files: camera pixel without size covers the scene's bounds", "[scene][file]") {
     TempDir dir;
     const fs::path file = dir.write("p.scene",
@@ -856,6 +880,13 @@ TEST_CASE("scene file mistakes are reported as file:line", "[scene][file][errors
         {"mesh cube.obj\ncamera pixel\ncamera pixel\n", 3, "already set on line 2"},
         {"mesh cube.obj\ncamera orbit tilt 3\n", 2, "unknown camera setting"},
         {"mesh cube.obj\ncamera orbit zoom 0\n", 2, "greater than 0"},
+        {"mesh cube.obj\ncamera orbit eye 1 2 3\n", 2, "unknown camera setting 'eye' (yaw, pitch"},
+        {"mesh cube.obj\ncamera orbit fov 180\n", 2, "fov must be between 0 and 180"},
+        {"mesh cube.obj\ncamera look-at target 0 0 0\n", 2, "camera look-at needs eye <x y z>"},
+        {"mesh cube.obj\ncamera look-at eye 1 2\n", 2, "camera setting 'eye' needs x y z"},
+        {"mesh cube.obj\ncamera look-at eye 1 2 nan\n", 2, "eye 'nan' is not a finite number"},
+        {"mesh cube.obj\ncamera look-at eye 1 2 3 yaw 4\n", 2, "unknown camera setting 'yaw' (eye, target"},
+        {"mesh cube.obj\ncamera look\n", 2, "expected: camera pixel"},
         {"mesh cube.obj\nsize 0 10\n", 2, "size"},
         {"mesh cube.obj\nbackground 1 1\n", 2, "expected: background"},
         {"mesh cube.obj\nlight spot:1,2,3\n", 2, "unknown light type"},

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace hsr {
 namespace {
@@ -62,22 +63,71 @@ bool is_finite(const hsr_camera& c) {
 
 }  // namespace
 
-hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& s) {
+namespace {
+
+void check_view_settings(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& s) {
     check_size(s.width, s.height);
     if (!(std::isfinite(s.zoom) && s.zoom > 0.0f)) throw Error("zoom {} must be a number greater than 0", s.zoom);
     if (!(s.fov_y_degrees > 0.0f && s.fov_y_degrees < 180.0f))
         throw Error("field of view {} degrees must be between 0 and 180", s.fov_y_degrees);
-    if (!std::isfinite(s.yaw_degrees) || !std::isfinite(s.pitch_degrees))
-        throw Error("yaw and pitch must be finite numbers");
     if (!finite3(bounds_min) || !finite3(bounds_max) || glm::any(glm::greaterThan(bounds_min, bounds_max)))
         throw Error("the scene bounds are not a valid box");
+}
 
+struct Sphere {
+    glm::dvec3 centre;
+    double radius;
+};
+
+Sphere bounding_sphere(glm::vec3 bounds_min, glm::vec3 bounds_max) {
     const glm::dvec3 lo(bounds_min), hi(bounds_max);
     const glm::dvec3 centre = 0.5 * (lo + hi);
     double radius = 0.5 * glm::length(hi - lo);
     // A scene too small to tell from a point beside its distance from the origin (float positions
     // carry 7 digits) is framed as a point; anything larger, however small, fills the view.
     if (!(radius > std::max(1e-9 * glm::length(centre), 1e-20))) radius = std::max(1.0, 1e-3 * glm::length(centre));
+    return {centre, radius};
+}
+
+// Perspective: the field of view narrowed `zoom` times. Orthographic: a window that fits a sphere
+// of `radius` (with the margin) at zoom 1.
+glm::dmat4 projection_matrix(const CameraSettings& s, double radius, double near_plane, double far_plane) {
+    const double aspect = static_cast<double>(s.width) / static_cast<double>(s.height);
+    const double zoom = s.zoom;
+    if (s.orthographic) {
+        const double half = radius * frame_margin / zoom;  // half of the smaller image dimension
+        const double half_x = aspect >= 1.0 ? half * aspect : half;
+        const double half_y = aspect >= 1.0 ? half : half / aspect;
+        return glm::ortho(-half_x, half_x, -half_y, half_y, near_plane, far_plane);
+    }
+    const double tan_half_y = std::tan(glm::radians(static_cast<double>(s.fov_y_degrees)) / 2.0);
+    const double fov_y = 2.0 * std::atan(tan_half_y / zoom);
+    return glm::perspective(fov_y, aspect, near_plane, far_plane);
+}
+
+// Throws `too_large` when a number of the camera does not fit a float.
+hsr_camera finish(const CameraSettings& s, const glm::dmat4& view, const glm::dmat4& projection,
+                  const glm::dvec3& eye, const glm::dvec3& direction, double near_plane, double far_plane,
+                  const std::string& too_large) {
+    const hsr_camera camera =
+        assemble(s.width, s.height, s.orthographic ? HSR_PROJECTION_ORTHOGRAPHIC : HSR_PROJECTION_PERSPECTIVE, view,
+                 projection, eye, direction, near_plane, far_plane);
+    if (!is_finite(camera)) throw Error("{}", too_large);
+    return camera;
+}
+
+std::string too_large_scene(double radius) {
+    return fmt::format("the scene is too large to view in single precision (its bounding sphere has radius {:.3g})",
+                       radius);
+}
+
+}  // namespace
+
+hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& s) {
+    check_view_settings(bounds_min, bounds_max, s);
+    if (!std::isfinite(s.yaw_degrees) || !std::isfinite(s.pitch_degrees))
+        throw Error("yaw and pitch must be finite numbers");
+    const auto [centre, radius] = bounding_sphere(bounds_min, bounds_max);
 
     const double yaw = glm::radians(static_cast<double>(s.yaw_degrees));
     const double pitch = glm::radians(static_cast<double>(s.pitch_degrees));
@@ -95,23 +145,42 @@ hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const C
     const double near_plane = std::max(distance - 1.02 * radius, 1e-3 * far_plane);
 
     const glm::dmat4 view = glm::lookAt(eye, centre, up);
-    const double zoom = s.zoom;
-    glm::dmat4 projection;
-    if (s.orthographic) {
-        const double half = radius * frame_margin / zoom;  // half of the smaller image dimension
-        const double half_x = aspect >= 1.0 ? half * aspect : half;
-        const double half_y = aspect >= 1.0 ? half : half / aspect;
-        projection = glm::ortho(-half_x, half_x, -half_y, half_y, near_plane, far_plane);
-    } else {
-        const double fov_y = 2.0 * std::atan(tan_half_y / zoom);
-        projection = glm::perspective(fov_y, aspect, near_plane, far_plane);
-    }
-    const hsr_camera camera =
-        assemble(s.width, s.height, s.orthographic ? HSR_PROJECTION_ORTHOGRAPHIC : HSR_PROJECTION_PERSPECTIVE, view,
-                 projection, eye, -toward_eye, near_plane, far_plane);
-    if (!is_finite(camera))
-        throw Error("the scene is too large to view in single precision (its bounding sphere has radius {:.3g})", radius);
-    return camera;
+    return finish(s, view, projection_matrix(s, radius, near_plane, far_plane), eye, -toward_eye, near_plane,
+                  far_plane, too_large_scene(radius));
+}
+
+hsr_camera make_look_at_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& s) {
+    check_view_settings(bounds_min, bounds_max, s);
+    if (!s.look_at) throw Error("internal error: a look-at camera without an eye");
+    const LookAt& look = *s.look_at;
+    const auto [centre, radius] = bounding_sphere(bounds_min, bounds_max);
+    const glm::dvec3 eye(look.eye);
+    const glm::dvec3 target = look.target ? glm::dvec3(*look.target) : centre;
+    const glm::dvec3 up(look.up);
+    if (!finite3(look.eye) || !finite3(glm::vec3(target)) || !finite3(look.up))
+        throw Error("look-at camera: the eye, target and up must be finite numbers");
+    const glm::dvec3 direction = target - eye;
+    if (!(glm::length(direction) > 0.0)) throw Error("look-at camera: the eye and the target are the same point");
+    if (!(glm::length(glm::cross(glm::normalize(direction), up)) > 1e-6 * glm::length(up)))
+        throw Error("look-at camera: the up vector ({}, {}, {}) is zero or along the line of sight", look.up.x,
+                    look.up.y, look.up.z);
+
+    // Around the scene's bounding sphere as seen from the eye; an eye inside it sees from near the eye.
+    const double distance = glm::length(centre - eye);
+    const double far_plane = distance + 1.02 * radius;
+    const double near_plane = std::max(distance - 1.02 * radius, 1e-3 * far_plane);
+    const glm::dmat4 view = glm::lookAt(eye, target, up);
+    return finish(s, view, projection_matrix(s, radius, near_plane, far_plane), eye, direction, near_plane,
+                  far_plane,
+                  distance > 1e6 * radius ? fmt::format("look-at camera: the eye is too far from the scene for single "
+                                                        "precision ({:.3g} away, the scene's radius is {:.3g})",
+                                                        distance, radius)
+                                          : too_large_scene(radius));
+}
+
+hsr_camera make_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& settings) {
+    return settings.look_at ? make_look_at_camera(bounds_min, bounds_max, settings)
+                            : make_orbit_camera(bounds_min, bounds_max, settings);
 }
 
 hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max) {

@@ -279,18 +279,34 @@ private:
             result_.pixel_camera = true;
             return;
         }
-        if (s.words.size() < 2 || s.words[1] != "orbit")
-            fail(s.line, "expected: camera pixel  or  camera orbit [yaw <deg>] [pitch <deg>] [zoom <z>] [orthographic|perspective]");
+        const bool look_at = s.words.size() >= 2 && s.words[1] == "look-at";
+        if (s.words.size() < 2 || (s.words[1] != "orbit" && !look_at))
+            fail(s.line, "expected: camera pixel  or  camera orbit [yaw <deg>] [pitch <deg>] [zoom <z>] [fov <deg>] "
+                         "[orthographic|perspective]  or  camera look-at eye <x y z> [target <x y z>] [up <x y z>] "
+                         "[fov <deg>] [zoom <z>] [orthographic|perspective]");
+        const char* settings = look_at ? "eye, target, up, fov, zoom, orthographic, perspective"
+                                       : "yaw, pitch, zoom, fov, orthographic, perspective";
+        LookAt view;
+        bool eye_given = false;
         for (std::size_t i = 2; i < s.words.size(); ++i) {
             const std::string& key = s.words[i];
             if (key == "orthographic" || key == "perspective") {
                 result_.orthographic = key == "orthographic";
                 continue;
             }
-            if (key != "yaw" && key != "pitch" && key != "zoom")
-                fail(s.line, fmt::format("unknown camera setting '{}' (yaw, pitch, zoom, orthographic, perspective)",
-                                         printable(key)));
-            if (i + 1 >= s.words.size()) fail(s.line, fmt::format("camera setting '{}' needs a value", key));
+            const bool vector = key == "eye" || key == "target" || key == "up";
+            const bool known = key == "zoom" || key == "fov" || (look_at ? vector : key == "yaw" || key == "pitch");
+            if (!known) fail(s.line, fmt::format("unknown camera setting '{}' ({})", printable(key), settings));
+            if (i + (vector ? 3 : 1) >= s.words.size())
+                fail(s.line, fmt::format("camera setting '{}' needs {}", key, vector ? "x y z" : "a value"));
+            if (vector) {
+                const glm::vec3 v = vector3(s, i + 1, key.c_str());
+                i += 3;
+                if (key == "eye") view.eye = v, eye_given = true;
+                if (key == "target") view.target = v;
+                if (key == "up") view.up = v;
+                continue;
+            }
             float value = number(s, ++i, key.c_str());
             if (key == "yaw") result_.yaw_degrees = value;
             if (key == "pitch") result_.pitch_degrees = value;
@@ -298,7 +314,13 @@ private:
                 if (value <= 0.0f) fail(s.line, "zoom must be greater than 0");
                 result_.zoom = value;
             }
+            if (key == "fov") {
+                if (!(value > 0.0f && value < 180.0f)) fail(s.line, "fov must be between 0 and 180 degrees");
+                result_.fov_y_degrees = value;
+            }
         }
+        if (look_at && !eye_given) fail(s.line, "camera look-at needs eye <x y z>");
+        if (look_at) result_.look_at = view;
     }
 
     std::optional<InstanceGrid> repeat_;

@@ -1,5 +1,6 @@
-// Cameras: an orbit camera that frames a model's bounds automatically, and the pixel-space
-// orthographic camera of textbook raster exercises. Both fill every field of hsr_camera.
+// Cameras: an orbit camera that frames a model's bounds automatically, a look-at camera with its eye
+// at a given point, and the pixel-space orthographic camera of textbook raster exercises. Each
+// fills every field of hsr_camera.
 #pragma once
 
 #include "hsr/abi.h"
@@ -8,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 
 namespace hsr {
 
@@ -16,7 +18,11 @@ struct CameraSettings {
     bool orthographic = false;
     uint32_t width = 1024, height = 1024;
     float fov_y_degrees = 35;  // perspective only; at zoom z the field of view is narrowed z times
+    std::optional<LookAt> look_at;  // set: make_camera() looks from its eye; yaw and pitch are unused
 };
+
+// make_look_at_camera() when settings.look_at is set, else make_orbit_camera().
+hsr_camera make_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& settings);
 
 // Looks at the centre of the bounds' bounding sphere, which fills the smaller image dimension (with a
 // 5% margin) at zoom 1; zoom 2 makes everything twice as large. Yaw 0, pitch 0 looks from +z toward
@@ -24,6 +30,12 @@ struct CameraSettings {
 // vertical axis, positive pitch raises it (looking down on the model). The near and far planes
 // enclose the bounding sphere closely. Throws hsr::Error for unusable settings or bounds.
 hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& settings);
+
+// The eye, target and up of settings.look_at, with the field of view and zoom of `settings`; an
+// orthographic window fits the bounds' bounding sphere at zoom 1. The near and far planes enclose
+// that sphere as seen from the eye. Throws hsr::Error for an eye on the target, an up vector along
+// the line of sight, or numbers that are not finite.
+hsr_camera make_look_at_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& settings);
 
 // Orthographic camera in pixel units: world (x, y, z) lands at window (x, H - y), so pixel column
 // floor(x) and image row H - 1 - floor(y) (origin bottom left, y up); the viewer is on +z looking

@@ -30,6 +30,15 @@ struct LightSpec {
 // ",space=world" (default camera). Throws hsr::Error naming the text on any mistake.
 LightSpec parse_light_spec(std::string_view text);
 
+// An eye at a given point looking at a target, as in the textbooks' worked examples (an eye at
+// (40, 40, 40) looking at the origin), instead of an orbit around the scene: `--eye` on the command
+// line, `camera look-at` in a .scene file, make_look_at_camera() in camera.hpp.
+struct LookAt {
+    glm::vec3 eye{0, 0, 1};
+    std::optional<glm::vec3> target;  // unset: the centre of the scene's bounds
+    glm::vec3 up{0, 1, 0};            // any vector not along the line of sight; +y stays up on screen
+};
+
 // A parsed `.scene` file. Optional fields are unset when the file does not mention them; the
 // command line overrides what the file says.
 struct SceneFile {
@@ -38,7 +47,8 @@ struct SceneFile {
     bool pixel_camera = false;             // `camera pixel`: see make_pixel_camera()
     std::optional<uint32_t> width, height; // `size W H`; with `camera pixel` always set (derived
                                            // from the scene's bounds when `size` is absent)
-    std::optional<float> yaw_degrees, pitch_degrees, zoom;  // `camera orbit ...`
+    std::optional<float> yaw_degrees, pitch_degrees, zoom, fov_y_degrees;  // `camera orbit ...`
+    std::optional<LookAt> look_at;                                         // `camera look-at ...`
     std::optional<bool> orthographic;
     std::vector<LightSpec> lights;
 };
