@@ -5,6 +5,7 @@
 #include "hsr/error.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -13,6 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <sys/stat.h>
 
 namespace fs = std::filesystem;
 
@@ -44,10 +47,14 @@ Refusal refusal_of(const fs::path& file) {
     return refusal;
 }
 
-fs::path write_scratch(const std::string& name, const std::string& text) {
+fs::path scratch_dir() {
     const fs::path dir = fs::path(HSR_BINARY_DIR) / "test-bad-models-scratch";
     fs::create_directories(dir);
-    const fs::path file = dir / name;
+    return dir;
+}
+
+fs::path write_scratch(const std::string& name, const std::string& text) {
+    const fs::path file = scratch_dir() / name;
     std::ofstream(file, std::ios::binary) << text;
     return file;
 }
@@ -135,4 +142,25 @@ TEST_CASE("bad models: faces with more than 1000 corners, in OBJ, OFF and PLY", 
     }
     const hsr::SceneData scene = hsr::load_model(write_scratch("polygon.off", polygon + face + "\n"));
     CHECK(scene.indices.size() == 3 * 998);
+}
+
+// A pipe named like a model waited for a writer for ever; /dev/zero was read until memory ran out.
+TEST_CASE("bad models: pipes and devices are not read as models or scenes", "[bad-models]") {
+    const fs::path dir = scratch_dir();
+    for (const char* name : {"pipe.obj", "pipe.scene"}) {
+        const fs::path pipe = dir / name;
+        fs::remove(pipe);
+        REQUIRE(::mkfifo(pipe.c_str(), 0600) == 0);
+    }
+    for (const char* name : {"zero.ply", "zero.scene"}) {
+        fs::remove(dir / name);
+        fs::create_symlink("/dev/zero", dir / name);
+    }
+    CHECK_THAT(refusal_of(dir / "pipe.obj").message, Catch::Contains("is not a regular file"));
+    CHECK_THAT(refusal_of(dir / "zero.ply").message, Catch::Contains("is not a regular file"));
+    for (const char* name : {"pipe.scene", "zero.scene"}) {
+        INFO(name);
+        CHECK_THROWS_WITH(hsr::load_scene_file(dir / name),
+                          Catch::Contains(name) && Catch::Contains("is not a regular file"));
+    }
 }

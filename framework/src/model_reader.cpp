@@ -112,6 +112,9 @@ std::string read_whole_file(const std::filesystem::path& file) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) throw Error("{}: no such file", display(file));
     if (std::filesystem::is_directory(file, ec)) throw Error("{}: is a directory, not a model file", display(file));
+    // A pipe would be read until its writer stops, a device such as /dev/zero until memory runs out.
+    if (!std::filesystem::is_regular_file(file, ec))
+        throw Error("{}: is not a regular file (a pipe, device or socket), not a model file", display(file));
     std::ifstream in(file, std::ios::binary);
     if (!in) throw Error("{}: cannot open the file for reading", display(file));
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

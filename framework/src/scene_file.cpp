@@ -83,6 +83,8 @@ public:
     SceneFile parse() {
         std::error_code ec;
         if (!std::filesystem::exists(file_, ec)) throw Error("{}: no such file", path_text());
+        if (!std::filesystem::is_regular_file(file_, ec))  // a pipe or /dev/zero would be read without end
+            throw Error("{}: is not a regular file, not a scene file", path_text());
         // The repeat line first, wherever it stands, so that each mesh is checked against the
         // triangles its copies will draw as soon as it is loaded.
         for_each_statement([&](const Statement& s) {
