@@ -144,6 +144,17 @@ TEST_CASE("bad models: faces with more than 1000 corners, in OBJ, OFF and PLY", 
     CHECK(scene.indices.size() == 3 * 998);
 }
 
+// Text in UTF-16 (assimp's OBJ/box_UTF16BE.obj) reads as no faces at all to an ASCII reader; a
+// UTF-8 byte-order mark in front of `v` or `OFF` hid the first word.
+TEST_CASE("bad models: UTF-16 text is refused, a UTF-8 byte-order mark is skipped", "[bad-models]") {
+    CHECK_THAT(refusal_of(bad_dir / "obj-utf16.obj").message,
+               Catch::Contains("is UTF-16 text") && Catch::Contains("save it as ASCII or UTF-8"));
+    const std::string mark = "\xEF\xBB\xBF";
+    CHECK(hsr::load_model(write_scratch("mark.obj", mark + triangle_obj + "f 1 2 3\n")).indices.size() == 3);
+    CHECK(hsr::load_model(write_scratch("mark.off", mark + "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"))
+              .indices.size() == 3);
+}
+
 // A pipe named like a model waited for a writer for ever; /dev/zero was read until memory ran out.
 TEST_CASE("bad models: pipes and devices are not read as models or scenes", "[bad-models]") {
     const fs::path dir = scratch_dir();

@@ -87,6 +87,16 @@ public:
         throw Error("{}: {}", printable(file_.string(), std::string_view::npos), message);
     }
 
+    // Length of a UTF-8 byte-order mark at the start of text (some editors write one), which the
+    // readers would take for part of the first word; UTF-16 text is refused, as a reader of ASCII
+    // finds a NUL between each two characters.
+    std::size_t byte_order_mark(std::string_view text) const {
+        if (text.starts_with("\xEF\xBB\xBF")) return 3;
+        if (text.starts_with("\xFE\xFF") || text.starts_with("\xFF\xFE"))
+            fail("is UTF-16 text (it starts with a UTF-16 byte-order mark); save it as ASCII or UTF-8");
+        return 0;
+    }
+
     // The first three tokens from `first` must be finite numbers representable as float.
     void coordinates(const Line& line, std::size_t first) const {
         if (line.tokens.size() < first + 3) fail(line.number, "a vertex needs 3 coordinates");
@@ -102,6 +112,8 @@ public:
     // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
     // comments after data on a line become spaces, as OpenMesh would read them as data.
     std::string check_obj(std::string text) const {
+        const std::size_t mark = byte_order_mark(text);
+        text.replace(0, mark, mark, ' ');
         std::vector<Line> lines = tokenize(text, '#');
         long long vertices = 0;
         long long largest = 0;
@@ -153,6 +165,7 @@ public:
 
     // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line.
     std::string check_off(std::string_view text) const {
+        text.remove_prefix(byte_order_mark(text));
         std::vector<Line> lines = tokenize(text, '#');
         if (lines.empty()) fail("is empty");
         const Line& header = lines[0];
