@@ -175,3 +175,10 @@ TEST_CASE("bad models: pipes and devices are not read as models or scenes", "[ba
                           Catch::Contains(name) && Catch::Contains("is not a regular file"));
     }
 }
+
+// `vt u` (v and w may be left out) made OpenMesh refuse the whole file, as assimp's
+// OBJ/multiple_spaces.obj cut after its first `vt` value; hsr reads no texture coordinates.
+TEST_CASE("bad models: an OBJ texture coordinate with one value", "[bad-models]") {
+    const std::string one_value = triangle_obj + "vt 0.5\nvt 0.25\nvt 1\nf 1/1 2/2 3/3\n";
+    CHECK(hsr::load_model(write_scratch("one-texture-value.obj", one_value)).indices.size() == 3);
+}

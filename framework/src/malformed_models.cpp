@@ -110,7 +110,9 @@ public:
 
     // Returns the text for OpenMesh's reader: material-library lines become comments, as OpenMesh
     // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
-    // comments after data on a line become spaces, as OpenMesh would read them as data.
+    // so do texture coordinates, which hsr does not use and OpenMesh refuses with one value (`vt u`,
+    // which the format allows); comments after data on a line become spaces, as OpenMesh would read
+    // them as data.
     std::string check_obj(std::string text) const {
         const std::size_t mark = byte_order_mark(text);
         text.replace(0, mark, mark, ' ');
@@ -118,14 +120,14 @@ public:
         long long vertices = 0;
         long long largest = 0;
         std::size_t largest_line = 0;
-        std::vector<std::size_t> material_libraries;  // byte offsets of the keyword
+        std::vector<std::size_t> unused_lines;  // byte offsets of the keyword of mtllib and vt lines
         for (const Line& line : lines) {
             std::string_view kind = line.tokens[0];
             if (kind == "v") {
                 coordinates(line, 1);
                 ++vertices;
-            } else if (kind == "mtllib") {
-                material_libraries.push_back(static_cast<std::size_t>(kind.data() - text.data()));
+            } else if (kind == "mtllib" || kind == "vt") {
+                unused_lines.push_back(static_cast<std::size_t>(kind.data() - text.data()));
             } else if (kind == "f") {
                 if (line.tokens.size() < 4) fail(line.number, "a face needs at least 3 vertices");
                 if (line.tokens.size() - 1 > max_face_corners) fail(line.number, too_many_corners);
@@ -150,7 +152,7 @@ public:
         if (largest > vertices)
             fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                            largest, vertices));
-        for (std::size_t offset : material_libraries) text[offset] = '#';
+        for (std::size_t offset : unused_lines) text[offset] = '#';
         for (const Line& line : lines) {
             const std::string_view last = line.tokens.back();
             const auto data_end = static_cast<std::size_t>(last.data() + last.size() - text.data());
