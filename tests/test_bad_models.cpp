@@ -182,3 +182,10 @@ TEST_CASE("bad models: an OBJ texture coordinate with one value", "[bad-models]"
     const std::string one_value = triangle_obj + "vt 0.5\nvt 0.25\nvt 1\nf 1/1 2/2 3/3\n";
     CHECK(hsr::load_model(write_scratch("one-texture-value.obj", one_value)).indices.size() == 3);
 }
+
+// OpenMesh takes an STL for binary only when its size is exactly that of its triangles, and reads
+// anything else as ASCII: a binary file with bytes to spare was refused as having no faces.
+TEST_CASE("bad models: a binary STL with bytes after its triangles", "[bad-models]") {
+    CHECK_THAT(refusal_of(bad_dir / "stl-binary-trailing-bytes.stl").message,
+               Catch::Contains("binary STL has 1 byte after its 3 triangles"));
+}

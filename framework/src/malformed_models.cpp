@@ -402,6 +402,12 @@ public:
             if (text.size() < 84 + 50ull * triangles)
                 fail(fmt::format("binary STL is truncated: it declares {} triangles but holds {}", triangles,
                                  (text.size() - 84) / 50));
+            if (text.size() > 84 + 50ull * triangles)  // OpenMesh would read it as ASCII, finding nothing
+            {
+                const auto extra = text.size() - 84 - 50ull * triangles;
+                fail(fmt::format("binary STL has {} byte{} after its {} triangles", extra, extra == 1 ? "" : "s",
+                                 triangles));
+            }
             for (uint32_t t = 0; t < triangles; ++t) {  // normal, 3 corners, attribute bytes
                 float corners[9];
                 std::memcpy(corners, text.data() + 84 + 50ull * t + 12, sizeof corners);
