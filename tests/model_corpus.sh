@@ -61,10 +61,9 @@ render_one() {
         > "$record.stdout" 2> "$err"
     local status=$?
     local microseconds=$((${EPOCHREALTIME/./} - start))
-    local rss_lines err_lines
+    local rss_lines rss=0
     mapfile -t rss_lines < "$rss_file"
-    local rss=${rss_lines[-1]:-}
-    [[ $rss =~ ^[0-9]+$ ]] || rss=0
+    [ ${#rss_lines[@]} -gt 0 ] && [[ ${rss_lines[-1]} =~ ^[0-9]+$ ]] && rss=${rss_lines[-1]}
     # Warnings (`hsr: warning: ...`) may come before the one error line, or with a picture and
     # hsr's `wrote FILE (...)`.
     local line err_lines=()

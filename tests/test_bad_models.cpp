@@ -145,7 +145,7 @@ TEST_CASE("bad models: faces with more than 1000 corners, in OBJ, OFF and PLY", 
 }
 
 // Text in UTF-16 (assimp's OBJ/box_UTF16BE.obj) reads as no faces at all to an ASCII reader; a
-// UTF-8 byte-order mark in front of `v` or `OFF` hid the first word.
+// UTF-8 byte-order mark in front of `v` or `OFF` would hide the first word.
 TEST_CASE("bad models: UTF-16 text is refused, a UTF-8 byte-order mark is skipped", "[bad-models]") {
     CHECK_THAT(refusal_of(bad_dir / "obj-utf16.obj").message,
                Catch::Contains("is UTF-16 text") && Catch::Contains("save it as ASCII or UTF-8"));
@@ -155,7 +155,7 @@ TEST_CASE("bad models: UTF-16 text is refused, a UTF-8 byte-order mark is skippe
               .indices.size() == 3);
 }
 
-// A pipe named like a model waited for a writer for ever; /dev/zero was read until memory ran out.
+// A pipe named like a model would be waited on for ever, /dev/zero read until memory runs out.
 TEST_CASE("bad models: pipes and devices are not read as models or scenes", "[bad-models]") {
     const fs::path dir = scratch_dir();
     for (const char* name : {"pipe.obj", "pipe.scene"}) {
@@ -176,7 +176,7 @@ TEST_CASE("bad models: pipes and devices are not read as models or scenes", "[ba
     }
 }
 
-// `vt u` (v and w may be left out) made OpenMesh refuse the whole file, as assimp's
+// OpenMesh refuses a whole file for `vt u` (v and w may be left out), as in assimp's
 // OBJ/multiple_spaces.obj cut after its first `vt` value; hsr reads no texture coordinates.
 TEST_CASE("bad models: an OBJ texture coordinate with one value", "[bad-models]") {
     const std::string one_value = triangle_obj + "vt 0.5\nvt 0.25\nvt 1\nf 1/1 2/2 3/3\n";
@@ -184,7 +184,7 @@ TEST_CASE("bad models: an OBJ texture coordinate with one value", "[bad-models]"
 }
 
 // OpenMesh takes an STL for binary only when its size is exactly that of its triangles, and reads
-// anything else as ASCII: a binary file with bytes to spare was refused as having no faces.
+// anything else as ASCII, finding no faces in a binary file with bytes to spare.
 TEST_CASE("bad models: a binary STL with bytes after its triangles", "[bad-models]") {
     CHECK_THAT(refusal_of(bad_dir / "stl-binary-trailing-bytes.stl").message,
                Catch::Contains("binary STL has 1 byte after its 3 triangles"));
