@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
 packages=(g++ cmake make pkg-config libboost-dev libboost-program-options-dev libboost-filesystem-dev
-          libopenmesh-dev libglm-dev libfmt-dev catch2 libpng-dev libcairo2-dev libmuparser-dev valgrind)
+          libopenmesh-dev libglm-dev libfmt-dev catch2 libpng-dev libcairo2-dev libmuparser-dev valgrind time)
 
 install_missing() {
     local missing=()

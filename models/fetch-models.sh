@@ -3,6 +3,9 @@
 #   bunny.obj  - the Stanford bunny (69,666 triangles) from glmark2-data, installed with apt-get
 #   monkey.obj - Blender's Suzanne from python-kivy-examples, unpacked from the downloaded .deb
 #                without installing it (that package would pull in Python dependencies)
+# and installs assimp's test corpus, read in place by the assimp_corpus test:
+#   /usr/share/assimp/models - 595 files in about 60 formats, broken ones included, from
+#                              assimp-testmodels (74 MB installed, no dependencies)
 # Run as root (apt-get install). Safe to run again: it skips what is already there.
 set -euo pipefail
 
@@ -60,3 +63,17 @@ if [ ! -s "$models_dir/monkey.obj" ]; then
     mv "$models_dir/monkey.obj.partial" "$models_dir/monkey.obj"
 fi
 echo "monkey.obj: $models_dir/monkey.obj"
+
+# --- assimp-testmodels -------------------------------------------------------------------------
+assimp_corpus=/usr/share/assimp/models
+if [ ! -d "$assimp_corpus" ]; then
+    if ! apt-get install -y -q --no-install-recommends assimp-testmodels; then
+        apt_update_once
+        apt-get install -y -q --no-install-recommends assimp-testmodels
+    fi
+fi
+if [ ! -d "$assimp_corpus" ]; then
+    echo "fetch-models.sh: assimp-testmodels is installed but $assimp_corpus is missing" >&2
+    exit 1
+fi
+echo "assimp corpus: $assimp_corpus"

@@ -5,6 +5,7 @@
 #include "hsr/error.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -13,6 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <sys/stat.h>
 
 namespace fs = std::filesystem;
 
@@ -44,10 +47,14 @@ Refusal refusal_of(const fs::path& file) {
     return refusal;
 }
 
-fs::path write_scratch(const std::string& name, const std::string& text) {
+fs::path scratch_dir() {
     const fs::path dir = fs::path(HSR_BINARY_DIR) / "test-bad-models-scratch";
     fs::create_directories(dir);
-    const fs::path file = dir / name;
+    return dir;
+}
+
+fs::path write_scratch(const std::string& name, const std::string& text) {
+    const fs::path file = scratch_dir() / name;
     std::ofstream(file, std::ios::binary) << text;
     return file;
 }
@@ -135,4 +142,50 @@ TEST_CASE("bad models: faces with more than 1000 corners, in OBJ, OFF and PLY", 
     }
     const hsr::SceneData scene = hsr::load_model(write_scratch("polygon.off", polygon + face + "\n"));
     CHECK(scene.indices.size() == 3 * 998);
+}
+
+// Text in UTF-16 (assimp's OBJ/box_UTF16BE.obj) reads as no faces at all to an ASCII reader; a
+// UTF-8 byte-order mark in front of `v` or `OFF` would hide the first word.
+TEST_CASE("bad models: UTF-16 text is refused, a UTF-8 byte-order mark is skipped", "[bad-models]") {
+    CHECK_THAT(refusal_of(bad_dir / "obj-utf16.obj").message,
+               Catch::Contains("is UTF-16 text") && Catch::Contains("save it as ASCII or UTF-8"));
+    const std::string mark = "\xEF\xBB\xBF";
+    CHECK(hsr::load_model(write_scratch("mark.obj", mark + triangle_obj + "f 1 2 3\n")).indices.size() == 3);
+    CHECK(hsr::load_model(write_scratch("mark.off", mark + "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"))
+              .indices.size() == 3);
+}
+
+// A pipe named like a model would be waited on for ever, /dev/zero read until memory runs out.
+TEST_CASE("bad models: pipes and devices are not read as models or scenes", "[bad-models]") {
+    const fs::path dir = scratch_dir();
+    for (const char* name : {"pipe.obj", "pipe.scene"}) {
+        const fs::path pipe = dir / name;
+        fs::remove(pipe);
+        REQUIRE(::mkfifo(pipe.c_str(), 0600) == 0);
+    }
+    for (const char* name : {"zero.ply", "zero.scene"}) {
+        fs::remove(dir / name);
+        fs::create_symlink("/dev/zero", dir / name);
+    }
+    CHECK_THAT(refusal_of(dir / "pipe.obj").message, Catch::Contains("is not a regular file"));
+    CHECK_THAT(refusal_of(dir / "zero.ply").message, Catch::Contains("is not a regular file"));
+    for (const char* name : {"pipe.scene", "zero.scene"}) {
+        INFO(name);
+        CHECK_THROWS_WITH(hsr::load_scene_file(dir / name),
+                          Catch::Contains(name) && Catch::Contains("is not a regular file"));
+    }
+}
+
+// OpenMesh refuses a whole file for `vt u` (v and w may be left out), as in assimp's
+// OBJ/multiple_spaces.obj cut after its first `vt` value; hsr reads no texture coordinates.
+TEST_CASE("bad models: an OBJ texture coordinate with one value", "[bad-models]") {
+    const std::string one_value = triangle_obj + "vt 0.5\nvt 0.25\nvt 1\nf 1/1 2/2 3/3\n";
+    CHECK(hsr::load_model(write_scratch("one-texture-value.obj", one_value)).indices.size() == 3);
+}
+
+// OpenMesh takes an STL for binary only when its size is exactly that of its triangles, and reads
+// anything else as ASCII, finding no faces in a binary file with bytes to spare.
+TEST_CASE("bad models: a binary STL with bytes after its triangles", "[bad-models]") {
+    CHECK_THAT(refusal_of(bad_dir / "stl-binary-trailing-bytes.stl").message,
+               Catch::Contains("binary STL has 1 byte after its 3 triangles"));
 }

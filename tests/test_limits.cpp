@@ -385,11 +385,13 @@ TEST_CASE("limits: a model file's size is checked before it is read, and only re
     const fs::path pipe = scratch_dir() / "pipe.obj";
     fs::remove(pipe);
     REQUIRE(mkfifo(pipe.c_str(), 0600) == 0);
-    CHECK(error_of([&] { hsr::load_model(pipe); }) == pipe.string() + ": is not a regular file");
+    CHECK(error_of([&] { hsr::load_model(pipe); }) ==
+          pipe.string() + ": is not a regular file (a pipe, device or socket), not a model file");
     const fs::path device = scratch_dir() / "zero.obj";
     fs::remove(device);
     fs::create_symlink("/dev/zero", device);
-    CHECK(error_of([&] { hsr::load_model(device); }) == device.string() + ": is not a regular file");
+    CHECK(error_of([&] { hsr::load_model(device); }) ==
+          device.string() + ": is not a regular file (a pipe, device or socket), not a model file");
 
     // A .scene file: the same two checks.
     const fs::path scene = write_file("one-light.scene", "light dir:0,0,1\n");  // 16 bytes
@@ -402,7 +404,8 @@ TEST_CASE("limits: a model file's size is checked before it is read, and only re
     const fs::path scene_device = scratch_dir() / "zero.scene";
     fs::remove(scene_device);
     fs::create_symlink("/dev/zero", scene_device);
-    CHECK(error_of([&] { hsr::load_scene_file(scene_device); }) == scene_device.string() + ": is not a regular file");
+    CHECK(error_of([&] { hsr::load_scene_file(scene_device); }) ==
+          scene_device.string() + ": is not a regular file, not a scene file");
 }
 
 TEST_CASE("limits: Loop subdivision counts the triangles it would make first", "[limits][models]") {

@@ -104,6 +104,16 @@ public:
         throw Error("{}: {}", printable(file_.string(), std::string_view::npos), message);
     }
 
+    // Length of a UTF-8 byte-order mark at the start of text (some editors write one), which the
+    // readers would take for part of the first word; UTF-16 text is refused, as a reader of ASCII
+    // finds a NUL between each two characters.
+    std::size_t byte_order_mark(std::string_view text) const {
+        if (text.starts_with("\xEF\xBB\xBF")) return 3;
+        if (text.starts_with("\xFE\xFF") || text.starts_with("\xFF\xFE"))
+            fail("is UTF-16 text (it starts with a UTF-16 byte-order mark); save it as ASCII or UTF-8");
+        return 0;
+    }
+
     // The first three tokens from `first` must be finite numbers representable as float.
     void coordinates(const Line& line, std::size_t first) const {
         if (line.tokens.size() < first + 3) fail(line.number, "a vertex needs 3 coordinates");
@@ -117,21 +127,25 @@ public:
 
     // Returns the text for OpenMesh's reader: material-library lines become comments, as OpenMesh
     // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
-    // comments after data on a line become spaces, as OpenMesh would read them as data.
+    // so do texture coordinates, which hsr does not use and OpenMesh refuses with one value (`vt u`,
+    // which the format allows); comments after data on a line become spaces, as OpenMesh would read
+    // them as data.
     std::string check_obj(std::string text) {
+        const std::size_t mark = byte_order_mark(text);
+        text.replace(0, mark, mark, ' ');
         LineReader lines(text, '#');
         long long vertices = 0;
         long long largest = 0;
         std::size_t largest_line = 0;
-        std::vector<std::size_t> material_libraries;  // byte offsets of the keyword
+        std::vector<std::size_t> unused_lines;  // byte offsets of the keyword of mtllib and vt lines
         while (const Line* next_line = lines.next()) {
             const Line& line = *next_line;
             std::string_view kind = line.tokens[0];
             if (kind == "v") {
                 coordinates(line, 1);
                 ++vertices;
-            } else if (kind == "mtllib") {
-                material_libraries.push_back(static_cast<std::size_t>(kind.data() - text.data()));
+            } else if (kind == "mtllib" || kind == "vt") {
+                unused_lines.push_back(static_cast<std::size_t>(kind.data() - text.data()));
             } else if (kind == "f") {
                 if (line.tokens.size() < 4) fail(line.number, "a face needs at least 3 vertices");
                 if (line.tokens.size() - 1 > max_face_corners) fail(line.number, too_many_corners);
@@ -157,7 +171,7 @@ public:
         if (largest > vertices)
             fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                            largest, vertices));
-        for (std::size_t offset : material_libraries) text[offset] = '#';
+        for (std::size_t offset : unused_lines) text[offset] = '#';
         LineReader again(text, '#');
         while (const Line* next_line = again.next()) {
             const Line& line = *next_line;
@@ -174,6 +188,7 @@ public:
 
     // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line.
     std::string check_off(std::string_view text) {
+        text.remove_prefix(byte_order_mark(text));
         LineReader lines(text, '#');
         const Line* first = lines.next();
         if (!first) fail("is empty");
@@ -416,6 +431,11 @@ public:
             if (text.size() < 84 + 50ull * triangles)
                 fail(fmt::format("binary STL is truncated: it declares {} triangles but holds {}", triangles,
                                  (text.size() - 84) / 50));
+            if (text.size() > 84 + 50ull * triangles) {  // OpenMesh would read it as ASCII, finding nothing
+                const auto extra = text.size() - 84 - 50ull * triangles;
+                fail(fmt::format("binary STL has {} byte{} after its {} triangles", extra, extra == 1 ? "" : "s",
+                                 triangles));
+            }
             count_face(3, triangles);
             for (uint32_t t = 0; t < triangles; ++t) {  // normal, 3 corners, attribute bytes
                 float corners[9];

@@ -113,8 +113,9 @@ std::string read_whole_file(const std::filesystem::path& file) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) throw Error("{}: no such file", display(file));
     if (std::filesystem::is_directory(file, ec)) throw Error("{}: is a directory, not a model file", display(file));
-    // A device or a pipe could be read forever.
-    if (!std::filesystem::is_regular_file(file, ec)) throw Error("{}: is not a regular file", display(file));
+    // A pipe would be read until its writer stops, a device such as /dev/zero until memory runs out.
+    if (!std::filesystem::is_regular_file(file, ec))
+        throw Error("{}: is not a regular file (a pipe, device or socket), not a model file", display(file));
     const std::uintmax_t size = std::filesystem::file_size(file, ec);
     if (ec) throw Error("{}: cannot read the file size", display(file));
     check_limit(&Limits::model_bytes, size, display(file));

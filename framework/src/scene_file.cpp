@@ -83,6 +83,11 @@ public:
     SceneFile parse() {
         std::error_code ec;
         if (!std::filesystem::exists(file_, ec)) throw Error("{}: no such file", path_text());
+        if (!std::filesystem::is_regular_file(file_, ec))  // a pipe or /dev/zero would be read without end
+            throw Error("{}: is not a regular file, not a scene file", path_text());
+        const std::uintmax_t size = std::filesystem::file_size(file_, ec);
+        if (ec) throw Error("{}: cannot read the file size", path_text());
+        check_limit(&Limits::model_bytes, size, path_text());
         // The repeat line first, wherever it stands, so that each mesh is checked against the
         // triangles its copies will draw as soon as it is loaded.
         for_each_statement([&](const Statement& s) {
@@ -124,11 +129,6 @@ private:
 
     template <class Handle>
     void for_each_statement(Handle handle) const {
-        std::error_code ec;
-        if (std::filesystem::exists(file_, ec) && !std::filesystem::is_regular_file(file_, ec))
-            throw Error("{}: is not a regular file", path_text());  // a pipe or a device: read for ever
-        if (const std::uintmax_t size = std::filesystem::file_size(file_, ec); !ec)
-            check_limit(&Limits::model_bytes, size, path_text());
         std::ifstream in(file_);
         if (!in) throw Error("{}: cannot open the file for reading", path_text());
         std::string text;
