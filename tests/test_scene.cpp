@@ -491,6 +491,22 @@ TEST_CASE("zero-area and non-manifold triangles never produce NaN", "[scene][mes
         CHECK_THAT(s.warnings[0], Catch::Contains("2 triangles without area"));
         CHECK(near(face_normal(s, 0), {0, 0, 1}));
     }
+    SECTION("a triangle repeated, from any corner, is dropped with a warning; its back face stays") {
+        // Vertices 3..5 are copies of 0..2 (as the loader makes for non-manifold faces).
+        const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+        const std::vector<uint32_t> i = {0, 1, 2, 1, 2, 0, 3, 4, 5, 5, 3, 4, 0, 2, 1};  // last: the back face
+        hsr::SceneBuilder builder;
+        builder.add_triangles(p, i);
+        const hsr::SceneData s = builder.build();
+        check_consistent(s);
+        REQUIRE(s.triangle_count() == 2);
+        CHECK(near(face_normal(s, 0), {0, 0, 1}));
+        CHECK(near(face_normal(s, 1), {0, 0, -1}));
+        // Besides the loader's warning about the copies it gave their own vertices.
+        CHECK(std::count_if(s.warnings.begin(), s.warnings.end(), [](const std::string& w) {
+                  return w.find("3 triangles repeating an earlier one dropped") != std::string::npos;
+              }) == 1);
+    }
     SECTION("a triangle repeating a vertex and a scene of only degenerate triangles") {
         const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
         hsr::SceneBuilder builder;

@@ -11,12 +11,42 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <tuple>
+#include <unordered_set>
 
 namespace hsr {
 namespace {
+
+// A triangle by its corners' positions, turned to start at the smallest corner (so that a copy
+// listed from another corner matches) but not reversed: a triangle and its back face stay two.
+using TriangleKey = std::array<glm::vec3, 3>;
+
+bool position_less(const glm::vec3& p, const glm::vec3& q) {
+    return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+}
+
+TriangleKey triangle_key(const std::vector<glm::vec3>& positions, const uint32_t* corners) {
+    TriangleKey key{positions[corners[0]], positions[corners[1]], positions[corners[2]]};
+    const auto smallest = std::min_element(key.begin(), key.end(), position_less);
+    std::rotate(key.begin(), smallest, key.end());
+    return key;
+}
+
+struct TriangleKeyHash {
+    std::size_t operator()(const TriangleKey& key) const {
+        uint64_t hash = 0;
+        for (const glm::vec3& p : key)
+            for (int k = 0; k < 3; ++k) {
+                const float value = p[k] == 0.0f ? 0.0f : p[k];  // -0 and +0 are equal: one hash
+                hash = (hash ^ std::bit_cast<uint32_t>(value)) * 0x100000001b3ull;
+            }
+        return static_cast<std::size_t>(hash ^ (hash >> 29));
+    }
+};
 
 using Object = SceneBuilder::Object;
 
@@ -101,12 +131,17 @@ SceneData SceneBuilder::build() const {
                 throw Error("{}: the transform moves vertex {} to a non-finite position", name, v);
         }
 
-        // Keep triangles with a well-defined normal; number them in the merged scene.
+        // Keep triangles with a well-defined normal that no earlier triangle of the object repeats;
+        // number them in the merged scene. A repeated triangle adds nothing to a picture, but each
+        // copy has edges of its own (the loader gives non-manifold faces their own vertices), which
+        // make the hidden-line algorithms quadratic: 3,388 copies of one face took Appel 10 s.
         const std::size_t triangle_count = object.indices.size() / 3;
         const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
         std::vector<int32_t> new_triangle(triangle_count, -1);
         std::vector<glm::dvec3> kept_normals;
-        uint32_t kept = 0;
+        std::unordered_set<TriangleKey, TriangleKeyHash> seen;
+        seen.reserve(triangle_count);
+        uint32_t kept = 0, without_area = 0, repeated = 0;
         for (std::size_t t = 0; t < triangle_count; ++t) {
             const glm::dvec3& a = local_world[object.indices[3 * t]];
             const glm::dvec3& b = local_world[object.indices[3 * t + 1]];
@@ -115,13 +150,23 @@ SceneData SceneBuilder::build() const {
             if (mirrored) n = -n;
             double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
             double length = glm::length(n);
-            if (!(length > 1e-12 * longest * longest) || !std::isfinite(length)) continue;
+            if (!(length > 1e-12 * longest * longest) || !std::isfinite(length)) {
+                ++without_area;
+                continue;
+            }
+            if (!seen.insert(triangle_key(object.positions, &object.indices[3 * t])).second) {
+                ++repeated;
+                continue;
+            }
             new_triangle[t] = static_cast<int32_t>(first_triangle + kept++);
             kept_normals.push_back(n / length);
         }
-        if (kept < triangle_count)
+        if (without_area > 0)
             scene.warnings.push_back(fmt::format("{}: {} triangle{} without area dropped", object.source,
-                                                 triangle_count - kept, triangle_count - kept == 1 ? "" : "s"));
+                                                 without_area, without_area == 1 ? "" : "s"));
+        if (repeated > 0)
+            scene.warnings.push_back(fmt::format("{}: {} triangle{} repeating an earlier one dropped", object.source,
+                                                 repeated, repeated == 1 ? "" : "s"));
         if (object.separated_faces > 0)
             scene.warnings.push_back(fmt::format("{}: {} non-manifold face{} given separate vertices",
                                                  object.source, object.separated_faces,
