@@ -15,14 +15,22 @@
 # Ends with a summary for each run: files tried, rendered, refused by kind of message, the slowest
 # file and the largest peak RSS.
 #
-#   model_corpus.sh <hsr binary> <corpus dir> <scratch dir>
+#   model_corpus.sh [--no-altered] <hsr binary> <corpus dir> <scratch dir>
+#
+# --no-altered leaves out the renamed and cut copies (for a corpus that is already made of altered
+# files, such as tests/mutated_inputs.sh's).
 #
 # Peak RSS is measured by GNU time (%M); `prlimit --as` caps the address space at 4 GB as a safety
 # net, so this is a test for the normal build (AddressSanitizer reserves far more address space).
 set -uo pipefail
 
+alter=yes
+if [ "${1:-}" = --no-altered ]; then
+    alter=no
+    shift
+fi
 if [ $# -ne 3 ]; then
-    echo "usage: model_corpus.sh <hsr binary> <corpus dir> <scratch dir>" >&2
+    echo "usage: model_corpus.sh [--no-altered] <hsr binary> <corpus dir> <scratch dir>" >&2
     exit 2
 fi
 hsr=$(realpath "$1")
@@ -141,7 +149,7 @@ while IFS= read -r -d '' file; do
     base=$(basename "$file")
     extension=${base##*.}
     extension=${extension,,}
-    [ -n "${wrong_extension[$extension]:-}" ] || continue
+    [ "$alter" = yes ] && [ -n "${wrong_extension[$extension]:-}" ] || continue
     n=$((n + 1))
     stem=${base%.*}
     mkdir -p "$scratch/altered/$n"
