@@ -40,7 +40,7 @@ build_sanitized() {
 }
 
 # A sanitizer report exits with 86, so that a test expecting hsr to fail with 1 or 2 notices it too.
-# The tests labelled `slow` (about 20 min of CPU under the sanitizers) are left to
+# The tests labelled `slow` (about 1,250 s of test time under the sanitizers) are left to
 # `ctest --test-dir build-sanitize -L slow`, with the same environment.
 test_sanitized() {
     ASAN_OPTIONS=detect_leaks=1:exitcode=86 \
