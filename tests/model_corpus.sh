@@ -135,12 +135,16 @@ run_corpus() {
     while IFS= read -r -d '' file; do
         n=$((n + 1))
         printf '%s\0%s\0' "$scratch/runs/$run/$n" "$file"
-    done | xargs -0 -n 2 -P 2 bash -c 'render_one "$@" '"${*@Q}" _
+    done | xargs -0 -r -n 2 -P 2 bash -c 'render_one "$@" '"${*@Q}" _
 }
 
 # The corpus, and the files of the formats hsr reads renamed and cut.
 corpus_list=$scratch/corpus.list
 find "$corpus" -type f -print0 | sort -z > "$corpus_list"
+if [ ! -s "$corpus_list" ]; then
+    echo "model_corpus: $corpus holds no files" >&2
+    exit 1
+fi
 altered_list=$scratch/altered.list
 : > "$altered_list"
 declare -A wrong_extension=([obj]=ply [ply]=stl [stl]=off [off]=obj)
