@@ -1,6 +1,6 @@
 // What the fuzz targets share: a scratch folder of this process for the readers that take a path,
-// and the rule for what counts as a finding. Every target feeds its input to the same framework
-// entry points that `hsr render` uses, under the default limits; a clean refusal (hsr::Error) is
+// the limits, and the rule for what counts as a finding. Every target feeds its input to the same
+// framework entry points that `hsr render` uses; a clean refusal (hsr::Error) is
 // the expected answer to bad input, while any other exception escapes to libFuzzer (or to
 // replay_main.cpp), which reports it as a crash.
 #pragma once
@@ -55,12 +55,24 @@ inline std::filesystem::path write_scratch_file(const std::string& name, std::st
     return file;
 }
 
-// Runs `work` with the default limits in force (as `hsr render` sets them); hsr::Error is a clean
-// refusal and must be one line.
+// The limits in force while fuzzing: the defaults (`hsr render` without --limit), except the three
+// that bound legitimate bulk work. At their defaults a 6 KB PNG of 1024 x 1024 pixels or a `repeat
+// 100 100 100` builds a million samples or instances: under a second in a release build, but 4 to
+// 10 s of CPU with ASan, UBSan and coverage, which libFuzzer's 10 s timeout would report on a busy
+// machine. Lowered, the same paths and the same refusals run, on less data.
+inline hsr::Limits fuzzing_limits() {
+    hsr::Limits limits;
+    limits.instances = 10'000;
+    limits.surface_samples = 1u << 16;
+    limits.heightmap_pixels = 1u << 18;
+    return limits;
+}
+
+// Runs `work` under fuzzing_limits(); hsr::Error is a clean refusal and must be one line.
 template <class Work>
 int run_one(Work&& work) {
     static const bool limits_set = [] {
-        hsr::set_limits(hsr::Limits{});
+        hsr::set_limits(fuzzing_limits());
         return true;
     }();
     (void)limits_set;
