@@ -151,7 +151,8 @@ public:
         return text;
     }
 
-    // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line.
+    // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line,
+    // faces without colours.
     std::string check_off(std::string_view text) const {
         std::vector<Line> lines = tokenize(text, '#');
         if (lines.empty()) fail("is empty");
@@ -193,7 +194,6 @@ public:
         }
         for (long long f = 0; f < *face_count; ++f) {
             const Line& line = lines[next++];
-            append(line);
             std::optional<long long> corners = parse_integer(line.tokens[0]);
             if (!corners) fail(line.number, fmt::format("{} is not a corner count", in_quotes(line.tokens[0])));
             if (*corners < 3) fail(line.number, "a face needs at least 3 vertices");
@@ -207,6 +207,9 @@ public:
                     fail(line.number, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                                   *index, *vertex_count));
             }
+            // Without its colour: OpenMesh reads the faces as one stream of numbers, so a colour
+            // after the indices would be read as the next face's corner count (-1: four billion).
+            append(Line{line.number, {line.tokens.begin(), line.tokens.begin() + 1 + *corners}});
         }
         return cleaned;
     }
