@@ -1,7 +1,8 @@
 // Hostile model files: counts that overflow, indices at the edge of long long, elements that
 // bound no loop, and lines that make OpenMesh's readers slow. Each must be refused with one line
-// naming the file and the problem, quickly, and without reading out of bounds (the ASan+UBSan
-// build runs these too). The small files are in tests/data/bad/; the large ones are made here.
+// naming the file and the problem (or, where valid, read as written), quickly, and without reading
+// out of bounds (the ASan+UBSan build runs these too). The small files are in tests/data/bad/; the
+// large ones are made here.
 #include "hsr/error.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_builder.hpp"
@@ -188,4 +189,13 @@ TEST_CASE("bad models: an OBJ texture coordinate with one value", "[bad-models]"
 TEST_CASE("bad models: a binary STL with bytes after its triangles", "[bad-models]") {
     CHECK_THAT(refusal_of(bad_dir / "stl-binary-trailing-bytes.stl").message,
                Catch::Contains("binary STL has 1 byte after its 3 triangles"));
+}
+
+TEST_CASE("bad models: an OFF face's colour is not read as the next face", "[bad-models]") {
+    // Two faces with colours after their indices, the second a colour-map index of -1: read as the
+    // next face's corner count, that asks for four billion corners.
+    const fs::path file = write_scratch("face-colour.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+                                                           "3 0 1 2 1 0 0\n3 0 2 3 -1\n");
+    const hsr::SceneData scene = hsr::load_model(file);  // a hang here is the bug (ctest's timeout)
+    CHECK(scene.indices.size() == 2 * 3);  // the file's two triangles, both kept
 }

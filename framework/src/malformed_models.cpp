@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstring>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -186,7 +187,8 @@ public:
         return text;
     }
 
-    // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line.
+    // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line,
+    // faces without colours.
     std::string check_off(std::string_view text) {
         text.remove_prefix(byte_order_mark(text));
         LineReader lines(text, '#');
@@ -222,18 +224,17 @@ public:
             return *line;
         };
         std::string cleaned = keyword + "\n" + std::string(counts[0]) + " " + std::string(counts[1]) + " 0\n";
-        auto append = [&cleaned](const Line& line) {
-            for (std::string_view token : line.tokens) (cleaned += token) += ' ';
+        auto append = [&cleaned](std::span<const std::string_view> tokens) {
+            for (std::string_view token : tokens) (cleaned += token) += ' ';
             cleaned += '\n';
         };
         for (long long v = 0; v < *vertex_count; ++v) {
             const Line& line = next_line();
             coordinates(line, 0);  // x y z come first
-            append(line);
+            append(line.tokens);
         }
         for (long long f = 0; f < *face_count; ++f) {
             const Line& line = next_line();
-            append(line);
             std::optional<long long> corners = parse_integer(line.tokens[0]);
             if (!corners) fail(line.number, fmt::format("{} is not a corner count", in_quotes(line.tokens[0])));
             if (*corners < 3) fail(line.number, "a face needs at least 3 vertices");
@@ -248,6 +249,9 @@ public:
                     fail(line.number, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                                   *index, *vertex_count));
             }
+            // Without its colour: OpenMesh reads the faces as one stream of numbers, so a colour
+            // after the indices would be read as the next face's corner count (-1: four billion).
+            append(std::span(line.tokens).first(static_cast<std::size_t>(1 + *corners)));
         }
         return cleaned;
     }

@@ -1,0 +1,11 @@
+// Fuzz target: the input as a model file input.stl through hsr::load_model, as `hsr render` reads a
+// model: STL (ASCII and binary): the pre-parser check_stl_text, then OpenMesh's STL reader,
+// then the scene build (normals, adjacency, bounds).
+#include "fuzz_support.hpp"
+
+#include "hsr/scene_builder.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    return hsr::fuzz::run_one(
+        [&] { hsr::load_model(hsr::fuzz::write_scratch_file("input.stl", hsr::fuzz::as_text(data, size))); });
+}
