@@ -32,9 +32,10 @@ build() {
 
 # The sanitizer stage: everything (host, framework, plugins, tests) built by clang with
 # -fsanitize=address,undefined (HSR_SANITIZE, CMakeLists.txt) at -O1, and the whole suite run with
-# leak checking; docs/robustness.md#sanitizer-build says what is left out and why.
+# leak checking; docs/robustness.md#sanitizer-build says what is left out and why. The same build
+# has the libFuzzer targets (HSR_FUZZ, fuzz/), whose tests fuzz each reader for 30 s.
 build_sanitized() {
-    CC=clang CXX=clang++ cmake -S . -B build-sanitize -DHSR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug \
+    CC=clang CXX=clang++ cmake -S . -B build-sanitize -DHSR_SANITIZE=ON -DHSR_FUZZ=ON -DCMAKE_BUILD_TYPE=Debug \
         -DCMAKE_C_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only"
     cmake --build build-sanitize -j"$(nproc)"
 }
