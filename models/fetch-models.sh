@@ -20,18 +20,24 @@ apt_update_once() {
     fi
 }
 
+# Installs Debian package $1 unless path $2 (a file or folder it provides) is already there.
+install_providing() {
+    local package=$1 path=$2
+    if [ ! -e "$path" ]; then
+        if ! apt-get install -y -q --no-install-recommends "$package"; then
+            apt_update_once
+            apt-get install -y -q --no-install-recommends "$package"
+        fi
+    fi
+    if [ ! -e "$path" ]; then
+        echo "fetch-models.sh: $package is installed but $path is missing" >&2
+        exit 1
+    fi
+}
+
 # --- bunny.obj ---------------------------------------------------------------------------------
 bunny_source=/usr/share/glmark2/models/bunny.obj
-if [ ! -f "$bunny_source" ]; then
-    if ! apt-get install -y -q --no-install-recommends glmark2-data; then
-        apt_update_once
-        apt-get install -y -q --no-install-recommends glmark2-data
-    fi
-fi
-if [ ! -f "$bunny_source" ]; then
-    echo "fetch-models.sh: glmark2-data is installed but $bunny_source is missing" >&2
-    exit 1
-fi
+install_providing glmark2-data "$bunny_source"
 if ! cmp -s "$bunny_source" "$models_dir/bunny.obj"; then
     cp "$bunny_source" "$models_dir/bunny.obj"
 fi
@@ -66,14 +72,5 @@ echo "monkey.obj: $models_dir/monkey.obj"
 
 # --- assimp-testmodels -------------------------------------------------------------------------
 assimp_corpus=/usr/share/assimp/models
-if [ ! -d "$assimp_corpus" ]; then
-    if ! apt-get install -y -q --no-install-recommends assimp-testmodels; then
-        apt_update_once
-        apt-get install -y -q --no-install-recommends assimp-testmodels
-    fi
-fi
-if [ ! -d "$assimp_corpus" ]; then
-    echo "fetch-models.sh: assimp-testmodels is installed but $assimp_corpus is missing" >&2
-    exit 1
-fi
+install_providing assimp-testmodels "$assimp_corpus"
 echo "assimp corpus: $assimp_corpus"
