@@ -227,9 +227,14 @@ struct PngRows {
     std::vector<png_bytep> rows;
 };
 
-// Only the header: out.width and out.height, nothing allocated for the pixels. Returns false with
-// context.message set on a libpng error.
-bool read_png_size(std::FILE* file, PngContext& context, PngRows& out) {
+enum class PngPart { header, pixels };
+
+// Reads out.width and out.height from the header, then for PngPart::pixels the rows (nothing is
+// allocated for pixels otherwise). Returns false with context.message set on a libpng error. Only
+// C calls and vector operations on objects that live in the caller happen between setjmp and a
+// possible longjmp, which is also why the header and the pixels are two calls: the caller checks
+// the size in between, and may throw.
+bool read_png(std::FILE* file, PngContext& context, PngRows& out, PngPart part) {
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, png_fail, png_quiet);
     png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
     if (info == nullptr) {
@@ -244,33 +249,12 @@ bool read_png_size(std::FILE* file, PngContext& context, PngRows& out) {
     png_init_io(png, file);
     png_set_user_limits(png, 1u << 16, 1u << 16);
     png_read_info(png, info);
-    out.width = png_get_image_width(png, info);
-    out.height = png_get_image_height(png, info);
-    png_destroy_read_struct(&png, &info, nullptr);
-    return true;
-}
-
-// Returns false with context.message set on a libpng error. Only C calls and vector operations on
-// objects that live in the caller happen between setjmp and a possible longjmp.
-bool read_png_rows(std::FILE* file, PngContext& context, PngRows& out) {
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, png_fail, png_quiet);
-    if (png == nullptr) {
-        std::snprintf(context.message, sizeof context.message, "libpng could not start");
-        return false;
-    }
-    png_infop info = png_create_info_struct(png);
-    if (info == nullptr) {
-        png_destroy_read_struct(&png, nullptr, nullptr);
-        std::snprintf(context.message, sizeof context.message, "libpng could not start");
-        return false;
-    }
-    if (setjmp(png_jmpbuf(png))) {
+    if (part == PngPart::header) {
+        out.width = png_get_image_width(png, info);
+        out.height = png_get_image_height(png, info);
         png_destroy_read_struct(&png, &info, nullptr);
-        return false;
+        return true;
     }
-    png_init_io(png, file);
-    png_set_user_limits(png, 1u << 16, 1u << 16);
-    png_read_info(png, info);
     png_set_expand(png);       // palette -> RGB, grey below 8 bits -> 8 bits, tRNS -> alpha
     png_set_strip_alpha(png);  // heights ignore transparency
     png_set_interlace_handling(png);
@@ -302,10 +286,12 @@ GreyImage read_png_grey(const std::filesystem::path& path, const std::string& wh
     PngRows rows;
     // libpng reads the signature again from the start, each time.
     std::rewind(file.get());
-    if (!read_png_size(file.get(), context, rows)) throw Error("{}: cannot read it as PNG: {}", what, context.message);
+    if (!read_png(file.get(), context, rows, PngPart::header))
+        throw Error("{}: cannot read it as PNG: {}", what, context.message);
     check_size(rows.width, rows.height);
     std::rewind(file.get());
-    if (!read_png_rows(file.get(), context, rows)) throw Error("{}: cannot read it as PNG: {}", what, context.message);
+    if (!read_png(file.get(), context, rows, PngPart::pixels))
+        throw Error("{}: cannot read it as PNG: {}", what, context.message);
     if (rows.channels != 1 && rows.channels != 3)
         throw Error("{}: unexpected PNG layout ({} channels after expansion)", what, rows.channels);
     GreyImage image;
