@@ -256,9 +256,12 @@ public:
         return cleaned;
     }
 
-    // Walks the whole file the way a PLY reader would, ASCII or binary, so that OpenMesh only sees
-    // files whose counts match their contents.
-    void check_ply(std::string_view text) {
+    // Walks the whole file the way a PLY reader would, ASCII or binary, and returns the vertex
+    // positions and faces as a binary PLY of one layout (float x y z; list int int vertex_indices).
+    // OpenMesh's binary reader skips a property whose type it does not convert (an integer x, a
+    // double colour, a short list count) without consuming its bytes, and then reads the rest of the
+    // file out of step: counts of billions from a few hundred bytes.
+    std::string check_ply(std::string_view text) {
         // The header: lines up to end_header.
         std::size_t header_end = std::string_view::npos;  // byte offset of the body
         for (std::size_t pos = 0; pos < text.size();) {
@@ -389,36 +392,76 @@ public:
             return as(double{});
         };
 
-        long long vertex_count = -1;
+        const Element* vertex_element = nullptr;
+        const Element* face_element = nullptr;
         for (const Element& element : elements) {
-            const bool is_vertex = element.name == "vertex";
-            const bool is_face = element.name == "face";
-            if (is_vertex) vertex_count = element.count;
+            const Element** known = element.name == "vertex" ? &vertex_element
+                                    : element.name == "face" ? &face_element : nullptr;
+            if (!known) continue;
+            if (*known) fail(fmt::format("the PLY header declares two {} elements", in_quotes(element.name)));
+            *known = &element;
+        }
+        if (vertex_element)
+            for (std::string_view axis : {"x", "y", "z"})
+                if (std::none_of(vertex_element->properties.begin(), vertex_element->properties.end(),
+                                 [&](const Property& p) { return p.name == axis && p.count_type.empty(); }))
+                    fail(fmt::format("the vertex element has no {} property", axis));
+        const long long vertex_count = vertex_element ? vertex_element->count : 0;
+
+        std::string vertices, faces;
+        auto append = [](std::string& out, auto value) {
+            const auto bytes = std::bit_cast<std::array<char, sizeof value>>(value);
+            out.append(bytes.data(), bytes.size());
+        };
+        long long face_count = 0;
+        for (const Element& element : elements) {
+            const bool is_vertex = &element == vertex_element;
+            const bool is_face = &element == face_element;
             for (long long e = 0; e < element.count; ++e) {
+                float position[3] = {0, 0, 0};
+                bool face_listed = false;
                 for (const Property& property : element.properties) {
                     if (property.count_type.empty()) {
                         double v = next(element, property.type);
-                        bool coordinate = is_vertex && (property.name == "x" || property.name == "y" || property.name == "z");
-                        if (coordinate && (!std::isfinite(v) || std::fabs(v) > FLT_MAX))
+                        if (!is_vertex || property.name.size() != 1 || property.name[0] < 'x' || property.name[0] > 'z')
+                            continue;
+                        if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
                             fail_at(fmt::format("vertex {} has a coordinate that is not a finite number", e));
+                        position[property.name[0] - 'x'] = static_cast<float>(v);
                         continue;
                     }
                     double count = next(element, property.count_type);
                     if (!(count >= 0) || count != std::floor(count)) fail_at(fmt::format("{} is not a list length", count));
-                    const bool indices = is_face && (property.name == "vertex_indices" || property.name == "vertex_index");
+                    const bool indices = is_face && !face_listed &&
+                                         (property.name == "vertex_indices" || property.name == "vertex_index");
                     if (indices && count < 3) fail_at(fmt::format("face {} has fewer than 3 vertices", e));
                     if (indices && count > max_face_corners) fail_at(too_many_corners);
-                    if (indices) count_face(static_cast<uint64_t>(count));
+                    if (indices) {
+                        count_face(static_cast<uint64_t>(count));
+                        append(faces, static_cast<int32_t>(count));
+                        ++face_count;
+                        face_listed = true;
+                    }
                     for (double i = 0; i < count; ++i) {
                         double index = next(element, property.type);
                         if (!indices) continue;
-                        if (index != std::floor(index) || index < 0 || (vertex_count >= 0 && index >= vertex_count))
+                        if (index != std::floor(index) || index < 0 || index >= static_cast<double>(vertex_count))
                             fail_at(fmt::format("vertex index {} is out of range (the file has {} vertices)", index,
-                                                std::max(vertex_count, 0LL)));
+                                                vertex_count));
+                        append(faces, static_cast<int32_t>(index));
                     }
                 }
+                if (is_vertex)
+                    for (float c : position) append(vertices, c);
             }
         }
+        const bool little = std::endian::native == std::endian::little;
+        std::string clean = fmt::format(
+            "ply\nformat {} 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face {}\nproperty list int int vertex_indices\nend_header\n",
+            little ? "binary_little_endian" : "binary_big_endian", vertex_count, face_count);
+        clean.reserve(clean.size() + vertices.size() + faces.size());
+        return clean.append(vertices).append(faces);
     }
 
     void check_stl(std::string_view text) {
@@ -479,7 +522,9 @@ std::string check_off_text(const std::filesystem::path& file, std::string_view t
     return TextChecker(file).check_off(text);
 }
 
-void check_ply_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_ply(text); }
+std::string check_ply_text(const std::filesystem::path& file, std::string_view text) {
+    return TextChecker(file).check_ply(text);
+}
 
 void check_stl_text(const std::filesystem::path& file, std::string_view text) { TextChecker(file).check_stl(text); }
 

@@ -16,7 +16,9 @@ std::string check_obj_text(const std::filesystem::path& file, std::string text);
 // Returns the text re-written for OpenMesh's OFF reader, which accepts neither comment lines nor
 // the counts on the header line, and reads a face's colour as the next face.
 std::string check_off_text(const std::filesystem::path& file, std::string_view text);
-void check_ply_text(const std::filesystem::path& file, std::string_view text);  // ASCII or binary
+// Returns the vertex positions and faces of an ASCII or binary PLY as a binary PLY of the one layout
+// that OpenMesh's binary reader reads reliably.
+std::string check_ply_text(const std::filesystem::path& file, std::string_view text);
 void check_stl_text(const std::filesystem::path& file, std::string_view text);  // ASCII or binary
 
 }  // namespace hsr

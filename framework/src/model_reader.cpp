@@ -175,7 +175,7 @@ Object read_model_object(const std::filesystem::path& file) {
         switch (format) {
         case Format::obj: cleaned = check_obj_text(file, std::move(text)); break;
         case Format::off: cleaned = check_off_text(file, text); break;
-        case Format::ply: check_ply_text(file, text); break;
+        case Format::ply: cleaned = check_ply_text(file, text); break;
         case Format::stl: check_stl_text(file, text); break;
         }
     }
@@ -191,7 +191,9 @@ Object read_model_object(const std::filesystem::path& file) {
                 std::istringstream stream(std::move(*cleaned));
                 cleaned.reset();
                 OpenMesh::IO::Options options;
-                read = OpenMesh::IO::read_mesh(mesh, stream, format == Format::obj ? ".obj" : ".off", options);
+                const char* extension = format == Format::obj ? ".obj" : format == Format::off ? ".off" : ".ply";
+                if (format == Format::ply) options += OpenMesh::IO::Options::Binary;
+                read = OpenMesh::IO::read_mesh(mesh, stream, extension, options);
             } else {
                 read = OpenMesh::IO::read_mesh(mesh, file.string());
             }
