@@ -92,6 +92,9 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "instead of MODEL: a surface from a greyscale PNG, one grid sample per pixel")
         ("heightmap-height", po::value(&o.heightmap_height)->default_value(0.0, "auto"),
          "with --heightmap: the height of a white pixel (pixels are 1 apart); auto = a fifth of the larger side")
+        ("step", po::value(&o.step),
+         "hidden-surface plugins: stop the algorithm after its step N (1 = the first) and write the "
+         "picture as that step left it; prints what the step did")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
         ("threads", po::value(&o.threads)->default_value(0),
          fmt::format("shading threads, at most {} (0 = one per core)", max_threads).c_str())
@@ -144,6 +147,7 @@ void check_render_options(const RenderOptions& o) {
                          fmt::format("image size {}x{}", o.width, o.height));
     if (o.threads < 0 || o.threads > max_threads)
         throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, max_threads);
+    if (o.was_given("step") && o.step < 1) throw UsageError("--step {}: steps count from 1", o.step);
     hsr::check_limit(&hsr::Limits::lights, o.lights.size(), "--light");
     for (const auto& [option, value] :
          {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
@@ -174,7 +178,7 @@ struct RenderPlugins {
 
 hsr::host::LineDrawingPlugin make_line_drawing_plugin(const RenderOptions& o, const hsr::PluginRegistry& registry,
                                                       const hsr::PluginSpec& algorithm) {
-    for (const char* option : {"lighting", "depth-out", "overdraw-out", "depth-tests-out", "threads"})
+    for (const char* option : {"lighting", "depth-out", "overdraw-out", "depth-tests-out", "threads", "step"})
         if (o.was_given(option))
             throw UsageError("--{} is for hidden-surface plugins; '{}' draws lines", option, algorithm.name);
     hsr::host::LineDrawingPlugin plugin;
@@ -209,6 +213,10 @@ hsr::host::PicturePlugins make_picture_plugins(const RenderOptions& o, const hsr
         registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
     plugins.lighting = std::make_unique<hsr::LightingModel>(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name),
                                                             lighting_spec.settings);
+    if (o.was_given("step") && !plugins.remover->has_steps())
+        throw hsr::Error("--step: plugin '{}' cannot show its steps ({})", algorithm.name,
+                         plugins.remover->plugin().descriptor.abi_minor < 3 ? "it is built against an ABI before 1.3"
+                                                                            : "it has no render_steps");
     if (!o.depth_tests_out.empty() && plugins.remover->plugin().descriptor.abi_minor < 1)
         throw hsr::Error("--depth-tests-out: plugin '{}' does not report per-pixel depth tests (ABI 1.0)",
                          algorithm.name);

@@ -54,6 +54,7 @@ struct RenderOptions {
     bool orthographic = false;
     bool stats = false;
     int64_t threads = 0;  // signed, so that a negative number is refused rather than wrapped
+    int64_t step = 0;     // --step: stop the hidden-surface algorithm after this step (0: not given)
     int64_t width = 1024, height = 1024;
     // The options named on the command line, as opposed to left at their defaults.
     std::set<std::string> given;

@@ -96,6 +96,7 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     frame_settings.background = !o.was_given("background") && scene.background ? *scene.background : background;
     frame_settings.threads = o.threads;
     frame_settings.count_depth_tests = !o.depth_tests_out.empty();
+    if (o.was_given("step")) frame_settings.stop_after_step = static_cast<uint64_t>(o.step);
 
     const hsr_scene scene_view = scene.scene.view();
     const hsr_shading_context context = hsr::make_shading_context(scene.camera, lights);
@@ -112,6 +113,14 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     files.commit();
     if (depth_complexity) print_heat_maps_written(o, *depth_complexity);
     if (o.stats) print_stats(frame, *plugins.remover, *plugins.lighting, scene_view, depth_complexity);
+    if (frame.steps) {
+        if (frame.steps->stopped)
+            std::fprintf(stderr, "step %llu: %s\n", static_cast<unsigned long long>(frame.steps->last.index),
+                         frame.steps->last.text.c_str());
+        else
+            std::fprintf(stderr, "hsr: the algorithm ended after step %llu, before step %lld: the picture is complete\n",
+                         static_cast<unsigned long long>(frame.steps->taken), static_cast<long long>(o.step));
+    }
     if (frame.counter("fragments-shaded") == 0)
         std::fprintf(stderr, "hsr: warning: no triangle covers a pixel centre: the picture is empty (is the model "
                              "too small, too far away or flat edge-on at this size?)\n");

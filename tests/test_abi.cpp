@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -96,6 +97,61 @@ TEST_CASE("a plugin built against an older minor is accepted by a newer host", "
     hsr_plugin_descriptor newer = d;
     newer.abi_minor = 10;
     CHECK_THAT(hsr::check_descriptor(newer, 1, 9), Catch::Contains("needs ABI 1.10"));
+}
+
+TEST_CASE("a plugin frozen at ABI 1.2 loads and renders, without steps", "[abi]") {
+    // frozen-1.2.so is compiled against the ABI 1.2 header kept in tests/plugins/abi-1.2, from
+    // before render_steps (1.3): its table ends at extension.
+    auto plugins = hsr::load_plugin_library(test_plugin("frozen-1.2"));
+    REQUIRE(plugins.size() == 1);
+    CHECK(plugins[0].descriptor.abi_minor == 2);
+    CHECK(static_cast<const IHiddenSurfaceRemover*>(plugins[0].descriptor.interface_table)->struct_size ==
+          offsetof(IHiddenSurfaceRemover, render_steps));
+    require_handmade_renders(plugins[0]);
+    hsr::HiddenSurfaceRemover remover(plugins[0], {});
+    CHECK_FALSE(remover.has_steps());
+    TinyFrame f;
+    const hsr_step_sink never{nullptr, [](void*, const hsr_step_event*) -> uint32_t { return 0; }};
+    CHECK_THROWS_WITH(remover.render_steps(f.scene, f.camera, f.target, nullptr, never),
+                      Catch::Contains("'frozen-1.2' cannot show its steps") && Catch::Contains("ABI 1.2"));
+}
+
+namespace {
+
+// Steps seen by a sink that stops after step `stop_after` (0: never).
+struct StepLog {
+    uint64_t stop_after = 0;
+    std::vector<std::string> types;
+    std::vector<float> last_line;
+
+    static uint32_t step(void* context, const hsr_step_event* e) {
+        auto& log = *static_cast<StepLog*>(context);
+        log.types.emplace_back(e->type);
+        log.last_line.assign(e->lines, e->lines + 4 * e->line_count);
+        return log.types.size() == log.stop_after ? 1 : 0;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("a 1.3 plugin stops after the step the host asks for, leaving the buffer as it was then", "[abi]") {
+    // handmade.c built against this header fills row y of the image in step y + 1.
+    auto plugins = hsr::load_plugin_library(test_plugin("handmade-steps"));
+    REQUIRE(plugins.size() == 1);
+    hsr::HiddenSurfaceRemover remover(plugins[0], {});
+    REQUIRE(remover.has_steps());
+    for (uint64_t stop_after : {1, 2, 3, 4, 0}) {
+        INFO("stop after step " << stop_after);
+        TinyFrame f;
+        StepLog log;
+        log.stop_after = stop_after;
+        const hsr_step_sink sink{&log, &StepLog::step};
+        remover.render_steps(f.scene, f.camera, f.target, nullptr, sink);
+        const uint64_t rows = stop_after == 0 ? 4 : stop_after;
+        CHECK(log.types == std::vector<std::string>(rows, "row"));
+        CHECK(log.last_line == std::vector<float>{0.0f, rows - 0.5f, 4.0f, rows - 0.5f});
+        for (uint32_t p = 0; p < 16; ++p) CHECK(f.face[p] == (p / 4 < rows ? 0u : HSR_NO_FACE));
+    }
 }
 
 TEST_CASE("a plugin frozen at ABI 1.1 still loads and runs in the 1.2 host", "[abi]") {
@@ -260,9 +316,10 @@ TEST_CASE("the registry explains where it looked when a plugin is missing", "[ab
     hsr::PluginRegistry registry;
     registry.scan_directory(HSR_TEST_PLUGIN_DIR);
     registry.scan_directory("/nonexistent-dir");
-    // handmade (short-tables), frozen-1.0, frozen-1.1, handmade-lines and throwing load; the others
-    // (wrong-major, newer-minor, no-entry, lines-claiming-1.1) are refused with reasons.
-    CHECK(registry.plugins().size() == 5);
+    // handmade (short-tables), handmade-steps, frozen-1.0, frozen-1.1, frozen-1.2, handmade-lines and
+    // throwing load; the others (wrong-major, newer-minor, no-entry, lines-claiming-1.1) are refused
+    // with reasons.
+    CHECK(registry.plugins().size() == 7);
     CHECK(registry.rejected().size() == 4);
     try {
         registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, "octree-zbuffer");

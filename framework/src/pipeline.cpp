@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -147,8 +148,11 @@ bool needs_flat_scene(const Plugin& plugin, const hsr_scene& scene) {
     return scene.instance_count > 0 && plugin.descriptor.abi_minor < 1;
 }
 
-void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                        Frame& frame, bool count_depth_tests) {
+namespace {
+
+// Clears the frame's visibility arrays for the camera and points a visibility buffer at them.
+hsr_visibility_buffer clear_visibility(const hsr_scene& scene, const hsr_camera& camera,
+                                       const HiddenSurfaceRemover& remover, Frame& frame, bool count_depth_tests) {
     check_image_size(camera.width, camera.height);
     if (needs_flat_scene(remover.plugin(), scene))
         throw Error("hidden-surface plugin '{}' is built against ABI 1.0, which has no instances; copy the "
@@ -177,13 +181,13 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
     target.bary = frame.bary.data();
     target.instance = frame.instance.empty() ? nullptr : frame.instance.data();
     target.depth_tests = frame.depth_tests.empty() ? nullptr : frame.depth_tests.data();
-    hsr_counter_sink sink{&frame.counters, &collect_counter};
+    return target;
+}
 
-    const auto start = Clock::now();
-    remover.render(scene, camera, target, &sink);
-    frame.visibility_ms = ms_since(start);
-
-    // A face id the scene does not have is a bug in the plugin; say so rather than shade garbage.
+// A face or instance id the scene does not have is a bug in the plugin; say so rather than shade
+// garbage.
+void check_visibility(const hsr_scene& scene, const HiddenSurfaceRemover& remover, const Frame& frame) {
+    const size_t pixels = size_t(frame.width) * frame.height;
     for (size_t p = 0; p < pixels; ++p) {
         const uint32_t t = frame.face[p];
         if (t != HSR_NO_FACE && t >= scene.triangle_count)
@@ -194,6 +198,99 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
                         remover.plugin().descriptor.name, frame.instance[p], p % frame.width, p / frame.width,
                         scene.instance_count);
     }
+}
+
+// A plugin's string, read up to its NUL or max_bytes, whichever comes first.
+std::string_view bounded(const char* text, size_t max_bytes) { return {text, strnlen(text, max_bytes)}; }
+
+// The step sink's context: copies each event into `last` (its buffers only for the step the render
+// stops after, which may be large and are of no use otherwise) and says stop at stop_after.
+struct StepCollector {
+    uint64_t stop_after = 0;
+    StepRun run;
+
+    static uint32_t step(void* context, const hsr_step_event* event) {
+        auto& self = *static_cast<StepCollector*>(context);
+        StepRecord& last = self.run.last;
+        const uint64_t index = ++self.run.taken;
+        const bool stop = index == self.stop_after;
+        last.index = index;
+        if (event == nullptr || event->struct_size < offsetof(hsr_step_event, buffer_count) + sizeof(uint32_t)) {
+            last.type = "step";
+            last.text = fmt::format("step {}", index);
+            last.lines.clear();
+            last.roles.clear();
+            last.buffers.clear();
+            self.run.stopped = stop;
+            return stop ? 1 : 0;
+        }
+        last.type = event->type != nullptr ? printable(bounded(event->type, 64), 64) : "step";
+        last.face = event->face;
+        last.instance = event->instance;
+        last.level = event->level;
+        last.pixels_written = event->pixels_written;
+        last.pixels_rejected = event->pixels_rejected;
+        if (event->text != nullptr)
+            last.text = printable(bounded(event->text, 1024), 300);
+        else
+            last.text = describe_step(last);
+        const uint32_t lines = event->lines != nullptr ? std::min(event->line_count, max_step_lines) : 0;
+        last.lines.assign(event->lines, event->lines + 4 * size_t(lines));
+        last.roles.assign(lines, HSR_STEP_SUBJECT);
+        if (event->line_roles != nullptr)
+            for (uint32_t k = 0; k < lines; ++k) last.roles[k] = std::min<uint32_t>(event->line_roles[k], HSR_STEP_CONTEXT);
+        last.buffers.clear();
+        if (stop && event->buffers != nullptr) {
+            for (uint32_t k = 0; k < std::min(event->buffer_count, max_step_buffers); ++k) {
+                const hsr_step_buffer& b = event->buffers[k];
+                if (b.values == nullptr || uint64_t(b.width) * b.height > max_step_buffer_values) continue;
+                last.buffers.push_back({b.name != nullptr ? printable(bounded(b.name, 64), 64) : fmt::format("buffer-{}", k),
+                                        b.width, b.height,
+                                        std::vector<float>(b.values, b.values + size_t(b.width) * b.height)});
+            }
+        }
+        self.run.stopped = stop;
+        return stop ? 1 : 0;
+    }
+
+    static std::string describe_step(const StepRecord& step) {
+        std::string text = fmt::format("{} {}", step.type, step.index);
+        if (step.face != HSR_NO_FACE) text += fmt::format(": triangle {}", step.face);
+        if (step.pixels_written != 0 || step.pixels_rejected != 0)
+            text += fmt::format(", {} pixels written, {} rejected", step.pixels_written, step.pixels_rejected);
+        return text;
+    }
+
+    // Bounds on what is copied from a plugin's event.
+    static constexpr uint32_t max_step_lines = 1u << 20;
+    static constexpr uint32_t max_step_buffers = 64;
+    static constexpr uint64_t max_step_buffer_values = uint64_t(max_image_side) * max_image_side;
+};
+
+}  // namespace
+
+void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                        Frame& frame, bool count_depth_tests) {
+    hsr_visibility_buffer target = clear_visibility(scene, camera, remover, frame, count_depth_tests);
+    hsr_counter_sink sink{&frame.counters, &collect_counter};
+    const auto start = Clock::now();
+    remover.render(scene, camera, target, &sink);
+    frame.visibility_ms = ms_since(start);
+    check_visibility(scene, remover, frame);
+}
+
+void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                              Frame& frame, uint64_t stop_after, bool count_depth_tests) {
+    hsr_visibility_buffer target = clear_visibility(scene, camera, remover, frame, count_depth_tests);
+    hsr_counter_sink sink{&frame.counters, &collect_counter};
+    StepCollector collector;
+    collector.stop_after = stop_after;
+    const hsr_step_sink steps{&collector, &StepCollector::step};
+    const auto start = Clock::now();
+    remover.render_steps(scene, camera, target, &sink, steps);
+    frame.visibility_ms = ms_since(start);
+    check_visibility(scene, remover, frame);
+    frame.steps = std::move(collector.run);
 }
 
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,
@@ -275,16 +372,22 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
 Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                    LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings) {
     Frame frame;
+    auto resolve = [&](const hsr_scene& view) {
+        if (settings.stop_after_step)
+            resolve_visibility_steps(view, camera, remover, frame, *settings.stop_after_step, settings.count_depth_tests);
+        else
+            resolve_visibility(view, camera, remover, frame, settings.count_depth_tests);
+    };
     if (needs_flat_scene(remover.plugin(), scene) || needs_flat_scene(lighting.plugin(), scene)) {
         // A plugin built against ABI 1.0 cannot see instances: both get the copied-out triangles,
         // so that face ids mean the same to both.
         const SceneData flat = flatten_instances(scene);
         const hsr_scene flat_view = flat.view();
-        resolve_visibility(flat_view, camera, remover, frame, settings.count_depth_tests);
+        resolve(flat_view);
         shade_frame(flat_view, lighting, context, settings, frame);
         return frame;
     }
-    resolve_visibility(scene, camera, remover, frame, settings.count_depth_tests);
+    resolve(scene);
     shade_frame(scene, lighting, context, settings, frame);
     return frame;
 }

@@ -514,6 +514,24 @@ void HiddenSurfaceRemover::render(const hsr_scene& scene, const hsr_camera& came
     if (status != HSR_OK) throw_status(plugin_, "render", status, error);
 }
 
+bool HiddenSurfaceRemover::has_steps() const {
+    return plugin_.descriptor.abi_minor >= 3 && table_.render_steps != nullptr;
+}
+
+void HiddenSurfaceRemover::render_steps(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
+                                        const hsr_counter_sink* counters, const hsr_step_sink& steps) {
+    if (!has_steps())
+        throw Error("hidden-surface plugin '{}' cannot show its steps ({})", plugin_.descriptor.name,
+                    plugin_.descriptor.abi_minor < 3 ? fmt::format("it is built against ABI 1.{}, steps came with 1.3",
+                                                                   plugin_.descriptor.abi_minor)
+                                                     : std::string("it has no render_steps"));
+    hsr_error error{};
+    hsr_status status = call_plugin(plugin_, "render_steps", [&] {
+        return table_.render_steps(instance_, &scene, &camera, &target, counters, &steps, &error);
+    });
+    if (status != HSR_OK) throw_status(plugin_, "render_steps", status, error);
+}
+
 LightingModel::LightingModel(const Plugin& plugin, const std::vector<Setting>& settings) : plugin_(plugin) {
     if (plugin.descriptor.kind != HSR_KIND_LIGHTING_MODEL)
         throw Error("'{}' is a {} plugin, not a lighting model", plugin.descriptor.name,

@@ -66,7 +66,8 @@ static hsr_status render(void* instance, const hsr_scene* scene, const hsr_camer
 #endif
 }
 
-__attribute__((unused)) static const IHiddenSurfaceRemover table = {sizeof(IHiddenSurfaceRemover), create, destroy, render, 0};
+__attribute__((unused)) static const IHiddenSurfaceRemover table = {
+    .struct_size = sizeof(IHiddenSurfaceRemover), .create = create, .destroy = destroy, .render = render};
 
 __attribute__((unused)) static const hsr_param_desc params[] = {
     {sizeof(hsr_param_desc), "level", HSR_PARAM_INT, "3", 0, 10, 0, "an integer parameter"},

@@ -4,7 +4,9 @@
  *   HANDMADE_NAME                     its plugin name (default "handmade")
  *   HANDMADE_MAJOR / HANDMADE_MINOR   the ABI version it claims (default: the header's)
  *   HANDMADE_SHORT_TABLES             its tables end before the optional `extension` field, as a plugin
- *                                     built against an older minor would */
+ *                                     built against an older minor would
+ * Built against ABI 1.3 or later it also renders step by step: step y fills row y, so a render
+ * stopped after step k has covered exactly the rows 0 to k - 1. */
 #include "hsr/abi.h"
 
 #ifndef HANDMADE_MAJOR
@@ -44,18 +46,56 @@ static hsr_status render(void* instance, const hsr_scene* scene, const hsr_camer
     return HSR_OK;
 }
 
+#if HSR_ABI_MINOR >= 3 && !defined(HANDMADE_SHORT_TABLES)
+static hsr_status render_steps(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                               hsr_visibility_buffer* target, const hsr_counter_sink* counters,
+                               const hsr_step_sink* steps, hsr_error* error) {
+    uint32_t x, y, written = 0;
+    (void)instance;
+    (void)scene;
+    (void)camera;
+    (void)error;
+    for (y = 0; y < target->height; ++y) {
+        float line[4];
+        uint32_t role = HSR_STEP_WRITTEN;
+        hsr_step_event event = {0};
+        for (x = 0; x < target->width; ++x) {
+            target->face[y * target->width + x] = 0;
+            target->depth[y * target->width + x] = 0.5f;
+        }
+        written += target->width;
+        line[0] = 0.0f;
+        line[1] = line[3] = (float)y + 0.5f;
+        line[2] = (float)target->width;
+        event.struct_size = sizeof event;
+        event.type = "row";
+        event.face = 0;
+        event.level = HSR_NO_LEVEL;
+        event.line_count = 1;
+        event.lines = line;
+        event.line_roles = &role;
+        event.pixels_written = target->width;
+        if (steps->step(steps->context, &event) != 0) break;
+    }
+    if (counters) counters->report(counters->context, "pixels-written", written);
+    return HSR_OK;
+}
+#endif
+
+/* Designated initializers: the same lines fill the table of every minor's header. */
 static const IHiddenSurfaceRemover table = {
 #ifdef HANDMADE_SHORT_TABLES
-    offsetof(IHiddenSurfaceRemover, extension),
+    .struct_size = offsetof(IHiddenSurfaceRemover, extension),
+    .extension = (const void* (*)(const char*))0x1, /* beyond struct_size: never read or called */
 #else
-    sizeof(IHiddenSurfaceRemover),
+    .struct_size = sizeof(IHiddenSurfaceRemover),
 #endif
-    create, destroy, render,
-#ifdef HANDMADE_SHORT_TABLES
-    (const void* (*)(const char*))0x1 /* beyond struct_size: the host must never read or call it */
-#else
-    0
+#if HSR_ABI_MINOR >= 3 && !defined(HANDMADE_SHORT_TABLES)
+    .render_steps = render_steps,
 #endif
+    .create = create,
+    .destroy = destroy,
+    .render = render,
 };
 
 static const hsr_param_desc params[] = {

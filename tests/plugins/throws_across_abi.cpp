@@ -19,7 +19,12 @@ hsr_status render(void*, const hsr_scene*, const hsr_camera*, hsr_visibility_buf
     throw 42;
 }
 
-const IHiddenSurfaceRemover table = {sizeof(IHiddenSurfaceRemover), create, destroy, render, nullptr};
+hsr_status render_steps(void*, const hsr_scene*, const hsr_camera*, hsr_visibility_buffer*, const hsr_counter_sink*,
+                        const hsr_step_sink*, hsr_error*) {
+    throw 42;
+}
+
+const IHiddenSurfaceRemover table = {sizeof(IHiddenSurfaceRemover), create, destroy, render, nullptr, render_steps};
 
 const hsr_plugin_descriptor descriptor = {
     sizeof(hsr_plugin_descriptor), HSR_API_NAME, HSR_ABI_MAJOR, HSR_ABI_MINOR, HSR_KIND_HIDDEN_SURFACE_REMOVER,

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +24,38 @@ struct FrameSettings {
     glm::vec3 background{1.0f, 1.0f, 1.0f};
     unsigned threads = 0;  // shading threads; 0 = one per core
     bool count_depth_tests = false;  // ask the remover for per-pixel depth-test counts (Frame::depth_tests)
+    // Render step by step (ABI 1.3): stop after this step (1-based; 0 runs every step). Empty: no
+    // steps, render() as usual.
+    std::optional<uint64_t> stop_after_step;
+};
+
+// One of a plugin's own buffers at a step (hsr_step_buffer), copied.
+struct StepBuffer {
+    std::string name;
+    uint32_t width = 0, height = 0;
+    std::vector<float> values;
+};
+
+// One step of a hidden-surface algorithm (hsr_step_event), copied.
+struct StepRecord {
+    uint64_t index = 0;  // 1-based; 0: no step was taken
+    std::string type;
+    std::string text;    // the plugin's, or one the host wrote from the fields
+    uint32_t face = HSR_NO_FACE;
+    uint32_t instance = 0;
+    uint32_t level = HSR_NO_LEVEL;
+    std::vector<float> lines;   // 4 per line: x0, y0, x1, y1 in window coordinates
+    std::vector<uint32_t> roles;  // an hsr_step_role per line
+    uint64_t pixels_written = 0, pixels_rejected = 0;
+    std::vector<StepBuffer> buffers;  // only for the step a render stopped after
+};
+
+// What a render step by step did: how many steps it took, whether it stopped before the end, and
+// its last step.
+struct StepRun {
+    uint64_t taken = 0;
+    bool stopped = false;
+    StepRecord last;
 };
 
 struct Frame {
@@ -35,6 +68,7 @@ struct Frame {
     std::vector<uint32_t> depth_tests;  // per pixel; empty unless asked for (FrameSettings)
     std::vector<uint8_t> rgb;   // 3 * width * height, rows top to bottom
     std::vector<std::pair<std::string, uint64_t>> counters;  // the plugins' and the host's, in order
+    std::optional<StepRun> steps;  // when rendered step by step (FrameSettings::stop_after_step)
     double visibility_ms = 0;   // time inside the hidden-surface plugin
     double shading_ms = 0;      // fragment assembly + lighting plugin
 
@@ -46,6 +80,10 @@ struct Frame {
 // copies the instances out for such plugins, see needs_flat_scene().
 void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                         Frame& frame, bool count_depth_tests = false);
+// The same step by step (ABI 1.3; throws hsr::Error for a plugin without steps): stops after step
+// stop_after (0: every step), and sets frame.steps.
+void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                              Frame& frame, uint64_t stop_after, bool count_depth_tests = false);
 
 // True when a plugin was built before instancing (ABI 1.0) and the scene has instances: it must be
 // given flatten_instances(scene) instead.

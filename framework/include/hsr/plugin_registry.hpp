@@ -99,6 +99,11 @@ public:
 
     void render(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
                 const hsr_counter_sink* counters);
+    // Whether the plugin renders step by step (ABI 1.3 render_steps).
+    bool has_steps() const;
+    // render() reporting each step to steps, which may stop it; throws hsr::Error when !has_steps().
+    void render_steps(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
+                      const hsr_counter_sink* counters, const hsr_step_sink& steps);
     const Plugin& plugin() const { return plugin_; }
 
 private:

@@ -35,27 +35,14 @@ public:
 
     void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                 hsr::sdk::Counters& counters) override {
-        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
-        geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
+        hsr::sdk::NoSteps no_steps;
+        render_with(scene, camera, target, counters, no_steps);
+    }
 
-        const size_t pixel_count = size_t(target.width()) * target.height();
-        PixelStats pixels;
-        if (keep_farthest_) {
-            // The host clears depth to +infinity; keeping the farthest surface needs -infinity.
-            std::fill_n(target.depth(), pixel_count, -std::numeric_limits<float>::infinity());
-            draw<false>(scene, target, pixels);
-            // Uncovered pixels go back to the buffer's "nothing here" depth.
-            float* depth = target.depth();
-            const uint32_t* face = target.face();
-            for (size_t p = 0; p < pixel_count; ++p)
-                if (face[p] == HSR_NO_FACE) depth[p] = std::numeric_limits<float>::infinity();
-        } else {
-            draw<true>(scene, target, pixels);
-        }
-
-        geometry_.stats().report(counters);
-        counters.set("pixels-depth-tested", pixels.depth_tested);
-        counters.set("pixels-written", pixels.written);
+    // One step per input triangle, in drawing order.
+    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
+        render_with(scene, camera, target, counters, steps);
     }
 
 private:
@@ -64,16 +51,51 @@ private:
         uint64_t written = 0;
     };
 
-    template <bool kKeepNearest>
-    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
-        if (target.depth_tests() == nullptr)
-            draw<kKeepNearest, false>(scene, target, pixels);
-        else
-            draw<kKeepNearest, true>(scene, target, pixels);
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
+        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+        geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
+
+        const size_t pixel_count = size_t(target.width()) * target.height();
+        PixelStats pixels;
+        auto finish = [&] {
+            if (keep_farthest_) {
+                // Uncovered pixels go back to the buffer's "nothing here" depth.
+                float* depth = target.depth();
+                const uint32_t* face = target.face();
+                for (size_t p = 0; p < pixel_count; ++p)
+                    if (face[p] == HSR_NO_FACE) depth[p] = std::numeric_limits<float>::infinity();
+            }
+            geometry_.stats().report(counters);
+            counters.set("pixels-depth-tested", pixels.depth_tested);
+            counters.set("pixels-written", pixels.written);
+        };
+        try {
+            if (keep_farthest_) {
+                // The host clears depth to +infinity; keeping the farthest surface needs -infinity.
+                std::fill_n(target.depth(), pixel_count, -std::numeric_limits<float>::infinity());
+                draw<false>(scene, target, pixels, steps);
+            } else {
+                draw<true>(scene, target, pixels, steps);
+            }
+        } catch (const hsr::sdk::StepLimitReached&) {
+            finish();
+            throw;
+        }
+        finish();
     }
 
-    template <bool kKeepNearest, bool kCountTests>
-    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
+    template <bool kKeepNearest, class Steps>
+    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
+        if (target.depth_tests() == nullptr)
+            draw<kKeepNearest, false>(scene, target, pixels, steps);
+        else
+            draw<kKeepNearest, true>(scene, target, pixels, steps);
+    }
+
+    template <bool kKeepNearest, bool kCountTests, class Steps>
+    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
         constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
         const raster::PixelBuffers buffers(target);
         for (uint32_t k = 0; k < scene.placement_count(); ++k) {
@@ -81,15 +103,21 @@ private:
             geometry_.place(placement);
             const uint32_t end = placement.first_triangle + placement.triangle_count;
             for (uint32_t t = placement.first_triangle; t < end; ++t) {
+                const raster::TriangleStats before = geometry_.stats();
+                const PixelStats pixels_before = pixels;
                 geometry_.process(t, [&](const raster::TriangleSetup& s) {
                     raster::DepthTest<rule, kCountTests> test(buffers, t, placement.instance);
                     raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); });
                     pixels.depth_tested += test.tested;
                     pixels.written += test.written;
                 });
+                raster::triangle_step(steps, before, geometry_.stats(), t, placement.instance,
+                                      pixels.depth_tested - pixels_before.depth_tested,
+                                      pixels.written - pixels_before.written);
             }
         }
     }
+
     bool cull_backfaces_;
     bool keep_farthest_;
     raster::GeometryStage geometry_;  // keeps its vertex buffers between frames

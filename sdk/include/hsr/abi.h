@@ -42,6 +42,10 @@
  *        IHiddenLineRemover; the edges to draw (hsr_line_request), the visible and hidden pieces
  *        that come back in batches (hsr_segment_batch, hsr_segment_sink) and the optional step
  *        events for replaying an algorithm (hsr_trace_event, hsr_trace_sink).
+ *   1.3  hidden-surface removal step by step: IHiddenSurfaceRemover.render_steps, which reports each
+ *        step of the algorithm (hsr_step_event: what it did, the lines to draw over the picture,
+ *        the plugin's own buffers) to an hsr_step_sink that can stop the render after any step.
+ *        Optional: a plugin without it renders as before, without steps.
  */
 #ifndef HSR_ABI_H
 #define HSR_ABI_H
@@ -55,7 +59,7 @@ extern "C" {
 
 #define HSR_API_NAME "hsr"
 #define HSR_ABI_MAJOR 1
-#define HSR_ABI_MINOR 2
+#define HSR_ABI_MINOR 3
 #define HSR_ENTRY_SYMBOL "hsr_plugin_entry"
 
 #if defined(_WIN32)
@@ -243,6 +247,55 @@ typedef struct hsr_visibility_buffer {
                               host can draw where the algorithm worked (overdraw) */
 } hsr_visibility_buffer;
 
+/* Since 1.3: the steps of a hidden-surface algorithm, for a viewer that replays them. */
+
+/* What a line of a step shows (hsr_step_event.line_roles), for the colour a viewer draws it in. */
+typedef enum hsr_step_role {
+    HSR_STEP_SUBJECT = 0,  /* what the step works on: a triangle's outline, a tile or node box */
+    HSR_STEP_WRITTEN = 1,  /* pixels that passed the depth test (a span), a box accepted */
+    HSR_STEP_REJECTED = 2, /* pixels that failed it, a box culled */
+    HSR_STEP_CONTEXT = 3   /* state the step works with: the active edges, the scanline */
+} hsr_step_role;
+
+/* One of the plugin's own buffers as it is at a step (a z-pyramid level, say), for a viewer to
+ * show beside the frame: width * height values, row 0 at the top. */
+typedef struct hsr_step_buffer {
+    uint32_t struct_size;
+    uint32_t width;
+    uint32_t height;
+    const char* name; /* lower-case words joined by '-', e.g. "z-pyramid-3" */
+    const float* values;
+} hsr_step_buffer;
+
+#define HSR_NO_LEVEL 0xFFFFFFFFu
+
+/* What one step did. Everything it points to is valid only during the step() call: the host copies
+ * what it keeps. Fields that do not apply hold their "none" value (NULL, HSR_NO_FACE, HSR_NO_LEVEL,
+ * zero counts). */
+typedef struct hsr_step_event {
+    uint32_t struct_size;
+    const char* type; /* lower-case words joined by '-': "triangle", "scanline", "node-culled", ... */
+    const char* text; /* one line for a person, e.g. "triangle 1204: 37 pixels written, 12 behind";
+                         NULL: the host writes one from the other fields */
+    uint32_t face;     /* the triangle the step is about, or HSR_NO_FACE */
+    uint32_t instance; /* its instance; 0 when the scene has none */
+    uint32_t level;    /* the pyramid or tree level concerned, or HSR_NO_LEVEL */
+    uint32_t line_count;
+    const float* lines;         /* 4 * line_count: x0, y0, x1, y1 in window coordinates (see
+                                   hsr_camera), to draw over the picture */
+    const uint32_t* line_roles; /* line_count hsr_step_role values, or NULL: all HSR_STEP_SUBJECT */
+    uint64_t pixels_written;    /* depth tests passed in this step */
+    uint64_t pixels_rejected;   /* depth tests failed in this step */
+    const hsr_step_buffer* buffers;
+    uint32_t buffer_count;
+} hsr_step_event;
+
+typedef struct hsr_step_sink {
+    void* context;
+    /* Returns 0 to go on, non-zero to stop after this step (the host's step limit). */
+    uint32_t (*step)(void* context, const hsr_step_event* event);
+} hsr_step_sink;
+
 typedef struct IHiddenSurfaceRemover {
     uint32_t struct_size;
     /* Makes an instance from validated parameters. On success *instance is set and HSR_OK returned. */
@@ -257,6 +310,13 @@ typedef struct IHiddenSurfaceRemover {
                          hsr_error* error);
     /* Optional extension tables by id (see docs/abi.md); NULL or returning NULL means none. */
     const void* (*extension)(const char* id);
+    /* Since 1.3, optional (NULL: the algorithm has no steps to show): render() that calls
+     * steps->step() at the end of each step of the algorithm and returns HSR_OK as soon as a call
+     * answers non-zero, leaving target as the steps so far made it. Run to the end, it leaves
+     * target exactly as render() does. */
+    hsr_status (*render_steps)(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                               hsr_visibility_buffer* target, const hsr_counter_sink* counters,
+                               const hsr_step_sink* steps, hsr_error* error);
 } IHiddenSurfaceRemover;
 
 /* ---------------------------------------------------------------------------------------------- */

@@ -121,6 +121,26 @@ struct TriangleStats {
     }
 };
 
+// Reports the step of one input triangle (ABI 1.3) from what the geometry stage counted for it
+// (stats before and after processing it) and what its depth tests did.
+template <class StepsT>
+void triangle_step(StepsT& steps, const TriangleStats& before, const TriangleStats& after, uint32_t face,
+                   uint32_t instance, uint64_t tested, uint64_t written) {
+    if constexpr (StepsT::enabled) {
+        const hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, written, tested - written};
+        const unsigned long long f = face, w = written, r = tested - written;
+        if (after.backface_culled != before.backface_culled)
+            steps.step(event, "triangle %llu: culled, it faces away from the camera", f);
+        else if (after.outside != before.outside)
+            steps.step(event, "triangle %llu: outside the view, not drawn", f);
+        else if (after.degenerate != before.degenerate || tested == 0)
+            steps.step(event, "triangle %llu: covers no pixel centre", f);
+        else
+            steps.step(event, "triangle %llu: %llu pixel%s written, %llu rejected by the depth test", f, w,
+                       w == 1 ? "" : "s", r);
+    }
+}
+
 // Checks what a rasterizing plugin relies on and throws hsr::sdk::InvalidArgument with a one-line
 // message starting with the plugin's name. Scans the index array once (cheap next to rendering).
 inline void validate_frame(const char* plugin, const hsr_scene& scene, const hsr_camera& camera,

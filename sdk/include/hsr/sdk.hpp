@@ -266,6 +266,103 @@ public:
     virtual ~HiddenSurfaceRemover() = default;
     virtual void render(const Scene& scene, const hsr_camera& camera, VisibilityBuffer& target,
                         Counters& counters) = 0;
+    // A remover that can show its steps (ABI 1.3) also declares
+    //   void render_steps(const Scene&, const hsr_camera&, VisibilityBuffer&, Counters&, Steps&);
+    // and the SDK fills IHiddenSurfaceRemover.render_steps with it. The usual shape is one template
+    // drawing function, called with NoSteps from render() and with Steps from render_steps(), so that
+    // the step code compiles away from render().
+};
+
+// Thrown by Steps::step() when the host wants no more steps; the SDK turns it into HSR_OK. A remover
+// that keeps results outside the visibility buffer until the end catches it, writes them, and
+// rethrows.
+struct StepLimitReached {};
+
+// ABI 1.3: reports the steps of a hidden-surface algorithm (hsr_step_event). Describe a step with
+// line(), box() and buffer(), then call step(): it sends the event, forgets the lines and buffers,
+// and throws StepLimitReached when the host says stop.
+class Steps {
+public:
+    static constexpr bool enabled = true;
+    explicit Steps(const hsr_step_sink& sink) : sink_(&sink) {}
+
+    // What a step did, besides its lines and buffers (see hsr_step_event).
+    struct Event {
+        const char* type;
+        uint32_t face = HSR_NO_FACE;
+        uint32_t instance = 0;
+        uint32_t level = HSR_NO_LEVEL;
+        uint64_t pixels_written = 0;
+        uint64_t pixels_rejected = 0;
+    };
+
+    void line(float x0, float y0, float x1, float y1, hsr_step_role role = HSR_STEP_SUBJECT) {
+        lines_.insert(lines_.end(), {x0, y0, x1, y1});
+        roles_.push_back(role);
+    }
+    // The outline of [x0, x1] x [y0, y1] in window coordinates, as four lines.
+    void box(float x0, float y0, float x1, float y1, hsr_step_role role = HSR_STEP_SUBJECT) {
+        line(x0, y0, x1, y0, role);
+        line(x1, y0, x1, y1, role);
+        line(x1, y1, x0, y1, role);
+        line(x0, y1, x0, y0, role);
+    }
+    // values must stay valid until step() returns.
+    void buffer(const char* name, uint32_t width, uint32_t height, const float* values) {
+        buffers_.push_back({sizeof(hsr_step_buffer), width, height, name, values});
+    }
+
+    // text: one line for a person (printf format), or nullptr for the host's own.
+    template <class... Args>
+    void step(const Event& e, const char* format = nullptr, Args... args) {
+        hsr_step_event out{};
+        out.struct_size = sizeof out;
+        out.type = e.type;
+        if (format != nullptr) {
+            if constexpr (sizeof...(Args) == 0)
+                std::snprintf(text_, sizeof text_, "%s", format);
+            else
+                std::snprintf(text_, sizeof text_, format, args...);
+            out.text = text_;
+        }
+        out.face = e.face;
+        out.instance = e.instance;
+        out.level = e.level;
+        out.line_count = static_cast<uint32_t>(roles_.size());
+        out.lines = lines_.empty() ? nullptr : lines_.data();
+        out.line_roles = roles_.empty() ? nullptr : roles_.data();
+        out.pixels_written = e.pixels_written;
+        out.pixels_rejected = e.pixels_rejected;
+        out.buffers = buffers_.empty() ? nullptr : buffers_.data();
+        out.buffer_count = static_cast<uint32_t>(buffers_.size());
+        ++count_;
+        const uint32_t stop = sink_->step(sink_->context, &out);
+        lines_.clear();
+        roles_.clear();
+        buffers_.clear();
+        if (stop != 0) throw StepLimitReached{};
+    }
+    uint64_t count() const { return count_; }
+
+private:
+    const hsr_step_sink* sink_;
+    std::vector<float> lines_;
+    std::vector<uint32_t> roles_;
+    std::vector<hsr_step_buffer> buffers_;
+    char text_[256] = {};
+    uint64_t count_ = 0;
+};
+
+// The Steps of a render without steps: every call does nothing and compiles away. Guard the work
+// of describing a step with `if constexpr (S::enabled)`.
+struct NoSteps {
+    static constexpr bool enabled = false;
+    void line(float, float, float, float, hsr_step_role = HSR_STEP_SUBJECT) {}
+    void box(float, float, float, float, hsr_step_role = HSR_STEP_SUBJECT) {}
+    void buffer(const char*, uint32_t, uint32_t, const float*) {}
+    template <class... Args>
+    void step(const Steps::Event&, const char* = nullptr, Args...) {}
+    uint64_t count() const { return 0; }
 };
 
 // ABI 1.2: the edges a hidden-line remover is asked for (see hsr_line_request).
@@ -431,6 +528,42 @@ hsr_status render(void* instance, const hsr_scene* scene, const hsr_camera* came
 }
 
 template <class T>
+concept HasSteps = requires(T& remover, const Scene& scene, const hsr_camera& camera, VisibilityBuffer& target,
+                            Counters& counters, Steps& steps) {
+    remover.render_steps(scene, camera, target, counters, steps);
+};
+
+template <class T>
+hsr_status render_steps(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                        hsr_visibility_buffer* target, const hsr_counter_sink* sink, const hsr_step_sink* step_sink,
+                        hsr_error* error) {
+    return guarded(error, [&] {
+        if (instance == nullptr || scene == nullptr || camera == nullptr || target == nullptr ||
+            step_sink == nullptr || step_sink->step == nullptr)
+            throw InvalidArgument("render_steps: NULL argument");
+        Scene scene_view(*scene);
+        VisibilityBuffer buffer(*target);
+        Counters counters;
+        Steps steps(*step_sink);
+        try {
+            static_cast<T*>(instance)->render_steps(scene_view, *camera, buffer, counters, steps);
+        } catch (const StepLimitReached&) {
+        }
+        counters.set("steps", steps.count());
+        counters.flush(sink);
+    });
+}
+
+template <class T>
+constexpr auto render_steps_entry() {
+    using Entry = decltype(IHiddenSurfaceRemover::render_steps);
+    if constexpr (HasSteps<T>)
+        return Entry{&render_steps<T>};
+    else
+        return Entry{nullptr};
+}
+
+template <class T>
 hsr_status render_lines(void* instance, const hsr_scene* scene, const hsr_camera* camera,
                         const hsr_line_request* request, const hsr_segment_sink* segments,
                         const hsr_trace_sink* trace, const hsr_counter_sink* sink, hsr_error* error) {
@@ -487,8 +620,8 @@ constexpr hsr_plugin_kind kind_of() {
 template <class T>
 const void* interface_table() {
     if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_SURFACE_REMOVER) {
-        static const IHiddenSurfaceRemover table{sizeof(IHiddenSurfaceRemover), &create<T>,
-                                                 &destroy<T>, &render<T>, &no_extension};
+        static const IHiddenSurfaceRemover table{sizeof(IHiddenSurfaceRemover), &create<T>, &destroy<T>,
+                                                 &render<T>, &no_extension, render_steps_entry<T>()};
         return &table;
     } else if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_LINE_REMOVER) {
         static const IHiddenLineRemover table{sizeof(IHiddenLineRemover), &create<T>, &destroy<T>,
