@@ -813,7 +813,7 @@ TEST_CASE("light specs", "[scene][lights]") {
     }
 }
 
-TEST_CASE("scene files: the three-polygon exercise and the boxes", "[scene][file]") {
+TEST_CASE("scene files: the three-polygon and z-buffer exercises and the boxes", "[scene][file]") {
     CHECK(hsr::is_scene_file("a/b/c.scene"));
     CHECK(hsr::is_scene_file("C.SCENE"));
     CHECK_FALSE(hsr::is_scene_file("cube.obj"));
@@ -845,6 +845,19 @@ TEST_CASE("scene files: the three-polygon exercise and the boxes", "[scene][file
         for (uint32_t t = 0; t < 6; ++t)
             if (s.face_object[t] == 0) red_area += triangle_area(s, t);
         CHECK(red_area == Approx(40.0 * std::hypot(216.0, 40.0)));
+    }
+    SECTION("zbuffer-exercise.scene") {
+        const hsr::SceneFile f = hsr::load_scene_file(models_dir / "zbuffer-exercise.scene");
+        const hsr::SceneData& s = f.scene;
+        check_consistent(s);
+        CHECK(f.pixel_camera);
+        CHECK(f.width == 32u);
+        CHECK(f.height == 32u);
+        CHECK(s.object_names == std::vector<std::string>{"rectangle", "triangle"});
+        REQUIRE(s.triangle_count() == 3);
+        for (uint32_t t = 0; t < 3; ++t) CHECK(face_normal(s, t).z > 0.5f);  // all face the viewer
+        CHECK(s.bounds_min == glm::vec3(10, 5, 5));
+        CHECK(s.bounds_max == glm::vec3(30, 25, 15));
     }
     SECTION("boxes.scene") {
         const hsr::SceneFile f = hsr::load_scene_file(models_dir / "boxes.scene");
