@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # Fuzzes one target for a bounded time, as the ctest test fuzz_<target> does (docs/fuzzing.md):
-#   run.sh FUZZER TARGET SECONDS FUZZ_SOURCE_DIR BUILD_DIR
+#   run.sh FUZZER TARGET SECONDS FUZZ_SOURCE_DIR BUILD_DIR [SEED]
+# SEED (libFuzzer's -seed) makes a run repeatable: the same code and seed try the same inputs in the
+# same order, as far as the time allows; 0 or none lets libFuzzer pick a new one.
 # The seed corpus and the kept regressions are copied into BUILD_DIR/fuzz-corpus/TARGET, which
 # libFuzzer grows (the source tree is never written). Any crash, leak, timeout (> 10 s for one
 # input) or out-of-memory (> 1 GB) fails the run; the input is then in
 # BUILD_DIR/fuzz-artifacts/TARGET/, and this script prints it and how to keep it as a regression.
 set -euo pipefail
-if [ $# -ne 5 ]; then
-  echo "usage: $0 FUZZER TARGET SECONDS FUZZ_SOURCE_DIR BUILD_DIR" >&2
+if [ $# -ne 5 ] && [ $# -ne 6 ]; then
+  echo "usage: $0 FUZZER TARGET SECONDS FUZZ_SOURCE_DIR BUILD_DIR [SEED]" >&2
   exit 2
 fi
-fuzzer=$1 target=$2 seconds=$3 source=$4 build=$5
+fuzzer=$1 target=$2 seconds=$3 source=$4 build=$5 seed=${6:-0}
 
 corpus=$build/fuzz-corpus/$target
 artifacts=$build/fuzz-artifacts/$target
@@ -20,7 +22,7 @@ marker=$(mktemp)
 trap 'rm -f "$marker"' EXIT
 
 status=0
-"$fuzzer" -max_total_time="$seconds" -rss_limit_mb=1024 -timeout=10 -print_final_stats=1 \
+"$fuzzer" -seed="$seed" -max_total_time="$seconds" -rss_limit_mb=1024 -timeout=10 -print_final_stats=1 \
   -artifact_prefix="$artifacts/" "$corpus" || status=$?
 if [ "$status" -eq 0 ]; then exit 0; fi
 
