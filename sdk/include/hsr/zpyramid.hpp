@@ -203,6 +203,13 @@ public:
     float cell(int k, int32_t cx, int32_t cy) const {
         return storage_[offset_[k] + size_t(cy) * level_width_[k] + size_t(cx)];
     }
+    // The cells of stored level k, row by row, as they are (deferred marks not flushed).
+    const float* level_cells(int k) const { return storage_.data() + offset_[k]; }
+    // The level a query of the rectangle (clamped, non-empty) starts at: the coarsest whose cells
+    // are as large as the rectangle, where it meets at most 2 x 2 of them.
+    int query_level(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const {
+        return start_level(std::max(x0, 0), std::max(y0, 0), std::min(x1, width_ - 1), std::min(y1, height_ - 1));
+    }
 
     // Work counters, cumulative until reset_counters() (reset() does not clear them).
     uint64_t cells_visited() const { return cells_visited_; }  // cells and fine pixels read by queries
