@@ -23,14 +23,12 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
-#include <string>
 #include <vector>
 
 namespace {
@@ -418,46 +416,11 @@ private:
         step_.box = {};
     }
 
-    // The level whose cells answered a query: for a hidden answer, the level the query starts at
-    // when its cells there alone are nearer, else 0 (finer levels and the fine depths were needed);
-    // for a visible one, the level it starts at.
     int answering_level(const PyramidQuery& q, bool hidden) const {
-        const int level = pyramid_.query_level(q.x0, q.y0, q.x1, q.y1);
-        if (!hidden) return level;
-        const int32_t cx0 = std::max(q.x0, 0) >> level, cy0 = std::max(q.y0, 0) >> level;
-        const int32_t cx1 = std::min(q.x1, width_ - 1) >> level, cy1 = std::min(q.y1, height_ - 1) >> level;
-        for (int32_t cy = cy0; cy <= cy1; ++cy)
-            for (int32_t cx = cx0; cx <= cx1; ++cx)
-                if (!(pyramid_.cell(level, cx, cy) < q.nearest)) return 0;
-        return level;
+        return pyramid_.answering_level(q.x0, q.y0, q.x1, q.y1, q.nearest, hidden);
     }
 
-    // "level 5 (32x32 cells)", or "level 0 (the depth buffer)".
-    void describe_level(int level, char (&out)[64]) const {
-        if (level == 0)
-            std::snprintf(out, sizeof out, "level 0 (the depth buffer)");
-        else
-            std::snprintf(out, sizeof out, "level %d (%dx%d cells)", level, int(pyramid_.level_width(level)),
-                          int(pyramid_.level_height(level)));
-    }
-
-    static const char* level_name(int level) {
-        static const std::array<std::string, raster::ZPyramid::kMaxLevels> names = [] {
-            std::array<std::string, raster::ZPyramid::kMaxLevels> n;
-            for (int k = 0; k < raster::ZPyramid::kMaxLevels; ++k) n[size_t(k)] = "z-pyramid-" + std::to_string(k);
-            return n;
-        }();
-        return names[size_t(level)].c_str();
-    }
-
-    // The stored pyramid levels as they are (cells marked for a deferred update not yet brought up
-    // to date), and the outline of the pixels [x0, x1] x [y0, y1] clipped to the image.
-    template <class Steps>
-    void add_pyramid(Steps& steps) const {
-        for (int k = pyramid_.base_level(); k <= pyramid_.top_level(); ++k)
-            steps.buffer(level_name(k), uint32_t(pyramid_.level_width(k)), uint32_t(pyramid_.level_height(k)),
-                         pyramid_.level_cells(k));
-    }
+    // The outline of the pixels [x0, x1] x [y0, y1] clipped to the image.
     template <class Steps>
     void add_box(Steps& steps, int32_t x0, int32_t y0, int32_t x1, int32_t y1, hsr_step_role role) const {
         x0 = std::max(x0, 0);
@@ -487,7 +450,7 @@ private:
         const PlacementBox& box = boxes_[k];
         const unsigned long long n = triangles;
         if (box.projectable) add_box(steps, box.x0, box.y0, box.x1, box.y1, HSR_STEP_REJECTED);
-        add_pyramid(steps);
+        pyramid_.add_step_buffers(steps);
         if (!hidden) {
             steps.step({"instance-outside", HSR_NO_FACE, k}, "instance %u: outside the view, its %llu triangles skipped",
                        k, n);
@@ -495,7 +458,7 @@ private:
         }
         const int level = answering_level({box.x0, box.y0, box.x1, box.y1, box.nearest, true}, true);
         char where[64];
-        describe_level(level, where);
+        pyramid_.describe_level(level, where);
         steps.step({"instance-culled", HSR_NO_FACE, k, uint32_t(level)},
                    "instance %u: hidden behind the z-pyramid at %s, its %llu triangles skipped", k, where, n);
     }
@@ -512,11 +475,11 @@ private:
             const uint64_t tested = stats.depth_tested - b.depth_tested, written = stats.written - b.written;
             const unsigned long long f = t, w = written, r = tested - written;
             const uint32_t* const corner = indices + 3 * size_t(t);
-            add_pyramid(steps);
+            pyramid_.add_step_buffers(steps);
             if (stats.triangles_culled != b.triangles_culled || (tested == 0 && stats.pieces_culled != b.pieces_culled)) {
                 const int level = answering_level(q, true);
                 char where[64];
-                describe_level(level, where);
+                pyramid_.describe_level(level, where);
                 add_outline(steps, corner);
                 add_box(steps, q.x0, q.y0, q.x1, q.y1, HSR_STEP_REJECTED);
                 steps.step({"triangle", t, instance, uint32_t(level), 0, 0},
@@ -548,7 +511,7 @@ private:
                 return;
             }
             char where[64];
-            describe_level(int(event.level), where);
+            pyramid_.describe_level(int(event.level), where);
             steps.step(event, "triangle %llu: not hidden at z-pyramid %s, drawn: %llu pixels written, %llu rejected "
                               "by the depth test%s",
                        f, where, w, r, tiles);
