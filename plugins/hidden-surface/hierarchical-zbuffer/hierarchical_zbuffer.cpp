@@ -31,7 +31,7 @@
 #include <limits>
 #include <vector>
 
-namespace {
+namespace hierarchical_zbuffer {
 
 namespace raster = hsr::raster;
 using hsr::sdk::ParamSpec;
@@ -84,11 +84,10 @@ public:
         render_with(scene, camera, target, counters, no_steps);
     }
 
-    // One step per input triangle in drawing order, and one per instance skipped whole.
+    // One step per input triangle in drawing order, and one per instance skipped whole. Defined at
+    // the end of the file, in a translation unit of its own.
     void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps);
 
 private:
     struct Stats {
@@ -531,6 +530,17 @@ private:
     std::vector<PlacementBox> boxes_;
 };
 
-}  // namespace
+}  // namespace hierarchical_zbuffer
 
-HSR_EXPORT_PLUGIN(HierarchicalZBuffer)
+// render_steps() is compiled apart: this file again with HSR_STEPS_UNIT defined (CMakeLists.txt),
+// so that the drawing code it instantiates with hsr::sdk::Steps cannot change how the compiler
+// inlines render()'s.
+#ifdef HSR_STEPS_UNIT
+void hierarchical_zbuffer::HierarchicalZBuffer::render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera,
+                                                             hsr::sdk::VisibilityBuffer& target,
+                                                             hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
+    render_with(scene, camera, target, counters, steps);
+}
+#else
+HSR_EXPORT_PLUGIN(hierarchical_zbuffer::HierarchicalZBuffer)
+#endif

@@ -42,11 +42,10 @@
 #include <map>
 #include <vector>
 
-namespace {
+namespace octree_zbuffer {
 
 namespace raster = hsr::raster;
 using hsr::sdk::ParamSpec;
-using namespace octree_zbuffer;
 
 // ---------------------------------------------------------------------------------------------- //
 
@@ -114,10 +113,9 @@ public:
 
     // Steps in traversal order: each box test of a node (of the instance hierarchy or of an octree),
     // visited or culled, and each triangle of a visible leaf.
+    // Defined at the end of the file, in a translation unit of its own.
     void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps);
 
 private:
     template <class Steps>
@@ -831,6 +829,17 @@ private:
     std::vector<uint32_t> deferred_leaves_;      // node indices
 };
 
-}  // namespace
+}  // namespace octree_zbuffer
 
-HSR_EXPORT_PLUGIN(OctreeZBuffer)
+// render_steps() is compiled apart: this file again with HSR_STEPS_UNIT defined (CMakeLists.txt),
+// so that the drawing code it instantiates with hsr::sdk::Steps cannot change how the compiler
+// inlines render()'s.
+#ifdef HSR_STEPS_UNIT
+void octree_zbuffer::OctreeZBuffer::render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera,
+                                                 hsr::sdk::VisibilityBuffer& target, hsr::sdk::Counters& counters,
+                                                 hsr::sdk::Steps& steps) {
+    render_with(scene, camera, target, counters, steps);
+}
+#else
+HSR_EXPORT_PLUGIN(octree_zbuffer::OctreeZBuffer)
+#endif
