@@ -41,8 +41,9 @@
 #include <limits>
 #include <vector>
 
-namespace scanline_zbuffer {
+namespace {
 
+using namespace scanline_zbuffer;
 using hsr::sdk::ParamSpec;
 
 constexpr uint64_t kEmpty = ~uint64_t(0);   // an empty row-buffer entry: above every key
@@ -109,9 +110,10 @@ public:
     }
 
     // One step per scanline, top to bottom, empty ones included: step k leaves rows 0 .. k-1 drawn.
-    // Defined at the end of the file, in a translation unit of its own.
     void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps);
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
+        render_with(scene, camera, target, counters, steps);
+    }
 
 private:
     struct Stats {
@@ -831,17 +833,6 @@ private:
     std::vector<uint64_t> row_;                      // the one-row depth buffer
 };
 
-}  // namespace scanline_zbuffer
+}  // namespace
 
-// render_steps() is compiled apart: this file again with HSR_STEPS_UNIT defined (CMakeLists.txt),
-// so that the drawing code it instantiates with hsr::sdk::Steps cannot change how the compiler
-// inlines render()'s.
-#ifdef HSR_STEPS_UNIT
-void scanline_zbuffer::ScanlineZBuffer::render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera,
-                                                     hsr::sdk::VisibilityBuffer& target, hsr::sdk::Counters& counters,
-                                                     hsr::sdk::Steps& steps) {
-    render_with(scene, camera, target, counters, steps);
-}
-#else
-HSR_EXPORT_PLUGIN(scanline_zbuffer::ScanlineZBuffer)
-#endif
+HSR_EXPORT_PLUGIN(ScanlineZBuffer)
