@@ -472,7 +472,7 @@ private:
             const raster::TriangleStats after = geometry_.stats();
             const raster::TriangleStats& before = step_.geometry_before;
             const uint64_t tested = stats.depth_tested - b.depth_tested, written = stats.written - b.written;
-            const unsigned long long f = t, w = written, r = tested - written;
+            const unsigned f = t;
             const uint32_t* const corner = indices + 3 * size_t(t);
             pyramid_.add_step_buffers(steps);
             if (stats.triangles_culled != b.triangles_culled || (tested == 0 && stats.pieces_culled != b.pieces_culled)) {
@@ -482,7 +482,7 @@ private:
                 add_outline(steps, corner);
                 add_box(steps, q.x0, q.y0, q.x1, q.y1, HSR_STEP_REJECTED);
                 steps.step({"triangle", t, instance, uint32_t(level), 0, 0},
-                           "triangle %llu: rejected by the z-pyramid at %s", f, where);
+                           "triangle %u: rejected by the z-pyramid at %s", f, where);
                 return;
             }
             if (after.backface_culled != before.backface_culled || after.outside != before.outside ||
@@ -492,29 +492,36 @@ private:
             }
             add_outline(steps, corner);
             add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
-            char tiles[96] = "";
+            char tiles[64] = "";
             if (stats.tiles_tested != b.tiles_tested)
-                std::snprintf(tiles, sizeof tiles, "; %llu of %llu tiles culled by the z-pyramid",
-                              (unsigned long long)(stats.tiles_culled - b.tiles_culled),
-                              (unsigned long long)(stats.tiles_tested - b.tiles_tested));
+                std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid",
+                              unsigned(stats.tiles_culled - b.tiles_culled),
+                              unsigned(stats.tiles_tested - b.tiles_tested));
             const hsr::sdk::Steps::Event event{"triangle", t, instance,
                                                q.made ? uint32_t(answering_level(q, false)) : HSR_NO_LEVEL, written,
                                                tested - written};
+            char drawn[144];
+            describe_drawn(tested, written, tiles, drawn);
             if (!q.made) {
-                steps.step(event,
-                           "triangle %llu: drawn without a z-pyramid test (%s): %llu pixels written, %llu rejected by "
-                           "the depth test%s",
-                           f, stats.triangles_untested != b.triangles_untested ? "only sampled while few are culled"
-                                                                                : "none needed",
-                           w, r, tiles);
+                steps.step(event, "triangle %u: not tested against the z-pyramid (%s), %s", f,
+                           stats.triangles_untested != b.triangles_untested ? "only sampled while few are culled"
+                                                                            : "none needed",
+                           drawn);
                 return;
             }
             char where[64];
             pyramid_.describe_level(int(event.level), where);
-            steps.step(event, "triangle %llu: not hidden at z-pyramid %s, drawn: %llu pixels written, %llu rejected "
-                              "by the depth test%s",
-                       f, where, w, r, tiles);
+            steps.step(event, "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
         }
+    }
+
+    // "drawn: 37 pixels written, 12 rejected by the depth test", or that no pixel centre was covered.
+    static void describe_drawn(uint64_t tested, uint64_t written, const char* tiles, char (&out)[144]) {
+        if (tested == 0 && tiles[0] == '\0')
+            std::snprintf(out, sizeof out, "covers no pixel centre");
+        else
+            std::snprintf(out, sizeof out, "drawn: %u pixel%s written, %u rejected by the depth test%s",
+                          unsigned(written), written == 1 ? "" : "s", unsigned(tested - written), tiles);
     }
 
     TriangleStep step_;  // with steps only

@@ -755,7 +755,7 @@ private:
         const raster::TriangleStats after = geometry_.stats();
         const raster::TriangleStats& before = step_.geometry_before;
         const uint64_t tested = stats_.pixels_tested - b.pixels_tested, written = stats_.pixels_written - b.pixels_written;
-        const unsigned long long f = face, w = written, r = tested - written;
+        const unsigned f = face;
         const uint32_t* const corner = forest_.mesh.indices.data() + 3 * size_t(t);
         pyramid_.add_step_buffers(steps);
         char where[64];
@@ -765,7 +765,7 @@ private:
             pyramid_.describe_level(level, where);
             add_outline(steps, corner);
             add_box(steps, q.x0, q.y0, q.x1, q.y1, HSR_STEP_REJECTED);
-            steps.step({"triangle", face, instance, uint32_t(level)}, "triangle %llu: rejected by the z-pyramid at %s",
+            steps.step({"triangle", face, instance, uint32_t(level)}, "triangle %u: rejected by the z-pyramid at %s",
                        f, where);
             return;
         }
@@ -776,23 +776,26 @@ private:
         }
         add_outline(steps, corner);
         if (!step_.box.empty()) add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
-        char tiles[96] = "";
+        char tiles[64] = "";
         if (stats_.tiles_tested != b.tiles_tested)
-            std::snprintf(tiles, sizeof tiles, "; %llu of %llu tiles culled by the z-pyramid",
-                          (unsigned long long)(stats_.tiles_culled - b.tiles_culled),
-                          (unsigned long long)(stats_.tiles_tested - b.tiles_tested));
+            std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid",
+                          unsigned(stats_.tiles_culled - b.tiles_culled),
+                          unsigned(stats_.tiles_tested - b.tiles_tested));
         const uint32_t level =
             q.made ? uint32_t(pyramid_.answering_level(q.x0, q.y0, q.x1, q.y1, q.nearest, false)) : HSR_NO_LEVEL;
         const hsr::sdk::Steps::Event event{"triangle", face, instance, level, written, tested - written};
+        char drawn[144];
+        if (tested == 0 && tiles[0] == '\0')
+            std::snprintf(drawn, sizeof drawn, "covers no pixel centre");
+        else
+            std::snprintf(drawn, sizeof drawn, "drawn: %u pixel%s written, %u rejected by the depth test%s",
+                          unsigned(written), written == 1 ? "" : "s", unsigned(tested - written), tiles);
         if (!q.made) {
-            steps.step(event, "triangle %llu: drawn: %llu pixels written, %llu rejected by the depth test%s", f, w, r,
-                       tiles);
+            steps.step(event, "triangle %u: %s", f, drawn);
             return;
         }
         pyramid_.describe_level(int(level), where);
-        steps.step(event, "triangle %llu: not hidden at z-pyramid %s, drawn: %llu pixels written, %llu rejected by "
-                          "the depth test%s",
-                   f, where, w, r, tiles);
+        steps.step(event, "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
     }
 
     TriangleStep step_;  // with steps only
