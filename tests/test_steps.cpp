@@ -438,7 +438,9 @@ TEST_CASE("steps: every plugin of the z-buffer family has steps", "[steps]") {
     }
 }
 
-TEST_CASE("steps: zbuffer step by step, on the committed models", "[steps]") { check_runs("zbuffer", committed_cases()); }
+TEST_CASE("steps: zbuffer step by step, on the committed models", "[steps]") {
+    check_runs("zbuffer", committed_cases());
+}
 TEST_CASE("steps: scanline-zbuffer step by step, on the committed models", "[steps]") {
     check_runs("scanline-zbuffer", committed_cases());
 }
@@ -449,7 +451,9 @@ TEST_CASE("steps: octree-zbuffer step by step, on the committed models", "[steps
     check_runs("octree-zbuffer", committed_cases());
 }
 
-TEST_CASE("steps: zbuffer step by step, on monkey and bunny", "[steps]") { check_runs("zbuffer", fetched_cases()); }
+TEST_CASE("steps: zbuffer step by step, on monkey and bunny", "[steps]") {
+    check_runs("zbuffer", fetched_cases());
+}
 TEST_CASE("steps: scanline-zbuffer step by step, on monkey and bunny", "[steps]") {
     check_runs("scanline-zbuffer", fetched_cases());
 }
@@ -475,7 +479,8 @@ namespace {
 
 // The number of steps `hsr render <args>` has, from its answer to a step beyond the last.
 uint64_t steps_of(const std::string& args, const std::string& tag) {
-    const cli::Run r = cli::run_hsr(args + " --step 1000000000 -o " + (cli::scratch_dir() / (tag + ".png")).string(), tag);
+    const std::string out = (cli::scratch_dir() / (tag + ".png")).string();
+    const cli::Run r = cli::run_hsr(args + " --step 1000000000 -o " + out, tag);
     INFO(r.err);
     REQUIRE(r.status == 0);
     const std::smatch m = [&] {
@@ -500,7 +505,8 @@ TEST_CASE("steps: hsr render --step N of the last step writes the plain render's
             const uint64_t last = steps_of(args, tag + "-count");
             const std::filesystem::path stepped = cli::scratch_dir() / (tag + "-last.png");
             const std::filesystem::path plain = cli::scratch_dir() / (tag + "-plain.png");
-            const cli::Run a = cli::run_hsr(args + " --step " + std::to_string(last) + " -o " + stepped.string(), tag + "-last");
+            const cli::Run a =
+                cli::run_hsr(args + " --step " + std::to_string(last) + " -o " + stepped.string(), tag + "-last");
             const cli::Run b = cli::run_hsr(args + " -o " + plain.string(), tag + "-plain");
             INFO(a.err << b.err);
             REQUIRE(a.status == 0);

@@ -227,7 +227,8 @@ private:
             constexpr uint32_t kWindow = 64, kStride = 8;
             uint32_t stride = 1, countdown = 1, window_tests = 0, window_culls = 0;
             // With steps, triangle t's is reported after its body, `continue` included.
-            for (uint32_t t = placement.first_triangle; t < end; triangle_step(steps, t, placement.instance, stats, indices), ++t) {
+            for (uint32_t t = placement.first_triangle; t < end;
+                 triangle_step(steps, t, placement.instance, stats, indices), ++t) {
                 if constexpr (Steps::enabled) begin_triangle_step(stats);
                 const uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
                 const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
@@ -451,8 +452,8 @@ private:
         if (box.projectable) add_box(steps, box.x0, box.y0, box.x1, box.y1, HSR_STEP_REJECTED);
         pyramid_.add_step_buffers(steps);
         if (!hidden) {
-            steps.step({"instance-outside", HSR_NO_FACE, k}, "instance %u: outside the view, its %llu triangles skipped",
-                       k, n);
+            steps.step({"instance-outside", HSR_NO_FACE, k},
+                       "instance %u: outside the view, its %llu triangles skipped", k, n);
             return;
         }
         const int level = answering_level({box.x0, box.y0, box.x1, box.y1, box.nearest, true}, true);
@@ -475,7 +476,8 @@ private:
             const unsigned f = t;
             const uint32_t* const corner = indices + 3 * size_t(t);
             pyramid_.add_step_buffers(steps);
-            if (stats.triangles_culled != b.triangles_culled || (tested == 0 && stats.pieces_culled != b.pieces_culled)) {
+            if (stats.triangles_culled != b.triangles_culled ||
+                (tested == 0 && stats.pieces_culled != b.pieces_culled)) {
                 const int level = answering_level(q, true);
                 char where[64];
                 pyramid_.describe_level(level, where);

@@ -17,8 +17,9 @@
 //
 // Where a triangle goes and how the octree is laid out: octree.hpp; how a built scene is recognised
 // again: scene_key.hpp. What it costs and when it pays: docs/algorithms/octree-zbuffer.md. This
-// file is a little over 600 lines: the front-to-back traversal and its three levels of rejection
-// (node box, triangle, tile) are one pass over shared per-frame state, read best in one place.
+// file is over 800 lines: the front-to-back traversal and its three levels of rejection (node box,
+// triangle, tile) are one pass over shared per-frame state, read best in one place, and so are its
+// steps (render_steps, at the end of the class), which describe that pass as it goes.
 #include "octree.hpp"
 #include "scene_key.hpp"
 
@@ -595,7 +596,8 @@ private:
                 ++stats_.tiles_tested;
                 if (pyramid_.is_hidden(x0, y0, x1, y1, nearest_depth(s, x0, y0, x1, y1))) {
                     ++stats_.tiles_culled;
-                    if constexpr (Steps::enabled) steps.box(float(x0), float(y0), float(x1 + 1), float(y1 + 1), HSR_STEP_REJECTED);
+                    if constexpr (Steps::enabled)
+                        steps.box(float(x0), float(y0), float(x1 + 1), float(y1 + 1), HSR_STEP_REJECTED);
                     continue;
                 }
                 draw_tiles<kCountTests>(s, x0, y0, x1, y1, id, instance_id, written, steps);
@@ -619,7 +621,8 @@ private:
                                        nearest_depth(s, tile_x0, tile_y0, tile_x1, tile_y1))) {
                     ++stats_.tiles_culled;
                     if constexpr (Steps::enabled)
-                        steps.box(float(tile_x0), float(tile_y0), float(tile_x1 + 1), float(tile_y1 + 1), HSR_STEP_REJECTED);
+                        steps.box(float(tile_x0), float(tile_y0), float(tile_x1 + 1), float(tile_y1 + 1),
+                                  HSR_STEP_REJECTED);
                     continue;
                 }
                 const uint64_t count =
@@ -754,7 +757,8 @@ private:
         const PyramidQuery& q = step_.query;
         const raster::TriangleStats after = geometry_.stats();
         const raster::TriangleStats& before = step_.geometry_before;
-        const uint64_t tested = stats_.pixels_tested - b.pixels_tested, written = stats_.pixels_written - b.pixels_written;
+        const uint64_t tested = stats_.pixels_tested - b.pixels_tested;
+        const uint64_t written = stats_.pixels_written - b.pixels_written;
         const unsigned f = face;
         const uint32_t* const corner = forest_.mesh.indices.data() + 3 * size_t(t);
         pyramid_.add_step_buffers(steps);
@@ -775,7 +779,8 @@ private:
             return;
         }
         add_outline(steps, corner);
-        if (!step_.box.empty()) add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
+        if (!step_.box.empty())
+            add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
         char tiles[64] = "";
         if (stats_.tiles_tested != b.tiles_tested)
             std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid",

@@ -25,7 +25,8 @@
 // (blocks, streaming stores, huge pages). The rest of this file fills the y-sorted polygon table
 // and moves its buckets onto the active list. It is over 600 lines because those two share one
 // class's state (the active list and its slots, the table, the geometry stage) with the sweep, in
-// one translation unit so that activation inlines into it.
+// one translation unit so that activation inlines into it; the sweep's steps (render_steps, the
+// scanlines as a viewer sees them) read that state too.
 #include "edge_walk.hpp"
 #include "record_pool.hpp"
 
