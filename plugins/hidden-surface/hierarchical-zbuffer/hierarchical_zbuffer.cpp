@@ -27,10 +27,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
-namespace {
+namespace hierarchical_zbuffer {
 
 namespace raster = hsr::raster;
 using hsr::sdk::ParamSpec;
@@ -79,6 +80,32 @@ public:
 
     void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                 hsr::sdk::Counters& counters) override {
+        hsr::sdk::NoSteps no_steps;
+        render_with(scene, camera, target, counters, no_steps);
+    }
+
+    // One step per input triangle in drawing order, and one per instance skipped whole. Defined at
+    // the end of the file, in a translation unit of its own.
+    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps);
+
+private:
+    struct Stats {
+        uint64_t depth_tested = 0;
+        uint64_t written = 0;
+        uint64_t triangles_culled = 0;  // before setup: not in the geometry stage's counts
+        uint64_t pieces_culled = 0;
+        uint64_t triangles_untested = 0;  // drawn without a pyramid test (sampling, see draw())     // clipped pieces, after setup (their triangle counts as rasterized)
+        uint64_t tiles_tested = 0;
+        uint64_t tiles_culled = 0;
+        uint64_t instances_culled = 0;
+        uint64_t instances_outside = 0;
+        uint64_t instance_triangles_skipped = 0;  // triangles of culled or outside instances
+    };
+
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
         geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
         width_ = int32_t(target.width());
@@ -88,11 +115,19 @@ public:
 
         Stats stats;
         prepare_placements(scene, camera);
-        if (target.depth_tests() == nullptr)
-            draw<false>(scene, target, stats);
-        else
-            draw<true>(scene, target, stats);
+        try {
+            if (target.depth_tests() == nullptr)
+                draw<false>(scene, target, stats, steps);
+            else
+                draw<true>(scene, target, stats, steps);
+        } catch (const hsr::sdk::StepLimitReached&) {
+            report(stats, counters);
+            throw;
+        }
+        report(stats, counters);
+    }
 
+    void report(const Stats& stats, hsr::sdk::Counters& counters) const {
         raster::TriangleStats triangles = geometry_.stats();
         // The geometry stage never saw these: culled whole, or in skipped instances.
         triangles.in += stats.triangles_culled + stats.instance_triangles_skipped;
@@ -110,20 +145,6 @@ public:
         counters.set("pyramid-cells-visited", pyramid_.cells_visited());
         counters.set("pyramid-cells-updated", pyramid_.cells_updated());
     }
-
-private:
-    struct Stats {
-        uint64_t depth_tested = 0;
-        uint64_t written = 0;
-        uint64_t triangles_culled = 0;  // before setup: not in the geometry stage's counts
-        uint64_t pieces_culled = 0;
-        uint64_t triangles_untested = 0;  // drawn without a pyramid test (sampling, see draw())     // clipped pieces, after setup (their triangle counts as rasterized)
-        uint64_t tiles_tested = 0;
-        uint64_t tiles_culled = 0;
-        uint64_t instances_culled = 0;
-        uint64_t instances_outside = 0;
-        uint64_t instance_triangles_skipped = 0;  // triangles of culled or outside instances
-    };
 
     // A placement's world box seen by the camera (hsr/bounds.hpp): the pixels and nearest depth of
     // its 8 corners, when they are all beyond the near plane.
@@ -179,20 +200,22 @@ private:
         }
     }
 
-    template <bool kCountTests>
-    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, Stats& stats) {
+    template <bool kCountTests, class Steps>
+    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, Stats& stats, Steps& steps) {
         const raster::PixelBuffers buffers(target);
         for (const uint32_t k : order_) {
             const PlacementBox& box = boxes_[k];
             if (box.outside) {
                 ++stats.instances_outside;
                 stats.instance_triangles_skipped += scene.instance(k).triangle_count;
+                if constexpr (Steps::enabled) instance_step(steps, k, scene.instance(k).triangle_count, false);
                 continue;
             }
             if (box.projectable && cull_instances_ &&
                 pyramid_.is_hidden(box.x0, box.y0, box.x1, box.y1, box.nearest)) {
                 ++stats.instances_culled;
                 stats.instance_triangles_skipped += scene.instance(k).triangle_count;
+                if constexpr (Steps::enabled) instance_step(steps, k, scene.instance(k).triangle_count, true);
                 continue;
             }
             const hsr::sdk::Placement placement = scene.placement(k);
@@ -203,7 +226,10 @@ private:
             // a front-faces-only mesh) only every stride-th triangle is tested.
             constexpr uint32_t kWindow = 64, kStride = 8;
             uint32_t stride = 1, countdown = 1, window_tests = 0, window_culls = 0;
-            for (uint32_t t = placement.first_triangle; t < end; ++t) {
+            // With steps, triangle t's is reported after its body, `continue` included.
+            for (uint32_t t = placement.first_triangle; t < end;
+                 triangle_step(steps, t, placement.instance, stats, indices), ++t) {
+                if constexpr (Steps::enabled) begin_triangle_step(stats);
                 const uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
                 const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
                                c2 = geometry_.vertex_outcode(i2);
@@ -213,7 +239,7 @@ private:
                     // to be counted; it decides, so they still get the drawing callback.
                     auto draw_whole = [&](const raster::TriangleSetup& s) {
                         draw_piece<kCountTests>(s, t, placement.instance, -std::numeric_limits<double>::infinity(),
-                                                true, buffers, stats);
+                                                true, buffers, stats, steps);
                     };
                     if (c0 & c1 & c2 & raster::kOutsideFrustum) {
                         geometry_.process(t, draw_whole);
@@ -234,7 +260,8 @@ private:
                         ++stats.triangles_untested;
                         geometry_.process(t, [&](const raster::TriangleSetup& s) {
                             draw_piece<kCountTests>(s, t, placement.instance,
-                                                    -std::numeric_limits<double>::infinity(), false, buffers, stats);
+                                                    -std::numeric_limits<double>::infinity(), false, buffers, stats,
+                                                    steps);
                         });
                         continue;
                     }
@@ -251,6 +278,7 @@ private:
                     }
                     const double lower = triangle_lower_depth(a, b, c, std::abs(cross));
                     const bool hidden = pyramid_.is_hidden(x0, y0, x1, y1, depth_lower_bound(lower));
+                    if constexpr (Steps::enabled) step_.query = {x0, y0, x1, y1, depth_lower_bound(lower), true};
                     window_culls += hidden ? 1 : 0;
                     if (++window_tests == kWindow) {
                         // Fewer than 1 in 16 tests culled: test only every kStride-th triangle for a while.
@@ -262,13 +290,13 @@ private:
                         continue;
                     }
                     geometry_.process(t, [&](const raster::TriangleSetup& s) {
-                        draw_piece<kCountTests>(s, t, placement.instance, lower, false, buffers, stats);
+                        draw_piece<kCountTests>(s, t, placement.instance, lower, false, buffers, stats, steps);
                     });
                 } else {
                     // Clipped (or non-finite): the geometry stage makes the pieces, each tested whole.
                     geometry_.process(t, [&](const raster::TriangleSetup& s) {
                         draw_piece<kCountTests>(s, t, placement.instance, -std::numeric_limits<double>::infinity(),
-                                                true, buffers, stats);
+                                                true, buffers, stats, steps);
                     });
                 }
             }
@@ -293,9 +321,9 @@ private:
     }
 
     // One triangle (or clipped piece): reject it whole, draw it whole, or draw it tile by tile.
-    template <bool kCountTests>
+    template <bool kCountTests, class Steps>
     void draw_piece(const raster::TriangleSetup& setup, uint32_t id, uint32_t instance_id, double vertex_lower,
-                    bool test_whole, const raster::PixelBuffers& buffers, Stats& stats) {
+                    bool test_whole, const raster::PixelBuffers& buffers, Stats& stats, Steps& steps) {
         // A local copy: stores to face[] (uint32_t) may alias the caller's int32_t fields, which would
         // force the pixel loop to reload them after every write; a local whose address never escapes
         // cannot alias.
@@ -303,8 +331,11 @@ private:
         const int32_t tile = tile_size_;
         const bool small = s.max_x - s.min_x < tile && s.max_y - s.min_y < tile;
         double lower = vertex_lower;
+        if constexpr (Steps::enabled) step_.box.add(s.min_x, s.min_y, s.max_x, s.max_y);
         if (test_whole || !small) {
             lower = std::max(lower, plane_min(s.depth, 0.0, 0.0, double(s.max_x - s.min_x), double(s.max_y - s.min_y)));
+            if constexpr (Steps::enabled)
+                if (test_whole) step_.query = {s.min_x, s.min_y, s.max_x, s.max_y, depth_lower_bound(lower), true};
             if (test_whole && pyramid_.is_hidden(s.min_x, s.min_y, s.max_x, s.max_y, depth_lower_bound(lower))) {
                 ++stats.pieces_culled;
                 return;
@@ -335,6 +366,7 @@ private:
                 // out visible measured slower than drawing it).
                 if (pyramid_.farthest(x0, y0, x1, y1) < depth_lower_bound(tile_lower)) {
                     ++stats.tiles_culled;
+                    if constexpr (Steps::enabled) steps.box(x0, y0, x1 + 1, y1 + 1, HSR_STEP_REJECTED);
                     continue;
                 }
                 const uint64_t written_before = test.written;
@@ -351,6 +383,151 @@ private:
     void note_written(const float* depth, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
         pyramid_.mark_dirty(depth, x0, y0, x1, y1);
     }
+    // ---- Steps (ABI 1.3) ----
+
+    // A pyramid query, kept for the step that reports it.
+    struct PyramidQuery {
+        int32_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+        float nearest = 0.0f;
+        bool made = false;
+    };
+    struct PixelRect {
+        int32_t x0 = std::numeric_limits<int32_t>::max(), y0 = std::numeric_limits<int32_t>::max();
+        int32_t x1 = std::numeric_limits<int32_t>::min(), y1 = std::numeric_limits<int32_t>::min();
+        void add(int32_t ax0, int32_t ay0, int32_t ax1, int32_t ay1) {
+            x0 = std::min(x0, ax0);
+            y0 = std::min(y0, ay0);
+            x1 = std::max(x1, ax1);
+            y1 = std::max(y1, ay1);
+        }
+    };
+    // What the step of the triangle being drawn shows, gathered while it is drawn.
+    struct TriangleStep {
+        Stats before;
+        raster::TriangleStats geometry_before;
+        PyramidQuery query;  // its test against the pyramid (of its last clipped piece, if clipped)
+        PixelRect box;       // the pixel bounds of its setups
+    };
+
+    void begin_triangle_step(const Stats& stats) {
+        step_.before = stats;
+        step_.geometry_before = geometry_.stats();
+        step_.query = {};
+        step_.box = {};
+    }
+
+    int answering_level(const PyramidQuery& q, bool hidden) const {
+        return pyramid_.answering_level(q.x0, q.y0, q.x1, q.y1, q.nearest, hidden);
+    }
+
+    // The outline of the pixels [x0, x1] x [y0, y1] clipped to the image.
+    template <class Steps>
+    void add_box(Steps& steps, int32_t x0, int32_t y0, int32_t x1, int32_t y1, hsr_step_role role) const {
+        x0 = std::max(x0, 0);
+        y0 = std::max(y0, 0);
+        x1 = std::min(x1, width_ - 1);
+        y1 = std::min(y1, height_ - 1);
+        if (x0 <= x1 && y0 <= y1) steps.box(float(x0), float(y0), float(x1 + 1), float(y1 + 1), role);
+    }
+    // Triangle t's outline, when it needs no clipping and lies within a pixel of the image.
+    template <class Steps>
+    void add_outline(Steps& steps, const uint32_t* corner) const {
+        const uint32_t codes = geometry_.vertex_outcode(corner[0]) | geometry_.vertex_outcode(corner[1]) |
+                               geometry_.vertex_outcode(corner[2]);
+        if (codes & (raster::kNeedsClipping | raster::kNonFinite)) return;
+        float x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            const raster::WindowVertex& v = geometry_.window_vertex(corner[k]);
+            x[k] = float(v.exact_x);
+            y[k] = float(v.exact_y);
+            if (!(x[k] >= -1.0f && x[k] <= float(width_ + 1) && y[k] >= -1.0f && y[k] <= float(height_ + 1))) return;
+        }
+        for (int k = 0; k < 3; ++k) steps.line(x[k], y[k], x[(k + 1) % 3], y[(k + 1) % 3], HSR_STEP_SUBJECT);
+    }
+
+    template <class Steps>
+    void instance_step(Steps& steps, uint32_t k, uint32_t triangles, bool hidden) const {
+        const PlacementBox& box = boxes_[k];
+        const unsigned long long n = triangles;
+        if (box.projectable) add_box(steps, box.x0, box.y0, box.x1, box.y1, HSR_STEP_REJECTED);
+        pyramid_.add_step_buffers(steps);
+        if (!hidden) {
+            steps.step({"instance-outside", HSR_NO_FACE, k},
+                       "instance %u: outside the view, its %llu triangles skipped", k, n);
+            return;
+        }
+        const int level = answering_level({box.x0, box.y0, box.x1, box.y1, box.nearest, true}, true);
+        char where[64];
+        pyramid_.describe_level(level, where);
+        steps.step({"instance-culled", HSR_NO_FACE, k, uint32_t(level)},
+                   "instance %u: hidden behind the z-pyramid at %s, its %llu triangles skipped", k, where, n);
+    }
+
+    // The step of triangle t, from what drawing it counted (Stats, the geometry stage's counts)
+    // and gathered (step_).
+    template <class Steps>
+    void triangle_step(Steps& steps, uint32_t t, uint32_t instance, const Stats& stats, const uint32_t* indices) {
+        if constexpr (Steps::enabled) {
+            const Stats& b = step_.before;
+            const PyramidQuery& q = step_.query;
+            const raster::TriangleStats after = geometry_.stats();
+            const raster::TriangleStats& before = step_.geometry_before;
+            const uint64_t tested = stats.depth_tested - b.depth_tested, written = stats.written - b.written;
+            const unsigned f = t;
+            const uint32_t* const corner = indices + 3 * size_t(t);
+            pyramid_.add_step_buffers(steps);
+            if (stats.triangles_culled != b.triangles_culled ||
+                (tested == 0 && stats.pieces_culled != b.pieces_culled)) {
+                const int level = answering_level(q, true);
+                char where[64];
+                pyramid_.describe_level(level, where);
+                add_outline(steps, corner);
+                add_box(steps, q.x0, q.y0, q.x1, q.y1, HSR_STEP_REJECTED);
+                steps.step({"triangle", t, instance, uint32_t(level), 0, 0},
+                           "triangle %u: rejected by the z-pyramid at %s", f, where);
+                return;
+            }
+            if (after.backface_culled != before.backface_culled || after.outside != before.outside ||
+                after.degenerate != before.degenerate) {
+                raster::triangle_step(steps, before, after, t, instance, tested, written);
+                return;
+            }
+            add_outline(steps, corner);
+            add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
+            char tiles[64] = "";
+            if (stats.tiles_tested != b.tiles_tested)
+                std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid",
+                              unsigned(stats.tiles_culled - b.tiles_culled),
+                              unsigned(stats.tiles_tested - b.tiles_tested));
+            const hsr::sdk::Steps::Event event{"triangle", t, instance,
+                                               q.made ? uint32_t(answering_level(q, false)) : HSR_NO_LEVEL, written,
+                                               tested - written};
+            char drawn[144];
+            describe_drawn(tested, written, tiles, drawn);
+            if (!q.made) {
+                steps.step(event, "triangle %u: not tested against the z-pyramid (%s), %s", f,
+                           stats.triangles_untested != b.triangles_untested ? "only sampled while few are culled"
+                                                                            : "none needed",
+                           drawn);
+                return;
+            }
+            char where[64];
+            pyramid_.describe_level(int(event.level), where);
+            steps.step(event, "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
+        }
+    }
+
+    // "drawn: 37 pixels written, 12 rejected by the depth test", or that no pixel centre was covered.
+    static void describe_drawn(uint64_t tested, uint64_t written, const char* tiles, char (&out)[144]) {
+        if (tested == 0 && tiles[0] == '\0')
+            std::snprintf(out, sizeof out, "covers no pixel centre");
+        else
+            std::snprintf(out, sizeof out, "drawn: %u pixel%s written, %u rejected by the depth test%s",
+                          unsigned(written), written == 1 ? "" : "s", unsigned(tested - written), tiles);
+    }
+
+    TriangleStep step_;  // with steps only
+
     int32_t width_ = 0, height_ = 0;
     bool cull_backfaces_;
     int32_t tile_size_;
@@ -362,6 +539,17 @@ private:
     std::vector<PlacementBox> boxes_;
 };
 
-}  // namespace
+}  // namespace hierarchical_zbuffer
 
-HSR_EXPORT_PLUGIN(HierarchicalZBuffer)
+// render_steps() is compiled apart: this file again with HSR_STEPS_UNIT defined (CMakeLists.txt),
+// so that the drawing code it instantiates with hsr::sdk::Steps cannot change how the compiler
+// inlines render()'s.
+#ifdef HSR_STEPS_UNIT
+void hierarchical_zbuffer::HierarchicalZBuffer::render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera,
+                                                             hsr::sdk::VisibilityBuffer& target,
+                                                             hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
+    render_with(scene, camera, target, counters, steps);
+}
+#else
+HSR_EXPORT_PLUGIN(hierarchical_zbuffer::HierarchicalZBuffer)
+#endif

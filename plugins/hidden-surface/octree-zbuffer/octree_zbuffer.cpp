@@ -17,8 +17,9 @@
 //
 // Where a triangle goes and how the octree is laid out: octree.hpp; how a built scene is recognised
 // again: scene_key.hpp. What it costs and when it pays: docs/algorithms/octree-zbuffer.md. This
-// file is a little over 600 lines: the front-to-back traversal and its three levels of rejection
-// (node box, triangle, tile) are one pass over shared per-frame state, read best in one place.
+// file is over 800 lines: the front-to-back traversal and its three levels of rejection (node box,
+// triangle, tile) are one pass over shared per-frame state, read best in one place, and so are its
+// steps (render_steps, at the end of the class), which describe that pass as it goes.
 #include "octree.hpp"
 #include "scene_key.hpp"
 
@@ -36,16 +37,16 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <map>
 #include <vector>
 
-namespace {
+namespace octree_zbuffer {
 
 namespace raster = hsr::raster;
 using hsr::sdk::ParamSpec;
-using namespace octree_zbuffer;
 
 // ---------------------------------------------------------------------------------------------- //
 
@@ -67,6 +68,14 @@ struct Rect {
         x1 = std::max(x1, ax1);
         y1 = std::max(y1, ay1);
     }
+};
+
+// Which node a box test is about, for its step: "octree node" or "instance node", its index, and
+// its depth in the octree (HSR_NO_LEVEL for the instance hierarchy).
+struct NodeName {
+    const char* what;
+    uint32_t index;
+    uint32_t depth;
 };
 
 struct FrameStats {
@@ -99,6 +108,20 @@ public:
 
     void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                 hsr::sdk::Counters& counters) override {
+        hsr::sdk::NoSteps no_steps;
+        render_with(scene, camera, target, counters, no_steps);
+    }
+
+    // Steps in traversal order: each box test of a node (of the instance hierarchy or of an octree),
+    // visited or culled, and each triangle of a visible leaf.
+    // Defined at the end of the file, in a translation unit of its own.
+    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps);
+
+private:
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
 
         const auto build_start = std::chrono::steady_clock::now();
@@ -110,13 +133,21 @@ public:
 
         begin_frame(scene, camera, target);
         stats_ = FrameStats{};
-        if (!bvh_.empty()) {
-            if (buffers_.tests == nullptr)
-                draw_instances<false>(0);
-            else
-                draw_instances<true>(0);
+        try {
+            if (!bvh_.empty()) {
+                if (buffers_.tests == nullptr)
+                    draw_instances<false>(0, steps);
+                else
+                    draw_instances<true>(0, steps);
+            }
+        } catch (const hsr::sdk::StepLimitReached&) {
+            report(counters);
+            throw;
         }
+        report(counters);
+    }
 
+    void report(hsr::sdk::Counters& counters) const {
         raster::TriangleStats triangles = geometry_.stats();
         triangles.in = drawn_triangles_;
         triangles.outside += stats_.triangles_in_outside_nodes;
@@ -145,7 +176,6 @@ public:
         counters.set("pixels-written", stats_.pixels_written);
     }
 
-private:
     // ------------------------------------------------------------------------------------------ //
     // Build (once per scene)
 
@@ -264,9 +294,14 @@ private:
 
     // test_box, counted: false (and the node's triangles counted as culled or outside) when nothing
     // in the box can show.
-    bool box_may_show(const glm::dmat4& m, const float* lo, const float* hi, uint64_t triangles, BoxCounts counts) {
+    // With steps, the test is one: `node` says which node it is.
+    template <class Steps>
+    bool box_may_show(const glm::dmat4& m, const float* lo, const float* hi, uint64_t triangles, BoxCounts counts,
+                      Steps& steps, const NodeName& node) {
         ++counts.visited;
-        switch (test_box(m, lo, hi)) {
+        const BoxVisibility visibility = test_box(m, lo, hi);
+        if constexpr (Steps::enabled) node_step(steps, m, lo, hi, visibility, node, triangles);
+        switch (visibility) {
             case BoxVisibility::kOutside:
                 ++counts.outside;
                 stats_.triangles_in_outside_nodes += triangles;
@@ -281,19 +316,21 @@ private:
     }
 
     // The top level: placements, nearest first.
-    template <bool kCountTests>
-    void draw_instances(uint32_t index) {
+    template <bool kCountTests, class Steps>
+    void draw_instances(uint32_t index, Steps& steps) {
         const InstanceNode& node = bvh_[index];
         if (node.is_leaf()) {
-            draw_placement<kCountTests>(node.first);
+            draw_placement<kCountTests>(node.first, steps);
             return;
         }
-        if (!box_may_show(view_projection_, node.lo, node.hi, node.triangles, instance_node_counts())) return;
+        if (!box_may_show(view_projection_, node.lo, node.hi, node.triangles, instance_node_counts(), steps,
+                          NodeName{"instance node", index, HSR_NO_LEVEL}))
+            return;
         const double toward = perspective_ ? double(node.split) - eye_[node.axis] : -toward_viewer_[node.axis];
         // toward >= 0: the eye is on the low side of the split (or looks from -axis): left first.
         const uint32_t first = toward >= 0.0 ? node.first : node.first + 1;
-        draw_instances<kCountTests>(first);
-        draw_instances<kCountTests>(first == node.first ? node.first + 1 : node.first);
+        draw_instances<kCountTests>(first, steps);
+        draw_instances<kCountTests>(first == node.first ? node.first + 1 : node.first, steps);
     }
 
     struct PlacementFrame {
@@ -306,8 +343,8 @@ private:
         glm::vec4 viewer;
     };
 
-    template <bool kCountTests>
-    void draw_placement(uint32_t k) {
+    template <bool kCountTests, class Steps>
+    void draw_placement(uint32_t k, Steps& steps) {
         ++stats_.placements_visited;
         const ObjectTree& object = forest_.objects[placement_object_[k]];
         if (!object.has_root) return;
@@ -334,31 +371,32 @@ private:
 
         deferred_back_faces_.clear();
         deferred_leaves_.clear();
-        draw_node<kCountTests>(frame, object.root);
-        draw_deferred<kCountTests>(frame);
+        draw_node<kCountTests>(frame, object.root, steps);
+        draw_deferred<kCountTests>(frame, steps);
     }
 
     // What draw_leaf put off until the placement's front is in the pyramid: the back faces of the
     // leaves it drew (their vertices are still transformed: leaves have their own vertex copies, and
     // nothing else is placed over them before the placement ends), then the leaves facing wholly
     // away, box-tested again. On a closed surface most of both are now hidden behind its front.
-    template <bool kCountTests>
-    void draw_deferred(PlacementFrame& frame) {
+    template <bool kCountTests, class Steps>
+    void draw_deferred(PlacementFrame& frame, Steps& steps) {
         const uint32_t instance_id = frame.placement.instance;
         const uint32_t* const faces = forest_.mesh.face.data();
         Rect written;
         for (const uint32_t t : deferred_back_faces_)
-            draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
+            draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written, steps);
         mark_written(written);
         for (const uint32_t index : deferred_leaves_) {
             const OctreeNode& node = forest_.nodes[index];
-            if (!box_may_show(frame.clip_from_object, node.lo, node.hi, node.triangle_count, octree_node_counts()))
+            if (!box_may_show(frame.clip_from_object, node.lo, node.hi, node.triangle_count, octree_node_counts(),
+                              steps, NodeName{"octree node", index, node.depth}))
                 continue;
             place_leaf(frame, node);
             Rect leaf_written;
             const uint32_t end = node.first_triangle + node.triangle_count;
             for (uint32_t t = node.first_triangle; t < end; ++t)
-                draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, leaf_written);
+                draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, leaf_written, steps);
             mark_written(leaf_written);
         }
     }
@@ -379,12 +417,14 @@ private:
         ++stats_.pyramid_updates;
     }
 
-    template <bool kCountTests>
-    void draw_node(PlacementFrame& frame, uint32_t index) {
+    template <bool kCountTests, class Steps>
+    void draw_node(PlacementFrame& frame, uint32_t index, Steps& steps) {
         const OctreeNode& node = forest_.nodes[index];
-        if (!box_may_show(frame.clip_from_object, node.lo, node.hi, node.triangle_count, octree_node_counts())) return;
+        if (!box_may_show(frame.clip_from_object, node.lo, node.hi, node.triangle_count, octree_node_counts(), steps,
+                          NodeName{"octree node", index, node.depth}))
+            return;
         if (node.is_leaf()) {
-            draw_leaf<kCountTests>(frame, node, index);
+            draw_leaf<kCountTests>(frame, node, index, steps);
             return;
         }
         // Greene's order: the child octant holding the eye first, then those across one splitting
@@ -401,7 +441,7 @@ private:
         for (int k = 0; k < 8; ++k) {
             const int octant = eye_octant ^ k;
             if (!(mask & (1u << octant))) continue;
-            draw_node<kCountTests>(frame, first_child + uint32_t(std::popcount(mask & ((1u << octant) - 1u))));
+            draw_node<kCountTests>(frame, first_child + uint32_t(std::popcount(mask & ((1u << octant) - 1u))), steps);
         }
     }
 
@@ -410,8 +450,8 @@ private:
     // most of them before setup instead of after rasterizing them; a leaf with no front face is put
     // off whole, before its vertices are transformed. Any order gives the same picture (see the tie
     // rule in fill); facing is judged in object space from the leaf mesh's planes.
-    template <bool kCountTests>
-    void draw_leaf(PlacementFrame& frame, const OctreeNode& node, uint32_t index) {
+    template <bool kCountTests, class Steps>
+    void draw_leaf(PlacementFrame& frame, const OctreeNode& node, uint32_t index, Steps& steps) {
         const uint32_t end = node.first_triangle + node.triangle_count;
         const glm::vec4* const planes = forest_.mesh.planes.data();
         uint32_t front = 0;
@@ -427,19 +467,21 @@ private:
         const uint32_t* const faces = forest_.mesh.face.data();
         for (uint32_t t = node.first_triangle; t < end; ++t) {
             if (glm::dot(planes[t], frame.viewer) > 0.0f)
-                draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written);
+                draw_leaf_triangle<kCountTests>(t, faces[t], instance_id, written, steps);
             else
                 deferred_back_faces_.push_back(t);
         }
         mark_written(written);
     }
 
-    template <bool kCountTests>
-    void draw_leaf_triangle(uint32_t t, uint32_t id, uint32_t instance_id, Rect& written) {
+    template <bool kCountTests, class Steps>
+    void draw_leaf_triangle(uint32_t t, uint32_t id, uint32_t instance_id, Rect& written, Steps& steps) {
+        if constexpr (Steps::enabled) begin_triangle_step();
         bool tested = false;
-        switch (test_triangle(forest_.mesh.indices.data() + 3 * size_t(t))) {
+        switch (test_triangle(forest_.mesh.indices.data() + 3 * size_t(t), steps)) {
             case TriangleVisibility::kHidden:
                 ++stats_.triangles_culled_before_setup;
+                if constexpr (Steps::enabled) triangle_step(steps, t, id, instance_id);
                 return;
             case TriangleVisibility::kVisible: tested = true; break;
             case TriangleVisibility::kUntested: break;
@@ -448,9 +490,10 @@ private:
         Rect mine;
         geometry_.process(t, [&](const raster::TriangleSetup& s) {
             ++pieces;
-            if (!draw_triangle<kCountTests>(s, id, instance_id, tested, mine)) ++culled;
+            if (!draw_triangle<kCountTests>(s, id, instance_id, tested, mine, steps)) ++culled;
         });
         if (pieces > 0 && culled == pieces) ++stats_.triangles_culled_after_setup;
+        if constexpr (Steps::enabled) triangle_step(steps, t, id, instance_id);
         if (!mine.empty()) {
             // A large triangle's cells are marked at once: the leaf's next large triangles (a box's
             // back faces behind its front) are then rejected by the block test on fresh cells,
@@ -482,7 +525,8 @@ private:
     // depth there is at least the smallest corner depth minus (|dz/dx| + |dz/dy|) / 512; rounded
     // down to float, a covered pixel's float depth cannot be smaller.
     enum class TriangleVisibility { kUntested, kHidden, kVisible };
-    TriangleVisibility test_triangle(const uint32_t* corner) const {
+    template <class Steps>
+    TriangleVisibility test_triangle(const uint32_t* corner, Steps&) {
         const uint32_t i0 = corner[0], i1 = corner[1], i2 = corner[2];
         const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
                        c2 = geometry_.vertex_outcode(i2);
@@ -514,13 +558,21 @@ private:
         float nearest = float(std::min(bound, 1.0));
         if (double(nearest) > bound)  // rounded up: take the next float down (nearest > bound > 0)
             nearest = std::bit_cast<float>(std::bit_cast<uint32_t>(nearest) - 1u);
+        if constexpr (Steps::enabled) step_.query = {x0, y0, x1, y1, nearest, true};
         return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? TriangleVisibility::kHidden : TriangleVisibility::kVisible;
     }
 
     // Greene's triangle-level (unless done before setup) and tile-level rejection, then the pixel
     // loop. False when the whole piece was rejected by the pyramid.
-    template <bool kCountTests>
-    bool draw_triangle(const raster::TriangleSetup& s, uint32_t id, uint32_t instance_id, bool tested, Rect& written) {
+    template <bool kCountTests, class Steps>
+    bool draw_triangle(const raster::TriangleSetup& s, uint32_t id, uint32_t instance_id, bool tested, Rect& written,
+                       Steps& steps) {
+        if constexpr (Steps::enabled) {
+            step_.box.add(s.min_x, s.min_y, s.max_x, s.max_y);
+            if (!tested)
+                step_.query = {s.min_x, s.min_y, s.max_x, s.max_y, nearest_depth(s, s.min_x, s.min_y, s.max_x, s.max_y),
+                               true};
+        }
         if (!tested &&
             pyramid_.is_hidden(s.min_x, s.min_y, s.max_x, s.max_y, nearest_depth(s, s.min_x, s.min_y, s.max_x, s.max_y)))
             return false;
@@ -531,7 +583,7 @@ private:
             return true;
         }
         if (area <= kLargeTriangle) {
-            draw_tiles<kCountTests>(s, s.min_x, s.min_y, s.max_x, s.max_y, id, instance_id, written);
+            draw_tiles<kCountTests>(s, s.min_x, s.min_y, s.max_x, s.max_y, id, instance_id, written, steps);
             return true;
         }
         // A large triangle goes in two levels: blocks of kBlock x kBlock pixels first, then the
@@ -544,9 +596,11 @@ private:
                 ++stats_.tiles_tested;
                 if (pyramid_.is_hidden(x0, y0, x1, y1, nearest_depth(s, x0, y0, x1, y1))) {
                     ++stats_.tiles_culled;
+                    if constexpr (Steps::enabled)
+                        steps.box(float(x0), float(y0), float(x1 + 1), float(y1 + 1), HSR_STEP_REJECTED);
                     continue;
                 }
-                draw_tiles<kCountTests>(s, x0, y0, x1, y1, id, instance_id, written);
+                draw_tiles<kCountTests>(s, x0, y0, x1, y1, id, instance_id, written, steps);
             }
         }
         return true;
@@ -554,9 +608,9 @@ private:
 
     // The kTile x kTile tiles of [x0,x1]x[y0,y1] (inside the setup's bounds), each tested against the
     // pyramid before its pixels are.
-    template <bool kCountTests>
+    template <bool kCountTests, class Steps>
     void draw_tiles(const raster::TriangleSetup& s, int32_t x0, int32_t y0, int32_t x1, int32_t y1, uint32_t id,
-                    uint32_t instance_id, Rect& written) {
+                    uint32_t instance_id, Rect& written, Steps& steps) {
         for (int32_t ty = y0 & ~(kTile - 1); ty <= y1; ty += kTile) {
             const int32_t tile_y0 = std::max(ty, y0), tile_y1 = std::min(ty + kTile - 1, y1);
             for (int32_t tx = x0 & ~(kTile - 1); tx <= x1; tx += kTile) {
@@ -566,6 +620,9 @@ private:
                 if (pyramid_.is_hidden(tile_x0, tile_y0, tile_x1, tile_y1,
                                        nearest_depth(s, tile_x0, tile_y0, tile_x1, tile_y1))) {
                     ++stats_.tiles_culled;
+                    if constexpr (Steps::enabled)
+                        steps.box(float(tile_x0), float(tile_y0), float(tile_x1 + 1), float(tile_y1 + 1),
+                                  HSR_STEP_REJECTED);
                     continue;
                 }
                 const uint64_t count =
@@ -591,6 +648,162 @@ private:
         stats_.pixels_written += test.written;
         return test.written;
     }
+
+    // ------------------------------------------------------------------------------------------ //
+    // Steps (ABI 1.3)
+
+    // A pyramid query, kept for the step that reports it.
+    struct PyramidQuery {
+        int32_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+        float nearest = 0.0f;
+        bool made = false;
+    };
+    // What the step of the triangle being drawn shows, gathered while it is drawn.
+    struct TriangleStep {
+        FrameStats before;
+        raster::TriangleStats geometry_before;
+        PyramidQuery query;  // its test against the pyramid (of its last clipped piece, if clipped)
+        Rect box;            // the pixel bounds of its setups
+    };
+
+    void begin_triangle_step() {
+        step_.before = stats_;
+        step_.geometry_before = geometry_.stats();
+        step_.query = {};
+        step_.box = Rect{};
+    }
+
+    // The outline of the pixels [x0, x1] x [y0, y1] clipped to the image.
+    template <class Steps>
+    void add_box(Steps& steps, int32_t x0, int32_t y0, int32_t x1, int32_t y1, hsr_step_role role) const {
+        x0 = std::max(x0, 0);
+        y0 = std::max(y0, 0);
+        x1 = std::min(x1, width_ - 1);
+        y1 = std::min(y1, height_ - 1);
+        if (x0 <= x1 && y0 <= y1) steps.box(float(x0), float(y0), float(x1 + 1), float(y1 + 1), role);
+    }
+
+    // A triangle's outline (corners of the leaf mesh), when it needs no clipping and lies within a
+    // pixel of the image.
+    template <class Steps>
+    void add_outline(Steps& steps, const uint32_t* corner) const {
+        const uint32_t codes = geometry_.vertex_outcode(corner[0]) | geometry_.vertex_outcode(corner[1]) |
+                               geometry_.vertex_outcode(corner[2]);
+        if (codes & (raster::kNeedsClipping | raster::kNonFinite)) return;
+        float x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            const raster::WindowVertex& v = geometry_.window_vertex(corner[k]);
+            x[k] = float(v.exact_x);
+            y[k] = float(v.exact_y);
+            if (!(x[k] >= -1.0f && x[k] <= float(width_ + 1) && y[k] >= -1.0f && y[k] <= float(height_ + 1))) return;
+        }
+        for (int k = 0; k < 3; ++k) steps.line(x[k], y[k], x[(k + 1) % 3], y[(k + 1) % 3], HSR_STEP_SUBJECT);
+    }
+
+    // The step of a node's box test: visited (its screen box SUBJECT) or culled (REJECTED), and why.
+    // The box is projected again as test_box projects it.
+    template <class Steps>
+    void node_step(Steps& steps, const glm::dmat4& m, const float* lo, const float* hi, BoxVisibility visibility,
+                   const NodeName& node, uint64_t triangles) const {
+        const raster::ProjectedBox box =
+            raster::project_box(m, glm::dvec3(lo[0], lo[1], lo[2]), glm::dvec3(hi[0], hi[1], hi[2]), viewport_);
+        const bool projected = box.outside == 0 && box.in_front;
+        raster::PixelRect r;
+        float nearest = 0.0f;
+        if (projected) {
+            r = box.pixel_centres(raster::kBoxPixelMargin, width_, height_);
+            nearest = float(box.nearest - raster::kBoxDepthMargin);
+        }
+        char name[96];
+        if (node.depth == HSR_NO_LEVEL)
+            std::snprintf(name, sizeof name, "%s %u (%llu triangles)", node.what, node.index,
+                          (unsigned long long)triangles);
+        else
+            std::snprintf(name, sizeof name, "%s %u (depth %u, %llu triangles)", node.what, node.index, node.depth,
+                          (unsigned long long)triangles);
+        pyramid_.add_step_buffers(steps);
+        char where[64];
+        switch (visibility) {
+            case BoxVisibility::kOutside:
+                if (projected) add_box(steps, r.x0, r.y0, r.x1, r.y1, HSR_STEP_REJECTED);
+                steps.step({"node-culled"}, "%s: outside the view, culled", name);
+                return;
+            case BoxVisibility::kHidden: {
+                const int level = pyramid_.answering_level(r.x0, r.y0, r.x1, r.y1, nearest, true);
+                pyramid_.describe_level(level, where);
+                add_box(steps, r.x0, r.y0, r.x1, r.y1, HSR_STEP_REJECTED);
+                steps.step({"node-culled", HSR_NO_FACE, 0, uint32_t(level)},
+                           "%s: hidden behind the z-pyramid at %s, culled", name, where);
+                return;
+            }
+            case BoxVisibility::kVisible: break;
+        }
+        if (!projected) {
+            steps.step({"node-visited"}, "%s: reaches in front of the near plane, visited", name);
+            return;
+        }
+        const int level = pyramid_.answering_level(r.x0, r.y0, r.x1, r.y1, nearest, false);
+        pyramid_.describe_level(level, where);
+        add_box(steps, r.x0, r.y0, r.x1, r.y1, HSR_STEP_SUBJECT);
+        steps.step({"node-visited", HSR_NO_FACE, 0, uint32_t(level)}, "%s: not hidden at z-pyramid %s, visited", name,
+                   where);
+    }
+
+    // The step of leaf-mesh triangle t (scene triangle `face`), from what drawing it counted
+    // (stats_, the geometry stage's counts) and gathered (step_).
+    template <class Steps>
+    void triangle_step(Steps& steps, uint32_t t, uint32_t face, uint32_t instance) {
+        const FrameStats& b = step_.before;
+        const PyramidQuery& q = step_.query;
+        const raster::TriangleStats after = geometry_.stats();
+        const raster::TriangleStats& before = step_.geometry_before;
+        const uint64_t tested = stats_.pixels_tested - b.pixels_tested;
+        const uint64_t written = stats_.pixels_written - b.pixels_written;
+        const unsigned f = face;
+        const uint32_t* const corner = forest_.mesh.indices.data() + 3 * size_t(t);
+        pyramid_.add_step_buffers(steps);
+        char where[64];
+        if (stats_.triangles_culled_before_setup != b.triangles_culled_before_setup ||
+            stats_.triangles_culled_after_setup != b.triangles_culled_after_setup) {
+            const int level = pyramid_.answering_level(q.x0, q.y0, q.x1, q.y1, q.nearest, true);
+            pyramid_.describe_level(level, where);
+            add_outline(steps, corner);
+            add_box(steps, q.x0, q.y0, q.x1, q.y1, HSR_STEP_REJECTED);
+            steps.step({"triangle", face, instance, uint32_t(level)}, "triangle %u: rejected by the z-pyramid at %s",
+                       f, where);
+            return;
+        }
+        if (after.backface_culled != before.backface_culled || after.outside != before.outside ||
+            after.degenerate != before.degenerate) {
+            raster::triangle_step(steps, before, after, face, instance, tested, written);
+            return;
+        }
+        add_outline(steps, corner);
+        if (!step_.box.empty())
+            add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
+        char tiles[64] = "";
+        if (stats_.tiles_tested != b.tiles_tested)
+            std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid",
+                          unsigned(stats_.tiles_culled - b.tiles_culled),
+                          unsigned(stats_.tiles_tested - b.tiles_tested));
+        const uint32_t level =
+            q.made ? uint32_t(pyramid_.answering_level(q.x0, q.y0, q.x1, q.y1, q.nearest, false)) : HSR_NO_LEVEL;
+        const hsr::sdk::Steps::Event event{"triangle", face, instance, level, written, tested - written};
+        char drawn[144];
+        if (tested == 0 && tiles[0] == '\0')
+            std::snprintf(drawn, sizeof drawn, "covers no pixel centre");
+        else
+            std::snprintf(drawn, sizeof drawn, "drawn: %u pixel%s written, %u rejected by the depth test%s",
+                          unsigned(written), written == 1 ? "" : "s", unsigned(tested - written), tiles);
+        if (!q.made) {
+            steps.step(event, "triangle %u: %s", f, drawn);
+            return;
+        }
+        pyramid_.describe_level(int(level), where);
+        steps.step(event, "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
+    }
+
+    TriangleStep step_;  // with steps only
 
     // Parameters
     bool cull_backfaces_;
@@ -624,6 +837,17 @@ private:
     std::vector<uint32_t> deferred_leaves_;      // node indices
 };
 
-}  // namespace
+}  // namespace octree_zbuffer
 
-HSR_EXPORT_PLUGIN(OctreeZBuffer)
+// render_steps() is compiled apart: this file again with HSR_STEPS_UNIT defined (CMakeLists.txt),
+// so that the drawing code it instantiates with hsr::sdk::Steps cannot change how the compiler
+// inlines render()'s.
+#ifdef HSR_STEPS_UNIT
+void octree_zbuffer::OctreeZBuffer::render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera,
+                                                 hsr::sdk::VisibilityBuffer& target, hsr::sdk::Counters& counters,
+                                                 hsr::sdk::Steps& steps) {
+    render_with(scene, camera, target, counters, steps);
+}
+#else
+HSR_EXPORT_PLUGIN(octree_zbuffer::OctreeZBuffer)
+#endif

@@ -25,7 +25,8 @@
 // (blocks, streaming stores, huge pages). The rest of this file fills the y-sorted polygon table
 // and moves its buckets onto the active list. It is over 600 lines because those two share one
 // class's state (the active list and its slots, the table, the geometry stage) with the sweep, in
-// one translation unit so that activation inlines into it.
+// one translation unit so that activation inlines into it; the sweep's steps (render_steps, the
+// scanlines as a viewer sees them) read that state too.
 #include "edge_walk.hpp"
 #include "record_pool.hpp"
 
@@ -105,6 +106,28 @@ public:
 
     void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                 hsr::sdk::Counters& counters) override {
+        hsr::sdk::NoSteps no_steps;
+        render_with(scene, camera, target, counters, no_steps);
+    }
+
+    // One step per scanline, top to bottom, empty ones included: step k leaves rows 0 .. k-1 drawn.
+    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
+        render_with(scene, camera, target, counters, steps);
+    }
+
+private:
+    struct Stats {
+        uint64_t depth_tested = 0;
+        uint64_t written = 0;
+        uint64_t scanlines = 0;   // scanlines with at least one active polygon
+        uint64_t edge_pairs = 0;  // (polygon, scanline) pairs: spans computed
+        uint64_t active_max = 0;
+    };
+
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
         geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
         width_ = camera.width;
@@ -158,32 +181,30 @@ public:
 
         // 3. The scanlines, top to bottom.
         Stats stats;
-        if (target.depth_tests() == nullptr)
-            scan<false>(target, stats);
-        else
-            scan<true>(target, stats);
-
-        geometry_.stats().report(counters);
-        counters.set("pixels-depth-tested", stats.depth_tested);
-        counters.set("pixels-written", stats.written);
-        counters.set("polygons-in-table", polygons_);
-        counters.set("polygons-empty", polygons_empty_);
-        counters.set("scanlines", stats.scanlines);
-        counters.set("edge-pairs-processed", stats.edge_pairs);
-        counters.set("active-polygons-max", stats.active_max);
-        counters.set("active-edges-max", 2 * stats.active_max);
-        counters.set("polygon-records-max",
-                     records_only_ ? pending_.records_max() : uint64_t(records_.size()));
+        auto report = [&] {
+            geometry_.stats().report(counters);
+            counters.set("pixels-depth-tested", stats.depth_tested);
+            counters.set("pixels-written", stats.written);
+            counters.set("polygons-in-table", polygons_);
+            counters.set("polygons-empty", polygons_empty_);
+            counters.set("scanlines", stats.scanlines);
+            counters.set("edge-pairs-processed", stats.edge_pairs);
+            counters.set("active-polygons-max", stats.active_max);
+            counters.set("active-edges-max", 2 * stats.active_max);
+            counters.set("polygon-records-max",
+                         records_only_ ? pending_.records_max() : uint64_t(records_.size()));
+        };
+        try {
+            if (target.depth_tests() == nullptr)
+                scan<false>(target, stats, steps);
+            else
+                scan<true>(target, stats, steps);
+        } catch (const hsr::sdk::StepLimitReached&) {
+            report();
+            throw;
+        }
+        report();
     }
-
-private:
-    struct Stats {
-        uint64_t depth_tested = 0;
-        uint64_t written = 0;
-        uint64_t scanlines = 0;   // scanlines with at least one active polygon
-        uint64_t edge_pairs = 0;  // (polygon, scanline) pairs: spans computed
-        uint64_t active_max = 0;
-    };
 
     // The one placement's triangles into the polygon table, bucketed by first scanline, in drawing
     // order. A triangle that needs clipping is processed now (its pieces are kept as records), as is
@@ -551,9 +572,11 @@ private:
     // 3. The sweep: scanline after scanline, top to bottom, the polygons of the y-sorted table that
     //    start there join the active list; each active polygon's span, between its edge pair, is
     //    depth-tested into the one-row buffer; a polygon on its last scanline leaves the list, the
-    //    others step their edges and depth to the next one; the row's winners go out.
-    template <bool kCountTests>
-    void scan(hsr::sdk::VisibilityBuffer& target, Stats& stats) {
+    //    others step their edges and depth to the next one; the row's winners go out. With steps,
+    //    each scanline is one; the counts reach `stats` before each, as a step may end the sweep.
+    //    Out of line: inlined into render_with it runs 0.2 % more instructions.
+    template <bool kCountTests, class Steps>
+    [[gnu::noinline]] void scan(hsr::sdk::VisibilityBuffer& target, Stats& stats, Steps& steps) {
         const int32_t width = int32_t(width_);
         row_.assign(size_t(width), kEmpty);  // the one-row depth buffer
         uint64_t* const row = row_.data();
@@ -565,18 +588,34 @@ private:
         uint64_t tested = 0, written = 0, edge_pairs = 0, scanlines = 0;
         size_t active_max = 0;
 
+        auto save_stats = [&] {
+            stats.depth_tested = tested;
+            stats.written = written;
+            stats.edge_pairs = edge_pairs;
+            stats.scanlines = scanlines;
+            stats.active_max = active_max;
+        };
         const hsr::sdk::Scene scene(*scene_);
         for (int32_t y = 0; y < height_; ++y) {
             if (records_only_)
                 activate_instanced(scene, y);
             else
                 activate_bucket(y);
-            if (active_.empty()) continue;
+            if (active_.empty()) {
+                if constexpr (Steps::enabled) {
+                    save_stats();
+                    scanline_step(steps, y, 0, {});
+                }
+                continue;
+            }
             ++scanlines;
             edge_pairs += active_.size();
             active_max = std::max(active_max, active_.size());
 
             uint32_t* const tests_row = kCountTests ? target.depth_tests() + size_t(y) * size_t(width) : nullptr;
+            [[maybe_unused]] const size_t polygons_on_row = active_.size();
+            [[maybe_unused]] const uint64_t tested_before = tested, written_before = written;
+            if constexpr (Steps::enabled) draw_active_edges(steps, y);
             int32_t lo = width, hi = -1;  // pixels of the row buffer touched
             ActivePolygon* const list = active_.data();
             size_t n = active_.size();
@@ -599,18 +638,87 @@ private:
                 ++i;
             }
             active_.resize(n);
+            [[maybe_unused]] RowSpans spans;
+            if constexpr (Steps::enabled) spans = draw_row_spans(steps, y, lo, hi);
             resolve_row(target, y, lo, hi);
             free_slots_.insert(free_slots_.end(), released_.begin(), released_.end());
             released_.clear();
+            if constexpr (Steps::enabled) {
+                save_stats();
+                spans.tested = tested - tested_before;
+                spans.written = written - written_before;
+                scanline_step(steps, y, polygons_on_row, spans);
+            }
         }
         if (records_only_)  // below the image: nothing to draw, but counted as zbuffer counts them
             for (uint32_t i = placement_start_[height_]; i < placement_start_[height_ + 1]; ++i)
                 activate_placement(scene, placement_order_[i], height_);
-        stats.depth_tested = tested;
-        stats.written = written;
-        stats.edge_pairs = edge_pairs;
-        stats.scanlines = scanlines;
-        stats.active_max = active_max;
+        save_stats();
+    }
+
+    // ---- Steps (ABI 1.3): what a scanline shows ----
+
+    // The row's spans: runs of pixels one polygon won, and what its depth tests did.
+    struct RowSpans {
+        uint64_t spans = 0, pixels = 0, tested = 0, written = 0;
+    };
+
+    // Each active polygon's edge pair where it crosses scanline y (before the edges step on): a
+    // segment through the boundary, one scanline high, along the edge's slope, when inside the image.
+    template <class Steps>
+    void draw_active_edges(Steps& steps, int32_t y) const {
+        const float width = float(width_), top = float(y), bottom = float(y + 1);
+        auto edge = [&](float x, float slope) {
+            if (!(x >= 0.0f && x <= width)) return;
+            slope = std::clamp(slope, -2.0f * width, 2.0f * width);
+            steps.line(std::clamp(x - 0.5f * slope, 0.0f, width), top, std::clamp(x + 0.5f * slope, 0.0f, width),
+                       bottom, HSR_STEP_CONTEXT);
+        };
+        steps.line(0.0f, top + 0.5f, width, top + 0.5f, HSR_STEP_CONTEXT);
+        for (const ActivePolygon& p : active_) {
+            // A left edge's x moves by step - rem/den a scanline on average, a right edge's by
+            // step + rem/den (see step_to_next_scanline).
+            edge(float(p.left.x), float(p.left.step) - float(p.left.rem) / float(p.left.den));
+            edge(float(p.right.x + 1), float(p.right.step) + float(p.right.rem) / float(p.right.den));
+        }
+    }
+
+    // The runs of pixels [lo, hi] of the row buffer that one polygon won, before they go out.
+    template <class Steps>
+    RowSpans draw_row_spans(Steps& steps, int32_t y, int32_t lo, int32_t hi) const {
+        RowSpans spans;
+        const float centre = float(y) + 0.5f;
+        int32_t x = lo;
+        while (x <= hi) {
+            const uint64_t key = row_[x];
+            if (key == kEmpty) {
+                ++x;
+                continue;
+            }
+            int32_t end = x + 1;
+            while (end <= hi && row_[end] != kEmpty && uint32_t(row_[end]) == uint32_t(key)) ++end;
+            steps.line(float(x), centre, float(end), centre, HSR_STEP_WRITTEN);
+            ++spans.spans;
+            spans.pixels += uint64_t(end - x);
+            x = end;
+        }
+        return spans;
+    }
+
+    template <class Steps>
+    void scanline_step(Steps& steps, int32_t y, size_t polygons, const RowSpans& spans) const {
+        const hsr::sdk::Steps::Event event{"scanline", HSR_NO_FACE, 0, HSR_NO_LEVEL, spans.written,
+                                           spans.tested - spans.written};
+        if (polygons == 0) {
+            steps.line(0.0f, float(y) + 0.5f, float(width_), float(y) + 0.5f, HSR_STEP_CONTEXT);
+            steps.step(event, "scanline %d: no active polygons", int(y));
+            return;
+        }
+        const unsigned long long n = polygons;
+        steps.step(event, "scanline %d: %llu active edges, %llu active polygons, %llu spans, %llu pixels written "
+                          "(%llu depth tests passed, %llu failed)",
+                   int(y), 2 * n, n, (unsigned long long)spans.spans, (unsigned long long)spans.pixels,
+                   (unsigned long long)spans.written, (unsigned long long)(spans.tested - spans.written));
     }
 
     // The depth test along a span [x0, x1] of the row buffer; returns the pixels won. A row-buffer

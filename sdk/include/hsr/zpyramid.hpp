@@ -44,6 +44,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -202,6 +203,50 @@ public:
     // The farthest depth in cell (cx, cy) of a stored level k.
     float cell(int k, int32_t cx, int32_t cy) const {
         return storage_[offset_[k] + size_t(cy) * level_width_[k] + size_t(cx)];
+    }
+    // The cells of stored level k, row by row, as they are (deferred marks not flushed).
+    const float* level_cells(int k) const { return storage_.data() + offset_[k]; }
+    // The level a query of the rectangle (clamped, non-empty) starts at: the coarsest whose cells
+    // are as large as the rectangle, where it meets at most 2 x 2 of them.
+    int query_level(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const {
+        return start_level(std::max(x0, 0), std::max(y0, 0), std::min(x1, width_ - 1), std::min(y1, height_ - 1));
+    }
+
+    // For the steps of a renderer (ABI 1.3; nothing here is used by render()):
+    // The level that answered is_hidden() of the rectangle and depth, asked right after it with its
+    // answer: for "hidden", query_level() when the cells there alone are nearer, else 0 (finer
+    // levels or the fine depths were needed); for "visible", query_level(). Counts nothing.
+    int answering_level(int32_t x0, int32_t y0, int32_t x1, int32_t y1, float nearest_depth, bool hidden) const {
+        const int level = query_level(x0, y0, x1, y1);
+        if (!hidden) return level;
+        const int32_t cx0 = std::max(x0, 0) >> level, cy0 = std::max(y0, 0) >> level;
+        const int32_t cx1 = std::min(x1, width_ - 1) >> level, cy1 = std::min(y1, height_ - 1) >> level;
+        for (int32_t cy = cy0; cy <= cy1; ++cy)
+            for (int32_t cx = cx0; cx <= cx1; ++cx)
+                if (!(cell(level, cx, cy) < nearest_depth)) return 0;
+        return level;
+    }
+    // "level 5 (32x32 cells)", or "level 0 (the depth buffer)", for a step's text.
+    void describe_level(int level, char (&out)[64]) const {
+        if (level <= 0)
+            std::snprintf(out, sizeof out, "level 0 (the depth buffer)");
+        else
+            std::snprintf(out, sizeof out, "level %d (%dx%d cells)", level, int(level_width_[level]),
+                          int(level_height_[level]));
+    }
+    // Hands every stored level, as it is (deferred marks not flushed), to steps.buffer() (an
+    // hsr::sdk::Steps) as "z-pyramid-<level>"; valid until the pyramid changes.
+    template <class Steps>
+    void add_step_buffers(Steps& steps) const {
+        static constexpr const char* names[kMaxLevels] = {
+            "z-pyramid-0",  "z-pyramid-1",  "z-pyramid-2",  "z-pyramid-3",  "z-pyramid-4",  "z-pyramid-5",
+            "z-pyramid-6",  "z-pyramid-7",  "z-pyramid-8",  "z-pyramid-9",  "z-pyramid-10", "z-pyramid-11",
+            "z-pyramid-12", "z-pyramid-13", "z-pyramid-14", "z-pyramid-15", "z-pyramid-16", "z-pyramid-17",
+            "z-pyramid-18", "z-pyramid-19", "z-pyramid-20", "z-pyramid-21", "z-pyramid-22", "z-pyramid-23",
+            "z-pyramid-24", "z-pyramid-25", "z-pyramid-26", "z-pyramid-27", "z-pyramid-28", "z-pyramid-29",
+            "z-pyramid-30", "z-pyramid-31"};
+        for (int k = base_; k <= top_; ++k)
+            steps.buffer(names[k], uint32_t(level_width_[k]), uint32_t(level_height_[k]), level_cells(k));
     }
 
     // Work counters, cumulative until reset_counters() (reset() does not clear them).
