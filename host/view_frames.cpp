@@ -98,8 +98,11 @@ glm::vec3 vector_field(const json& camera, const char* name) {
     const std::string field = fmt::format("camera.{}", name);
     std::string text;
     if (value->is_array()) {
-        for (std::size_t k = 0; k < value->size(); ++k)
-            text += (k ? "," : "") + ((*value)[k].is_number() ? fmt::format("{}", (*value)[k].get<double>()) : (*value)[k].dump());
+        for (std::size_t k = 0; k < value->size(); ++k) {
+            if (k > 0) text += ',';
+            const json& item = (*value)[k];
+            text += item.is_number() ? fmt::format("{}", item.get<double>()) : item.dump();
+        }
     } else {
         text = value->is_string() ? value->get<std::string>() : value->dump();
     }
@@ -429,7 +432,8 @@ struct hsr::host::FrameRenderer::State {
         hsr::FrameSettings settings;
         settings.background = model.background ? *model.background
                                                : hsr::host::parse_color_option(hsr::host::default_background, "background");
-        settings.count_depth_tests = q.buffers || q.step;
+        // Depth-test counts came with ABI 1.1; an older plugin has none (buffers.depth_tests null).
+        settings.count_depth_tests = (q.buffers || q.step) && remover.plugin().descriptor.abi_minor >= 1;
 
         json steps = nullptr;
         hsr::Frame before;
