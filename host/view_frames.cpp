@@ -35,6 +35,7 @@ namespace {
 using hsr::host::ViewError;
 
 constexpr std::size_t cached_models = 4;
+constexpr uint64_t cached_model_bytes = uint64_t(1) << 30;  // of the models kept besides the newest
 constexpr std::size_t cached_instances = 16;
 constexpr std::size_t cached_step_totals = 256;
 constexpr std::size_t max_step_pixels = 20000;
@@ -224,7 +225,17 @@ struct LoadedModel {
     std::optional<glm::vec3> background;
     std::optional<std::pair<uint32_t, uint32_t>> pixel_camera_size;  // `camera pixel`: its size
     fs::file_time_type modified;
-    uint64_t bytes = 0;
+    uint64_t bytes = 0;  // the file's
+
+    // About what it holds in memory, for the cache's bound.
+    uint64_t memory() const {
+        auto size = [](const hsr::SceneData& d) {
+            return d.positions.size() * 4 + d.indices.size() * 4 + d.face_normals.size() * 4 +
+                   d.corner_normals.size() * 4 + d.face_colors.size() * 4 + d.edge_neighbors.size() * 4 +
+                   d.face_object.size() * 4 + d.instances.size() * sizeof(hsr_instance);
+        };
+        return size(scene) + (flat ? size(*flat) : 0);
+    }
 
     const hsr::SceneData& flat_scene() {
         if (scene.instances.empty()) return scene;
@@ -356,7 +367,16 @@ struct hsr::host::FrameRenderer::State {
         }
         std::shared_ptr<LoadedModel> loaded = load_model_entry(models.find(id), models);
         model_cache.emplace_front(id, loaded);
-        if (model_cache.size() > cached_models) model_cache.pop_back();
+        // The newest stays; older ones go while there are too many or they hold too much.
+        uint64_t held = 0;
+        std::size_t kept = 0;
+        for (auto it = model_cache.begin(); it != model_cache.end(); ++it, ++kept) {
+            held += it == model_cache.begin() ? 0 : it->second->memory();
+            if (kept >= cached_models || held > cached_model_bytes) {
+                model_cache.erase(it, model_cache.end());
+                break;
+            }
+        }
         return loaded;
     }
 
