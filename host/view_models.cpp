@@ -167,7 +167,8 @@ std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, co
 
 bool hsr::host::ModelCatalog::contains(const fs::path& file) const {
     std::error_code ec;
-    const fs::path target = fs::canonical(file, ec);
+    // Links resolved as far as the path exists, so that a missing file inside is the reader's to report.
+    const fs::path target = fs::weakly_canonical(fs::absolute(file, ec), ec);
     if (ec) return false;
     for (const fs::path& folder : folders_) {
         const fs::path root = fs::canonical(folder, ec);

@@ -50,8 +50,8 @@ public:
     // The caller has checked the size against the upload-bytes limit.
     std::string add_upload(const std::string& file_name, const std::string& bytes);
 
-    // Whether a file lies inside one of the folders (or the uploads), links resolved: for the mesh
-    // files a .scene file names.
+    // Whether a file lies inside one of the folders (or the uploads), links resolved as far as the
+    // path exists: for the mesh files a .scene file names.
     bool contains(const std::filesystem::path& file) const;
 
 private:

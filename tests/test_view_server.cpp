@@ -43,6 +43,8 @@ fs::path make_model_folder() {
     fs::copy_file(test_models::path("cube.obj"), root / "outside" / "secret.obj");
     fs::create_symlink(root / "outside" / "secret.obj", root / "models" / "link.obj");
     std::ofstream(root / "models" / "escape.scene") << "mesh ../outside/secret.obj\n";
+    std::ofstream(root / "models" / "missing.scene") << "mesh sub/missing.obj\n";
+    std::ofstream(root / "models" / "inside.scene") << "# a comment\nmesh \"sub/tetrahedron.off\"\nmesh cube.obj\n";
     return root;
 }
 
@@ -496,6 +498,10 @@ TEST_CASE("view: nothing outside the served folders is read", "[view]") {
     }
     const json escape = s.post_json("/api/frame", frame_request("0/escape.scene", "zbuffer", 16), 400);
     CHECK_THAT(escape["error"].get<std::string>(), Catch::Contains("lies outside the folders hsr view serves"));
+    // A mesh inside that is missing is the reader's to report; meshes inside are read.
+    const json missing = s.post_json("/api/frame", frame_request("0/missing.scene", "zbuffer", 16), 400);
+    CHECK_THAT(missing["error"].get<std::string>(), !Catch::Contains("outside"));
+    CHECK(s.post_json("/api/frame", frame_request("0/inside.scene", "zbuffer", 16))["stats"]["triangles"] == 4 + 12);
     for (const char* path : {"/static/../../../CMakeLists.txt", "/static/%2e%2e/%2e%2e/host/view.cpp", "/static/..%2f..%2fsetup.sh",
                              "/static//etc/passwd", "/api/theory/..%2f..%2fREADME", "/api/theory/%2e%2e"}) {
         httplib::Result r = s.get(path);
