@@ -14,9 +14,6 @@
 
 namespace hsr::host {
 
-// The most pixels along one side of a picture hsr view renders (GET /api/info max_image_side).
-constexpr uint32_t view_max_image_side = 4096;
-
 class FrameRenderer {
 public:
     FrameRenderer(const hsr::PluginRegistry& registry, const ModelCatalog& models);

@@ -7,6 +7,7 @@
 #include "view_assets.hpp"
 #include "view_frames.hpp"
 #include "view_models.hpp"
+#include "view_request.hpp"
 #include "view_theory.hpp"
 
 #include "hsr/abi.h"

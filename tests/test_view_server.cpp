@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <unistd.h>
 #include <regex>
 #include <thread>
 
@@ -31,9 +32,10 @@ using nlohmann::json;
 namespace {
 
 // A scratch folder of models: two plain ones, one in a sub-folder, a hidden one, a link that leaves
-// the folder, and a .scene file naming a mesh outside it. Beside it, outside, a "secret" model.
+// the folder, and a .scene file naming a mesh outside it. Beside it, outside, a "secret" model. One
+// per process, as ctest runs test cases side by side.
 fs::path make_model_folder() {
-    const fs::path root = cli::scratch_dir() / "view";
+    const fs::path root = cli::scratch_dir() / fmt::format("view-{}", ::getpid());
     fs::remove_all(root);
     fs::create_directories(root / "models" / "sub");
     fs::create_directories(root / "outside");
@@ -72,6 +74,9 @@ struct RunningServer {
     ~RunningServer() {
         server->stop();
         thread.join();
+        server.reset();
+        std::error_code ec;
+        fs::remove_all(root, ec);
     }
 
     httplib::Client client() const {
