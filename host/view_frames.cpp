@@ -1,6 +1,6 @@
-// hsr view's frames (view_frames.hpp): a request checked field by field with hsr render's messages,
-// the model and plugin instances taken from small caches, one render at a time under a mutex, and
-// the response with the picture PNG-encoded (zlib level 1) and base64'd.
+// hsr view's frames (view_frames.hpp): a request checked (view_request.cpp), the model and plugin
+// instances taken from small caches, one render at a time under a mutex, and the response with the
+// picture PNG-encoded (zlib level 1) and base64'd.
 #include "view_frames.hpp"
 
 #include "render.hpp"
