@@ -139,17 +139,23 @@ const steps = new StepControls({
 
 // ---- frames ----------------------------------------------------------------------------------
 
-function smallImage() {
-  const w = shown ? shown.response.width : settings.width;
-  const h = shown ? shown.response.height : settings.height;
-  return w <= GRID_MAX_SIDE && h <= GRID_MAX_SIDE;
+// Small pictures (exercise scenes) get the pixel grid: the one shown, or the one asked for.
+function smallImage(size) {
+  return size.width <= GRID_MAX_SIDE && size.height <= GRID_MAX_SIDE;
 }
 
-const gridShown = () => smallImage() && settings.gridMode !== 'off';
+const gridShown = (size) => smallImage(size) && settings.gridMode !== 'off';
 
 function wantBuffers() {
   if (camera.dragging) return false;
-  return hovering || settings.bufferView !== 'frame' || gridShown();
+  return hovering || settings.bufferView !== 'frame' || (gridShown(settings) && settings.gridMode === 'depth');
+}
+
+// The shown frame lacks the buffers a view needs: ask for the same frame with them, once.
+function askForBuffers() {
+  if (upgradeAskedFor === frameSerial || camera.dragging || !shown || shown.response.kind === 'lines') return;
+  upgradeAskedFor = frameSerial;
+  requestFrame();
 }
 
 function frameRequest() {
@@ -297,14 +303,18 @@ function redraw() {
     legend = picture.legend;
   } else {
     ctx.drawImage(shown.image, 0, 0);
-    if (view !== 'frame') setStatus(shown.response.kind === 'lines' ? 'a line drawing has no buffers' : 'loading the buffers…');
+    if (view !== 'frame') {
+      setStatus(shown.response.kind === 'lines' ? 'a line drawing has no buffers' : 'loading the buffers…');
+      askForBuffers();
+    }
   }
   drawLegend({ box: $('legend'), bar: $('legend-bar'), min: $('legend-min'), max: $('legend-max'), title: $('legend-title') }, legend);
   drawStepOverlay(overlay, shown.isStep ? shown.response.steps : null);
   const grid = $('grid');
-  $('grid-control').hidden = !smallImage();
-  grid.hidden = !gridShown();
+  $('grid-control').hidden = !smallImage(shown.response);
+  grid.hidden = !gridShown(shown.response);
   if (!grid.hidden) {
+    if (settings.gridMode === 'depth' && !shown.frameBuffers) askForBuffers();
     drawGrid(grid, { width, height, rgba: shown.rgba, frameBuffers: shown.frameBuffers, mode: settings.gridMode,
       steps: shown.isStep ? shown.response.steps : null });
   }
@@ -348,10 +358,7 @@ function updatePixelInfo() {
     info.textContent = pixelInfo(shown.frameBuffers, pointer.x, pointer.y);
   } else {
     info.textContent = `${pointer.x}, ${pointer.y}: loading the buffers…`;
-    if (upgradeAskedFor !== frameSerial && !camera.dragging) {
-      upgradeAskedFor = frameSerial;
-      requestFrame();
-    }
+    askForBuffers();
   }
 }
 
@@ -489,13 +496,11 @@ function wire() {
     settings.bufferView = e.target.value;
     saveSettings(settings);
     redraw();
-    if (settings.bufferView !== 'frame' && !shown?.frameBuffers) requestFrame();
   });
   $('grid-mode').addEventListener('change', (e) => {
     settings.gridMode = e.target.value;
     saveSettings(settings);
     redraw();
-    if (gridShown() && !shown?.frameBuffers) requestFrame();
   });
   $('step-speed').addEventListener('change', (e) => {
     settings.speed = e.target.value;
@@ -503,7 +508,6 @@ function wire() {
   });
   $('compare-toggle').addEventListener('change', (e) => {
     settings.compare = e.target.checked;
-    $('compare-algorithm').disabled = !settings.compare;
     $('steps').hidden = !currentAlgorithm()?.steps || settings.compare;
     if (settings.compare) steps.setPlaying(false);
     changed({});
@@ -558,7 +562,6 @@ async function start() {
   settings.compareAlgorithm = fillSelect($('compare-algorithm'), [['hidden surface', plugins.hidden_surface.map(option)]],
     settings.compareAlgorithm || others[0]?.name || settings.algorithm);
   $('compare-toggle').checked = settings.compare;
-  $('compare-algorithm').disabled = !settings.compare;
   $('step-speed').value = settings.speed;
   $('width').value = String(settings.width);
   $('height').value = String(settings.height);
