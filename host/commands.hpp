@@ -1,5 +1,6 @@
 // The host's commands, which main() (main.cpp) dispatches to, and what they share. Each command lives
-// in its own files: render.cpp (with render.hpp and render_*.cpp), plugins_command.cpp, bench.cpp.
+// in its own files: render.cpp (with render.hpp and render_*.cpp), plugins_command.cpp, bench.cpp,
+// view.cpp (with view_*.cpp).
 #pragma once
 
 #include "hsr/error.hpp"
@@ -45,5 +46,6 @@ void check_outputs(const std::vector<OutputFile>& outputs);
 int run_render(const std::vector<std::string>& args);
 int run_plugins(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
+int run_view(const std::vector<std::string>& args);
 
 }  // namespace hsr::host

@@ -24,6 +24,7 @@ const char* usage_text =
     "                 visible edges to SVG/PNG with a hidden-line plugin (--algorithm appel)\n"
     "  plugins        list the plugins found, with their parameters\n"
     "  bench          time algorithms on models and deep scenes: table, CSV, SVG plot\n"
+    "  view [MODEL]   look at models in a web browser: every plugin, its parameters and its steps\n"
     "\n"
     "  hsr --version  versions of hsr and of its plugin ABI\n"
     "  hsr <command> --help\n";
@@ -51,7 +52,8 @@ int main(int argc, char** argv) {
         if (command == "render") return hsr::host::run_render(args);
         if (command == "plugins") return hsr::host::run_plugins(args);
         if (command == "bench") return hsr::host::run_bench(args);
-        throw UsageError("unknown command '{}' (commands: render, plugins, bench)", command);
+        if (command == "view") return hsr::host::run_view(args);
+        throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", command);
     } catch (const UsageError& e) {
         std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
         return 2;

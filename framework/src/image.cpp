@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace hsr {
@@ -41,6 +42,76 @@ void write_png(const std::filesystem::path& path, uint32_t width, uint32_t heigh
     AtomicFile file(path);
     write_png(file, width, height, channels, pixels);
     file.commit();
+}
+
+namespace {
+
+struct PngMemoryWriter {
+    std::vector<uint8_t>* out;
+    std::string error;
+};
+
+void append_png_bytes(png_structp png, png_bytep data, png_size_t length) {
+    auto* writer = static_cast<PngMemoryWriter*>(png_get_io_ptr(png));
+    writer->out->insert(writer->out->end(), data, data + length);
+}
+
+void flush_nothing(png_structp) {}
+
+[[noreturn]] void png_failed(png_structp png, png_const_charp message) {
+    static_cast<PngMemoryWriter*>(png_get_error_ptr(png))->error = message;
+    png_longjmp(png, 1);
+}
+
+void png_warning_ignored(png_structp, png_const_charp) {}
+
+// The libpng calls of encode_png, apart so that no C++ object with a destructor lives in the frame
+// that longjmp leaves. Returns false on failure (writer.error says why).
+bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, int color_type, int zlib_level,
+                    const png_bytep* rows) {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &writer, png_failed, png_warning_ignored);
+    if (png == nullptr) return false;
+    png_infop info = png_create_info_struct(png);
+    if (info == nullptr || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return false;
+    }
+    png_set_write_fn(png, &writer, append_png_bytes, flush_nothing);
+    png_set_compression_level(png, zlib_level);
+    // One cheap filter: the adaptive choice among all five costs more time than it saves bytes here.
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+    png_set_IHDR(png, info, width, height, 8, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    png_write_image(png, const_cast<png_bytepp>(rows));
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return true;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
+                                int zlib_level) {
+    if (pixels.size() != size_t(width) * height * channels)
+        throw Error("encode_png: {} bytes for a {}x{}x{} image", pixels.size(), width, height, channels);
+    int color_type = PNG_COLOR_TYPE_RGB;
+    switch (channels) {
+    case 1: color_type = PNG_COLOR_TYPE_GRAY; break;
+    case 3: color_type = PNG_COLOR_TYPE_RGB; break;
+    case 4: color_type = PNG_COLOR_TYPE_RGB_ALPHA; break;
+    default: throw Error("encode_png: {} channels are not supported", channels);
+    }
+    if (width == 0 || height == 0) throw Error("encode_png: a {}x{} image", width, height);
+    std::vector<png_bytep> rows(height);
+    for (uint32_t y = 0; y < height; ++y)
+        rows[y] = const_cast<png_bytep>(pixels.data() + size_t(y) * width * channels);
+    std::vector<uint8_t> out;
+    out.reserve(pixels.size() / 4 + 1024);
+    PngMemoryWriter writer{&out, {}};
+    if (!write_png_rows(writer, width, height, color_type, std::clamp(zlib_level, 0, 9), rows.data()))
+        throw Error("cannot encode a PNG: {}", writer.error.empty() ? "out of memory" : writer.error);
+    return out;
 }
 
 Image read_png_rgb(const std::filesystem::path& path) {

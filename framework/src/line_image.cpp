@@ -125,6 +125,38 @@ LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, 
     return stats;
 }
 
+Image draw_line_image(const LineDrawing& drawing, const LineStyle& style) {
+    if (drawing.width == 0 || drawing.height == 0) throw Error("the line drawing has no size");
+    std::unique_ptr<cairo_surface_t, SurfaceCloser> surface(
+        cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(drawing.width), int(drawing.height)));
+    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+        throw Error("cannot draw the lines: {}", cairo_status_to_string(cairo_surface_status(surface.get())));
+    {
+        std::unique_ptr<cairo_t, ContextCloser> cr(cairo_create(surface.get()));
+        draw(cr.get(), drawing, style, 4096);
+        if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS)
+            throw Error("drawing failed: {}", cairo_status_to_string(cairo_status(cr.get())));
+    }
+    cairo_surface_flush(surface.get());
+    Image image;
+    image.width = drawing.width;
+    image.height = drawing.height;
+    image.channels = 3;
+    image.pixels.resize(size_t(image.width) * image.height * 3);
+    const unsigned char* data = cairo_image_surface_get_data(surface.get());
+    const size_t stride = size_t(cairo_image_surface_get_stride(surface.get()));
+    for (uint32_t y = 0; y < image.height; ++y) {
+        const auto* row = reinterpret_cast<const uint32_t*>(data + y * stride);  // 0xXXRRGGBB, native order
+        uint8_t* out = &image.pixels[size_t(y) * image.width * 3];
+        for (uint32_t x = 0; x < image.width; ++x) {
+            out[3 * x] = uint8_t(row[x] >> 16);
+            out[3 * x + 1] = uint8_t(row[x] >> 8);
+            out[3 * x + 2] = uint8_t(row[x]);
+        }
+    }
+    return image;
+}
+
 LineImageStats write_line_drawing(const std::filesystem::path& path, const LineDrawing& drawing,
                                   const LineStyle& style) {
     drawing_extension(path);  // checked before a file is made

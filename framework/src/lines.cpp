@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 namespace hsr {
 namespace {
@@ -49,16 +50,36 @@ void collect_counter(void* context, const char* name, uint64_t value) {
     counters->emplace_back(name, value);
 }
 
+// Writes the events (when out is set) and counts them; with stop_after set, notes event stop_after
+// and how many segments came before event stop_after + 1.
 struct TraceWriter {
-    std::ostream* out;
+    std::ostream* out = nullptr;
+    uint64_t stop_after = 0;
+    const LineDrawing* drawing = nullptr;
     uint64_t events = 0;
+    std::optional<TraceEventRecord> stopped_at;
+    std::optional<size_t> segments_before_next;
 };
 
 void write_event(void* context, const hsr_trace_event* event) {
     auto& w = *static_cast<TraceWriter*>(context);
-    if (event == nullptr || w.out == nullptr) return;
-    *w.out << trace_event_json(*event) << '\n';
+    if (event == nullptr) return;
+    if (w.out != nullptr) *w.out << trace_event_json(*event) << '\n';
     ++w.events;
+    if (w.stop_after == 0) return;
+    if (w.events == w.stop_after) {
+        TraceEventRecord& r = w.stopped_at.emplace();
+        r.index = w.events;
+        r.type = event->type != nullptr ? printable(std::string_view(event->type, strnlen(event->type, 64)), 64) : "event";
+        r.edge = event->edge;
+        r.face = event->face;
+        r.object = event->object;
+        r.qi = event->qi;
+        r.t0 = event->t0;
+        r.t1 = event->t1;
+    } else if (w.events == w.stop_after + 1) {
+        w.segments_before_next = w.drawing->segments.size();
+    }
 }
 
 void append_json_string(std::string& out, const char* text) {
@@ -106,12 +127,16 @@ LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, Hidde
     const hsr_line_request request = drawing.edges.request(settings.want_hidden);
     Collector collector{&drawing, {}};
     hsr_segment_sink sink{&collector, &collect_segments};
-    TraceWriter writer{settings.trace};
+    TraceWriter writer;
+    writer.out = settings.trace;
+    writer.stop_after = settings.stop_after_event;
+    writer.drawing = &drawing;
     hsr_trace_sink trace{&writer, &write_event};
+    const bool want_events = settings.trace != nullptr || settings.stop_after_event > 0;
     hsr_counter_sink counters{&drawing.counters, &collect_counter};
     const auto start = std::chrono::steady_clock::now();
     try {
-        remover.render_lines(scene, camera, request, sink, settings.trace != nullptr ? &trace : nullptr, &counters);
+        remover.render_lines(scene, camera, request, sink, want_events ? &trace : nullptr, &counters);
     } catch (const Error& e) {
         if (!collector.problem.empty())
             throw Error("hidden-line plugin '{}' returned {}", remover.plugin().descriptor.name, collector.problem);
@@ -120,6 +145,8 @@ LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, Hidde
     drawing.lines_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     drawing.trace_events = writer.events;
+    drawing.stopped_at = std::move(writer.stopped_at);
+    if (writer.segments_before_next) drawing.segments.resize(*writer.segments_before_next);
     drawing.counters.emplace_back("edges-requested", drawing.edges.size());
     return drawing;
 }

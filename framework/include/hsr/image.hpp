@@ -1,5 +1,5 @@
 // Image output: 8-bit PNG through libpng, into an AtomicFile (hsr/atomic_file.hpp) that the caller
-// commits, or, given a path, into a file of its own committed at once.
+// commits, or, given a path, into a file of its own committed at once, or into memory.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +16,11 @@ class AtomicFile;
 void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels);
 void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
                std::span<const uint8_t> pixels);
+
+// The PNG file's bytes, for a server: zlib level 1 (fast; about 10 % larger than the default level
+// on a rendered picture) unless another level (0-9) is given. Throws hsr::Error as write_png does.
+std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
+                                int zlib_level = 1);
 
 struct Image {
     uint32_t width = 0;

@@ -4,6 +4,7 @@
 // creases.
 #pragma once
 
+#include "hsr/image.hpp"
 #include "hsr/lines.hpp"
 
 #include <glm/glm.hpp>
@@ -39,6 +40,9 @@ class AtomicFile;
 LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, const LineStyle& style);
 LineImageStats write_line_drawing(const std::filesystem::path& path, const LineDrawing& drawing,
                                   const LineStyle& style);
+
+// The drawing as write_line_drawing draws a PNG, as 8-bit RGB pixels (for encode_png, image.hpp).
+Image draw_line_image(const LineDrawing& drawing, const LineStyle& style);
 
 // True for the extensions write_line_drawing knows.
 bool is_line_drawing_path(const std::filesystem::path& path);

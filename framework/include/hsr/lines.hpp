@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -24,12 +25,23 @@ struct LineSegment {
     int32_t qi;      // 0 visible; n > 0 behind n faces; -1 hidden, count unknown
 };
 
+// One trace event (hsr_trace_event), copied.
+struct TraceEventRecord {
+    uint64_t index = 0;  // 1-based
+    std::string type;
+    uint32_t edge = HSR_NO_EDGE, face = HSR_NO_FACE, object = HSR_NO_OBJECT;
+    int32_t qi = -1;
+    double t0 = 0, t1 = 0;  // NaN when not given
+};
+
 struct LineDrawing {
     uint32_t width = 0, height = 0;
     EdgeList edges;  // what was asked for
     std::vector<LineSegment> segments;
     std::vector<std::pair<std::string, uint64_t>> counters;
-    uint64_t trace_events = 0;
+    uint64_t trace_events = 0;  // counted when the events were asked for (LineSettings)
+    // With LineSettings::stop_after_event k: event k, unless the plugin sent fewer than k.
+    std::optional<TraceEventRecord> stopped_at;
     double lines_ms = 0;  // time inside the plugin
 
     uint64_t counter(const std::string& name) const;  // 0 when absent
@@ -40,6 +52,10 @@ struct LineSettings {
     double crease_angle_degrees = 40.0;
     bool want_hidden = false;
     std::ostream* trace = nullptr;  // when set, every step event as one JSON object per line
+    // A viewer's step k of the algorithm (k >= 1; 0: off): keep only the segments emitted before
+    // trace event k + 1, and record event k (LineDrawing::stopped_at). The plugin still runs to the
+    // end, so trace_events is the number of steps of the whole drawing.
+    uint64_t stop_after_event = 0;
 };
 
 // The scene must have no instances (flatten_instances first). Throws hsr::Error with the plugin's

@@ -1,0 +1,626 @@
+// hsr view's frames (view_frames.hpp): a request checked field by field with hsr render's messages,
+// the model and plugin instances taken from small caches, one render at a time under a mutex, and
+// the response with the picture PNG-encoded (zlib level 1) and base64'd.
+#include "view_frames.hpp"
+
+#include "render.hpp"
+#include "view_steps.hpp"
+
+#include "hsr/camera.hpp"
+#include "hsr/image.hpp"
+#include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
+#include "hsr/line_image.hpp"
+#include "hsr/lines.hpp"
+#include "hsr/params.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/scene_builder.hpp"
+#include "hsr/scene_file.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <list>
+#include <map>
+#include <mutex>
+#include <optional>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+using hsr::host::ViewError;
+
+constexpr std::size_t cached_models = 4;
+constexpr std::size_t cached_instances = 16;
+constexpr std::size_t cached_step_totals = 256;
+constexpr std::size_t max_step_pixels = 20000;
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A request field that is present and not null, or nullptr.
+const json* member(const json& object, const char* name) {
+    const auto it = object.find(name);
+    return it == object.end() || it->is_null() ? nullptr : &*it;
+}
+
+std::string text_field(const json& object, const char* name, const std::string& field, std::string fallback) {
+    const json* value = member(object, name);
+    if (value == nullptr) return fallback;
+    if (!value->is_string()) throw ViewError(400, field, fmt::format("{}: expected a string", field));
+    return value->get<std::string>();
+}
+
+double number_field(const json& object, const char* name, const std::string& field, double fallback) {
+    const json* value = member(object, name);
+    if (value == nullptr) return fallback;
+    if (!value->is_number()) throw ViewError(400, field, fmt::format("{}: expected a number", field));
+    return value->get<double>();
+}
+
+// Parameter values are strings as on the command line; a number or a boolean is taken as its text.
+std::vector<hsr::Setting> settings_field(const json& object, const char* name) {
+    std::vector<hsr::Setting> settings;
+    const json* value = member(object, name);
+    if (value == nullptr) return settings;
+    if (!value->is_object()) throw ViewError(400, name, fmt::format("{}: expected an object of name: value", name));
+    for (const auto& [key, v] : value->items()) {
+        if (v.is_string())
+            settings.emplace_back(key, v.get<std::string>());
+        else if (v.is_boolean() || v.is_number())
+            settings.emplace_back(key, v.dump());
+        else
+            throw ViewError(400, fmt::format("{}.{}", name, key), fmt::format("{}.{}: expected a string", name, key));
+    }
+    return settings;
+}
+
+// The request, read and checked as far as it can be without the model and the plugins.
+struct FrameRequest {
+    std::string model, algorithm, lighting;
+    std::vector<hsr::Setting> params, lighting_params;
+    hsr::CameraSettings view;
+    uint32_t width = 512, height = 512;
+    std::optional<uint64_t> step;
+    bool buffers = false;
+    hsr::EdgeSelection edges = hsr::EdgeSelection::kFeatures;
+    hsr::HiddenLines hidden = hsr::HiddenLines::kHidden;
+    std::string camera_key;  // the camera and size, for the cache of step totals
+};
+
+glm::vec3 vector_field(const json& camera, const char* name) {
+    const json* value = member(camera, name);
+    const std::string field = fmt::format("camera.{}", name);
+    std::string text;
+    if (value->is_array()) {
+        for (std::size_t k = 0; k < value->size(); ++k)
+            text += (k ? "," : "") + ((*value)[k].is_number() ? fmt::format("{}", (*value)[k].get<double>()) : (*value)[k].dump());
+    } else {
+        text = value->is_string() ? value->get<std::string>() : value->dump();
+    }
+    try {
+        return hsr::host::parse_vector_option(text, name);
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, field, e.what());
+    }
+}
+
+FrameRequest parse_frame_request(const json& r) {
+    if (!r.is_object()) throw ViewError(400, "", "the request must be a JSON object");
+    FrameRequest q;
+    q.model = text_field(r, "model", "model", "");
+    if (q.model.empty()) throw ViewError(400, "model", "no model given");
+    q.algorithm = text_field(r, "algorithm", "algorithm", hsr::host::default_algorithm);
+    q.lighting = text_field(r, "lighting", "lighting", hsr::host::default_lighting);
+    q.params = settings_field(r, "params");
+    q.lighting_params = settings_field(r, "lighting_params");
+
+    const double width = number_field(r, "width", "width", 512), height = number_field(r, "height", "height", 512);
+    if (!(width >= 1 && height >= 1 && width <= hsr::host::view_max_image_side &&
+          height <= hsr::host::view_max_image_side) || width != std::floor(width) || height != std::floor(height))
+        throw ViewError(400, "width", fmt::format("image size {}x{}: each side must be between 1 and {}", width, height,
+                                                  hsr::host::view_max_image_side));
+    q.width = uint32_t(width);
+    q.height = uint32_t(height);
+    try {
+        hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(q.width) * q.height,
+                         fmt::format("image size {}x{}", q.width, q.height));
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, "width", e.what());
+    }
+
+    static const json no_camera = json::object();
+    const json* camera_value = member(r, "camera");
+    if (camera_value != nullptr && !camera_value->is_object())
+        throw ViewError(400, "camera", "camera: expected an object");
+    const json& camera = camera_value ? *camera_value : no_camera;
+    hsr::CameraSettings& v = q.view;
+    v.width = q.width;
+    v.height = q.height;
+    v.yaw_degrees = float(number_field(camera, "yaw", "camera.yaw", 0));
+    v.pitch_degrees = float(number_field(camera, "pitch", "camera.pitch", 0));
+    v.zoom = float(number_field(camera, "zoom", "camera.zoom", 1));
+    v.fov_y_degrees = float(number_field(camera, "fov", "camera.fov", 35));
+    for (const auto& [name, value] : {std::pair{"yaw", v.yaw_degrees}, {"pitch", v.pitch_degrees}, {"zoom", v.zoom}})
+        if (!std::isfinite(value)) throw ViewError(400, fmt::format("camera.{}", name), fmt::format("--{} must be a finite number", name));
+    if (!(v.zoom > 0)) throw ViewError(400, "camera.zoom", "--zoom must be positive");
+    if (!(v.fov_y_degrees > 0 && v.fov_y_degrees < 180))
+        throw ViewError(400, "camera.fov", "--fov must be between 0 and 180 degrees");
+    const std::string projection = text_field(camera, "projection", "camera.projection", "perspective");
+    if (projection != "perspective" && projection != "orthographic")
+        throw ViewError(400, "camera.projection", fmt::format("camera.projection '{}': expected 'perspective' or 'orthographic'",
+                                                              hsr::printable(projection)));
+    v.orthographic = projection == "orthographic";
+    if (member(camera, "eye") != nullptr) {
+        hsr::LookAt look_at;
+        look_at.eye = vector_field(camera, "eye");
+        if (member(camera, "target") != nullptr) look_at.target = vector_field(camera, "target");
+        if (member(camera, "up") != nullptr) look_at.up = vector_field(camera, "up");
+        v.look_at = look_at;
+    } else {
+        for (const char* name : {"target", "up"})
+            if (member(camera, name) != nullptr)
+                throw ViewError(400, fmt::format("camera.{}", name), fmt::format("--{} goes with --eye", name));
+    }
+    q.camera_key = fmt::format("{}x{} {}", q.width, q.height, camera.dump());
+
+    if (const json* step = member(r, "step")) {
+        if (!step->is_number() || step->get<double>() != std::floor(step->get<double>()))
+            throw ViewError(400, "step", "step: expected a whole number (or null for the full render)");
+        if (step->get<double>() < 1) throw ViewError(400, "step", fmt::format("--step {}: steps count from 1", step->dump()));
+        q.step = step->get<double>() > 1e18 ? uint64_t(1e18) : step->get<uint64_t>();
+    }
+    if (const json* buffers = member(r, "buffers")) {
+        if (!buffers->is_boolean()) throw ViewError(400, "buffers", "buffers: expected true or false");
+        q.buffers = buffers->get<bool>();
+    }
+    const std::string edges = text_field(r, "edges", "edges", "features");
+    if (edges != "features" && edges != "all")
+        throw ViewError(400, "edges", fmt::format("--edges '{}': expected 'all' or 'features'", hsr::printable(edges)));
+    q.edges = edges == "all" ? hsr::EdgeSelection::kAll : hsr::EdgeSelection::kFeatures;
+    const std::string hidden = text_field(r, "hidden", "hidden", "hidden");
+    if (hidden != "hidden" && hidden != "dashed")
+        throw ViewError(400, "hidden", fmt::format("--hidden '{}': expected 'dashed' or 'hidden'", hsr::printable(hidden)));
+    q.hidden = hidden == "dashed" ? hsr::HiddenLines::kDashed : hsr::HiddenLines::kHidden;
+    return q;
+}
+
+// Each setting checked alone, so that the field at fault is known; the message is resolve_params's.
+void check_settings(const hsr::Plugin& plugin, const std::vector<hsr::Setting>& settings, const char* field) {
+    for (const hsr::Setting& setting : settings) {
+        try {
+            hsr::resolve_params(plugin.descriptor, {setting});
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, fmt::format("{}.{}", field, setting.first), e.what());
+        }
+    }
+    try {
+        hsr::resolve_params(plugin.descriptor, settings);
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, field, e.what());
+    }
+}
+
+std::string settings_key(const std::string& name, std::vector<hsr::Setting> settings) {
+    std::sort(settings.begin(), settings.end());
+    std::string key = name;
+    for (const auto& [k, v] : settings) key += fmt::format("|{}={}", k, v);
+    return key;
+}
+
+// A model as loaded, with what a .scene file says besides its meshes.
+struct LoadedModel {
+    hsr::SceneData scene;
+    std::optional<hsr::SceneData> flat;  // the instances copied out, for hidden-line plugins
+    std::vector<hsr::LightSpec> lights;
+    std::optional<glm::vec3> background;
+    std::optional<std::pair<uint32_t, uint32_t>> pixel_camera_size;  // `camera pixel`: its size
+    fs::file_time_type modified;
+    uint64_t bytes = 0;
+
+    const hsr::SceneData& flat_scene() {
+        if (scene.instances.empty()) return scene;
+        if (!flat) flat = hsr::flatten_instances(scene);
+        return *flat;
+    }
+};
+
+// The words of a .scene line, as its reader splits them: whitespace between, "..." quoting, # comment.
+std::vector<std::string> scene_line_words(const std::string& line) {
+    std::vector<std::string> words;
+    std::size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        if (i >= line.size() || line[i] == '#') break;
+        std::string word;
+        if (line[i] == '"') {
+            const std::size_t end = line.find('"', i + 1);
+            word = line.substr(i + 1, end == std::string::npos ? std::string::npos : end - i - 1);
+            i = end == std::string::npos ? line.size() : end + 1;
+        } else {
+            while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) word += line[i++];
+        }
+        words.push_back(word);
+    }
+    return words;
+}
+
+// A .scene file may name meshes anywhere; hsr view reads only those inside its folders.
+void check_scene_meshes(const hsr::host::ModelEntry& entry, const hsr::host::ModelCatalog& models) {
+    std::ifstream in(entry.path);
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        const std::vector<std::string> words = scene_line_words(line);
+        if (words.size() < 2 || words[0] != "mesh") continue;
+        const fs::path mesh = fs::path(words[1]).is_absolute() ? fs::path(words[1]) : entry.path.parent_path() / words[1];
+        if (!models.contains(mesh))
+            throw ViewError(400, "model", fmt::format("{}:{}: mesh '{}' lies outside the folders hsr view serves",
+                                                      entry.name, number, hsr::printable(words[1])));
+    }
+}
+
+std::shared_ptr<LoadedModel> load_model_entry(const hsr::host::ModelEntry& entry, const hsr::host::ModelCatalog& models) {
+    auto loaded = std::make_shared<LoadedModel>();
+    std::error_code ec;
+    loaded->modified = fs::last_write_time(entry.path, ec);
+    loaded->bytes = entry.bytes;
+    try {
+        if (entry.scene) {
+            check_scene_meshes(entry, models);
+            hsr::SceneFile file = hsr::load_scene_file(entry.path);
+            loaded->scene = std::move(file.scene);
+            loaded->lights = std::move(file.lights);
+            loaded->background = file.background;
+            if (file.pixel_camera) loaded->pixel_camera_size = std::pair{*file.width, *file.height};
+        } else {
+            hsr::MeshOptions options;
+            options.crease_angle_degrees = 40;
+            loaded->scene = hsr::load_model(entry.path, options);
+        }
+    } catch (const ViewError&) {
+        throw;
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, "model", e.what());
+    }
+    return loaded;
+}
+
+// The arrays go out as their bytes: little-endian on every machine hsr builds for.
+template <class T>
+std::string base64_of(const std::vector<T>& values) {
+    return hsr::host::base64(values.data(), values.size() * sizeof(T));
+}
+
+std::string png_data_url(uint32_t width, uint32_t height, std::span<const uint8_t> rgb) {
+    const std::vector<uint8_t> png = hsr::encode_png(width, height, 3, rgb);
+    return "data:image/png;base64," + hsr::host::base64(png.data(), png.size());
+}
+
+json counters_json(const std::vector<std::pair<std::string, uint64_t>>& counters) {
+    json out = json::object();
+    for (const auto& [name, value] : counters) out[name] = value;
+    return out;
+}
+
+}  // namespace
+
+std::string hsr::host::base64(const void* bytes, std::size_t size) {
+    static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const auto* in = static_cast<const unsigned char*>(bytes);
+    std::string out((size + 2) / 3 * 4, '=');
+    char* o = out.data();
+    std::size_t i = 0;
+    for (; i + 2 < size; i += 3, o += 4) {
+        const uint32_t v = uint32_t(in[i]) << 16 | uint32_t(in[i + 1]) << 8 | in[i + 2];
+        o[0] = digits[v >> 18], o[1] = digits[(v >> 12) & 63], o[2] = digits[(v >> 6) & 63], o[3] = digits[v & 63];
+    }
+    if (i < size) {
+        const uint32_t v = uint32_t(in[i]) << 16 | (i + 1 < size ? uint32_t(in[i + 1]) << 8 : 0u);
+        o[0] = digits[v >> 18], o[1] = digits[(v >> 12) & 63];
+        if (i + 1 < size) o[2] = digits[(v >> 6) & 63];
+    }
+    return out;
+}
+
+struct hsr::host::FrameRenderer::State {
+    const hsr::PluginRegistry& registry;
+    const ModelCatalog& models;
+    std::mutex mutex;  // one frame at a time: plugin instances are never called concurrently
+    std::list<std::pair<std::string, std::shared_ptr<LoadedModel>>> model_cache;  // most recent first
+    std::map<std::string, std::unique_ptr<hsr::HiddenSurfaceRemover>> surface_removers;
+    std::map<std::string, std::unique_ptr<hsr::HiddenLineRemover>> line_removers;
+    std::map<std::string, std::unique_ptr<hsr::LightingModel>> lighting_models;
+    std::map<std::string, uint64_t> step_totals;
+
+    State(const hsr::PluginRegistry& registry, const ModelCatalog& models) : registry(registry), models(models) {}
+
+    std::shared_ptr<LoadedModel> model(const std::string& id) {
+        for (auto it = model_cache.begin(); it != model_cache.end(); ++it) {
+            if (it->first != id) continue;
+            std::error_code ec;
+            const ModelEntry entry = models.find(id);  // still listed, and unchanged
+            if (entry.bytes == it->second->bytes && fs::last_write_time(entry.path, ec) == it->second->modified) {
+                model_cache.splice(model_cache.begin(), model_cache, it);
+                return model_cache.front().second;
+            }
+            model_cache.erase(it);
+            break;
+        }
+        std::shared_ptr<LoadedModel> loaded = load_model_entry(models.find(id), models);
+        model_cache.emplace_front(id, loaded);
+        if (model_cache.size() > cached_models) model_cache.pop_back();
+        return loaded;
+    }
+
+    template <class Instance>
+    Instance& instance(std::map<std::string, std::unique_ptr<Instance>>& cache, const hsr::Plugin& plugin,
+                       const std::vector<hsr::Setting>& settings) {
+        const std::string key = settings_key(plugin.path.string() + "|" + plugin.descriptor.name, settings);
+        auto it = cache.find(key);
+        if (it != cache.end()) return *it->second;
+        if (cache.size() >= cached_instances) cache.clear();
+        return *cache.emplace(key, std::make_unique<Instance>(plugin, settings)).first->second;
+    }
+
+    hsr_camera make_camera(const FrameRequest& q, const LoadedModel& model) {
+        try {
+            if (model.pixel_camera_size)
+                return hsr::make_pixel_camera(model.pixel_camera_size->first, model.pixel_camera_size->second,
+                                              model.scene.bounds_min.z, model.scene.bounds_max.z);
+            return hsr::make_camera(model.scene.bounds_min, model.scene.bounds_max, q.view);
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, q.view.look_at ? "camera.eye" : "camera", e.what());
+        }
+    }
+
+    // Which kind the algorithm is: a hidden-surface plugin wins over a hidden-line one of the same
+    // name, as in hsr render.
+    const hsr::Plugin& algorithm_plugin(const FrameRequest& q) {
+        try {
+            if (registry.contains(HSR_KIND_HIDDEN_SURFACE_REMOVER, q.algorithm))
+                return registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, q.algorithm);
+            return registry.find_any({HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_HIDDEN_LINE_REMOVER}, q.algorithm);
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, "algorithm", e.what());
+        }
+    }
+
+    // A rendered frame and its response; the frame is kept for /api/compare.
+    struct Rendered {
+        json response;
+        hsr::Frame frame;
+    };
+
+    Rendered render(const FrameRequest& q) {
+        const hsr::Plugin& algorithm = algorithm_plugin(q);
+        check_settings(algorithm, q.params, "params");
+        std::shared_ptr<LoadedModel> model = this->model(q.model);
+        if (algorithm.descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER) return render_lines(q, algorithm, *model);
+        const hsr::Plugin* lighting_plugin = nullptr;
+        try {
+            lighting_plugin = &registry.find(HSR_KIND_LIGHTING_MODEL, q.lighting);
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, "lighting", e.what());
+        }
+        check_settings(*lighting_plugin, q.lighting_params, "lighting_params");
+        hsr::HiddenSurfaceRemover& remover = instance(surface_removers, algorithm, q.params);
+        hsr::LightingModel& lighting = instance(lighting_models, *lighting_plugin, q.lighting_params);
+        if (q.step && !remover.has_steps())
+            throw ViewError(400, "step", fmt::format("--step: plugin '{}' cannot show its steps ({})", q.algorithm,
+                                                     algorithm.descriptor.abi_minor < 3
+                                                         ? "it is built against an ABI before 1.3"
+                                                         : "it has no render_steps"));
+        return render_surface(q, *model, remover, lighting);
+    }
+
+    Rendered render_surface(const FrameRequest& q, LoadedModel& model, hsr::HiddenSurfaceRemover& remover,
+                            hsr::LightingModel& lighting) {
+        const hsr_camera camera = make_camera(q, model);
+        const hsr_scene scene = model.scene.view();
+        std::vector<hsr_light> lights;
+        std::vector<hsr::LightSpec> specs = model.lights;
+        if (specs.empty()) specs.push_back(hsr::parse_light_spec(hsr::host::default_light));
+        for (const hsr::LightSpec& spec : specs) lights.push_back(hsr::resolve_light(spec, camera));
+        hsr::FrameSettings settings;
+        settings.background = model.background ? *model.background
+                                               : hsr::host::parse_color_option(hsr::host::default_background, "background");
+        settings.count_depth_tests = q.buffers || q.step;
+
+        json steps = nullptr;
+        hsr::Frame before;
+        if (q.step) {
+            const std::string key = fmt::format("{}|{}|{}", q.model, settings_key(q.algorithm, q.params), q.camera_key);
+            auto total = step_totals.find(key);
+            if (total == step_totals.end()) {
+                hsr::Frame counted;
+                hsr::resolve_visibility_steps(scene, camera, remover, counted, 0);
+                if (step_totals.size() >= cached_step_totals) step_totals.clear();
+                total = step_totals.emplace(key, counted.steps ? counted.steps->taken : 0).first;
+            }
+            const uint64_t current = std::min(*q.step, total->second);
+            settings.stop_after_step = current;
+            if (current > 1) hsr::resolve_visibility_steps(scene, camera, remover, before, current - 1, true);
+            steps = json{{"total", total->second}, {"current", current}};
+        }
+        const hsr_shading_context context = hsr::make_shading_context(camera, lights);
+        hsr::Frame frame = hsr::render_frame(scene, camera, remover, lighting, context, settings);
+
+        const auto encode_start = std::chrono::steady_clock::now();
+        json response;
+        response["png"] = png_data_url(frame.width, frame.height, frame.rgb);
+        const double encode_ms = ms_since(encode_start);
+        response["width"] = frame.width;
+        response["height"] = frame.height;
+        response["kind"] = "surface";
+        response["stats"] = {{"counters", counters_json(frame.counters)},
+                             {"visibility_ms", frame.visibility_ms},
+                             {"shading_ms", frame.shading_ms},
+                             {"triangles", hsr::drawn_triangle_count(scene)},
+                             {"encode_ms", encode_ms}};
+        if (q.step) {
+            const hsr::StepRecord& last = frame.steps->last;
+            const bool any = last.index > 0;
+            steps["type"] = any ? last.type : "";
+            steps["text"] = any ? last.text : "no steps: the algorithm had nothing to do";
+            steps["face"] = any && last.face != HSR_NO_FACE ? json(last.face) : json(nullptr);
+            json lines = json::array();
+            for (std::size_t k = 0; k < last.roles.size(); ++k)
+                lines.push_back({last.lines[4 * k], last.lines[4 * k + 1], last.lines[4 * k + 2], last.lines[4 * k + 3],
+                                 last.roles[k]});
+            steps["lines"] = std::move(lines);
+            steps["outline"] = any && last.face != HSR_NO_FACE ? triangle_outline(scene, camera, last.face, last.instance)
+                                                               : json::array();
+            const bool comparable = !hsr::needs_flat_scene(lighting.plugin(), scene);
+            const StepPixels pixels = comparable && any ? step_pixels(before, frame, max_step_pixels) : StepPixels{nullptr, nullptr};
+            steps["written"] = pixels.written;
+            steps["rejected"] = pixels.rejected;
+            json buffers = json::array();
+            for (const hsr::StepBuffer& b : last.buffers)
+                buffers.push_back({{"name", b.name}, {"width", b.width}, {"height", b.height}, {"data", base64_of(b.values)}});
+            steps["buffers"] = std::move(buffers);
+        }
+        response["steps"] = std::move(steps);
+        response["buffers"] = q.buffers ? buffers_json(frame, scene, camera) : json(nullptr);
+        return {std::move(response), std::move(frame)};
+    }
+
+    static json buffers_json(const hsr::Frame& frame, const hsr_scene& scene, const hsr_camera& camera) {
+        std::vector<uint32_t> object(frame.face.size(), HSR_NO_FACE);
+        for (std::size_t p = 0; p < frame.face.size(); ++p)
+            if (frame.face[p] < scene.triangle_count) object[p] = scene.face_object[frame.face[p]];
+        const hsr::DepthComplexity complexity = hsr::measure_depth_complexity(scene, camera);
+        return {{"depth", base64_of(frame.depth)},
+                {"face", base64_of(frame.face)},
+                {"instance", frame.instance.empty() ? json(nullptr) : json(base64_of(frame.instance))},
+                {"object", base64_of(object)},
+                {"depth_tests", frame.depth_tests.empty() ? json(nullptr) : json(base64_of(frame.depth_tests))},
+                {"depth_complexity", base64_of(complexity.count)}};
+    }
+
+    Rendered render_lines(const FrameRequest& q, const hsr::Plugin& algorithm, LoadedModel& model) {
+        hsr::HiddenLineRemover& remover = instance(line_removers, algorithm, q.params);
+        const hsr_camera camera = make_camera(q, model);
+        const hsr::SceneData& flat = model.flat_scene();
+        const hsr_scene scene = flat.view();
+        hsr::LineSettings settings;
+        settings.edges = q.edges;
+        settings.want_hidden = q.hidden == hsr::HiddenLines::kDashed;
+        settings.crease_angle_degrees = 40;
+        settings.stop_after_event = q.step.value_or(0);
+        hsr::LineDrawing drawing = hsr::render_lines(scene, camera, remover, settings);
+        if (q.step && !drawing.stopped_at && drawing.trace_events > 0) {
+            settings.stop_after_event = drawing.trace_events;  // past the end: the last step
+            drawing = hsr::render_lines(scene, camera, remover, settings);
+        }
+        hsr::LineStyle style;
+        style.hidden = q.hidden;
+        const auto encode_start = std::chrono::steady_clock::now();
+        const hsr::Image image = hsr::draw_line_image(drawing, style);
+        json response;
+        response["png"] = png_data_url(image.width, image.height, image.pixels);
+        const double encode_ms = ms_since(encode_start);
+        response["width"] = image.width;
+        response["height"] = image.height;
+        response["kind"] = "lines";
+        response["stats"] = {{"counters", counters_json(drawing.counters)},
+                             {"visibility_ms", drawing.lines_ms},
+                             {"shading_ms", 0.0},
+                             {"triangles", scene.triangle_count},
+                             {"encode_ms", encode_ms}};
+        json steps = nullptr;
+        if (q.step) {
+            steps = json{{"total", drawing.trace_events}, {"current", drawing.stopped_at ? drawing.stopped_at->index : 0}};
+            json lines = json::array(), outline = json::array();
+            if (drawing.stopped_at) {
+                const hsr::TraceEventRecord& e = *drawing.stopped_at;
+                steps["type"] = e.type;
+                steps["text"] = describe_trace_event(e);
+                steps["face"] = e.face < scene.triangle_count ? json(e.face) : json(nullptr);
+                if (e.edge < drawing.edges.size()) {
+                    auto point = [&](uint32_t v) {
+                        return glm::vec3(scene.positions[3 * v], scene.positions[3 * v + 1], scene.positions[3 * v + 2]);
+                    };
+                    for (const json& line : projected_segment(camera, point(drawing.edges.vertices[2 * e.edge]),
+                                                              point(drawing.edges.vertices[2 * e.edge + 1]))) {
+                        json with_role = line;
+                        with_role.push_back(HSR_STEP_SUBJECT);
+                        lines.push_back(std::move(with_role));
+                    }
+                }
+                if (e.face < scene.triangle_count) outline = triangle_outline(scene, camera, e.face, 0);
+            } else {
+                steps["type"] = "";
+                steps["text"] = "no steps: the plugin reported none";
+                steps["face"] = nullptr;
+            }
+            steps["lines"] = std::move(lines);
+            steps["outline"] = std::move(outline);
+            steps["written"] = nullptr;
+            steps["rejected"] = nullptr;
+            steps["buffers"] = json::array();
+        }
+        response["steps"] = std::move(steps);
+        response["buffers"] = nullptr;
+        return {std::move(response), hsr::Frame{}};
+    }
+};
+
+hsr::host::FrameRenderer::FrameRenderer(const hsr::PluginRegistry& registry, const ModelCatalog& models)
+    : state_(std::make_unique<State>(registry, models)) {}
+
+hsr::host::FrameRenderer::~FrameRenderer() = default;
+
+json hsr::host::FrameRenderer::frame(const json& request) {
+    const FrameRequest q = parse_frame_request(request);
+    std::lock_guard lock(state_->mutex);
+    return state_->render(q).response;
+}
+
+json hsr::host::FrameRenderer::compare(const json& request) {
+    if (!request.is_object() || member(request, "a") == nullptr || member(request, "b") == nullptr)
+        throw ViewError(400, "", "compare: expected {\"a\": <frame request>, \"b\": <frame request>}");
+    auto parse = [&](const char* side) {
+        try {
+            return parse_frame_request(request[side]);
+        } catch (const ViewError& e) {
+            throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
+        }
+    };
+    const FrameRequest qa = parse("a"), qb = parse("b");
+    std::lock_guard lock(state_->mutex);
+    auto render = [&](const FrameRequest& q, const char* side) {
+        try {
+            State::Rendered rendered = state_->render(q);
+            if (rendered.frame.face.empty())
+                throw ViewError(400, fmt::format("{}.algorithm", side),
+                                fmt::format("compare: '{}' draws lines; compare two hidden-surface plugins", q.algorithm));
+            return rendered;
+        } catch (const ViewError& e) {
+            throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
+        }
+    };
+    State::Rendered a = render(qa, "a"), b = render(qb, "b");
+    if (a.frame.width != b.frame.width || a.frame.height != b.frame.height)
+        throw ViewError(400, "b.width", fmt::format("compare: the pictures are {}x{} and {}x{}; give both the same size",
+                                                    a.frame.width, a.frame.height, b.frame.width, b.frame.height));
+    // b's picture dimmed, and magenta where the two disagree on what is visible.
+    std::vector<uint8_t> diff(b.frame.rgb.size());
+    uint64_t differing = 0;
+    const bool instances = !a.frame.instance.empty() && !b.frame.instance.empty();
+    for (std::size_t p = 0; p < b.frame.face.size(); ++p) {
+        const bool differs = a.frame.face[p] != b.frame.face[p] ||
+                             (instances && a.frame.face[p] != HSR_NO_FACE && a.frame.instance[p] != b.frame.instance[p]);
+        differing += differs;
+        for (int k = 0; k < 3; ++k)
+            diff[3 * p + k] = differs ? (k == 1 ? 0 : 255) : uint8_t(b.frame.rgb[3 * p + k] * 2 / 5);
+    }
+    return {{"a", std::move(a.response)},
+            {"b", std::move(b.response)},
+            {"diff_png", png_data_url(b.frame.width, b.frame.height, diff)},
+            {"differing_pixels", differing}};
+}

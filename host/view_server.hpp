@@ -1,0 +1,45 @@
+// hsr view's HTTP server (cpp-httplib): the embedded page, and the JSON API of docs/viewer.md ("The
+// HTTP API") over the model catalog (view_models.hpp) and the frame renderer (view_frames.hpp). A
+// class of its own so that a test can start it on a free port, talk to it and stop it.
+#pragma once
+
+#include "hsr/plugin_registry.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hsr::host {
+
+struct ViewConfig {
+    std::vector<std::filesystem::path> model_folders;  // a model id starts with the folder's index
+    std::vector<std::string> plugin_dirs;              // searched besides the default ones
+    std::filesystem::path initial_model;  // a file in one of the folders, or empty: GET /api/info initial_model
+    std::filesystem::path upload_parent;               // where the uploads folder is made (default: temp)
+};
+
+class ViewServer {
+public:
+    // Scans the plugins; the limits in force (hsr/limits.hpp) bound every request.
+    explicit ViewServer(ViewConfig config);
+    ~ViewServer();
+    ViewServer(const ViewServer&) = delete;
+    ViewServer& operator=(const ViewServer&) = delete;
+
+    // Binds host:port (port 0: any free port) and returns the port; throws hsr::Error if it cannot.
+    int bind(const std::string& host, int port);
+    // Serves until stop(), from any thread; returns false if serving failed.
+    bool run();
+    void stop();
+
+    // The models listed now, for the line hsr view prints.
+    std::size_t model_count() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace hsr::host
