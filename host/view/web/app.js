@@ -2,7 +2,7 @@
 // (latest wins) and shows them with their steps, buffers, stats, comparison and theory.
 
 import { getJson, postJson, uploadModel, ApiError } from './api.js';
-import { Camera } from './camera.js';
+import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm } from './form.js';
 import { StepControls, drawStepOverlay } from './steps.js';
 import { decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid } from './buffers.js';
@@ -188,7 +188,6 @@ function requestFrame() {
   } else {
     scheduler.submit({ kind: 'frame', body });
   }
-  updateCli(body);
 }
 
 // Any setting changed: remember it and render again.
@@ -262,6 +261,7 @@ function showFrame(request, response, image, roundTrip) {
   steps.frameShown(response.steps, shown.isStep);
   updateBufferOptions();
   redraw();
+  updateCli(request, response);
   window.hsrView.lastRequest = request;
   window.hsrView.lastResponse = response;
   $('canvas').dataset.frame = String(frameSerial);
@@ -388,17 +388,18 @@ function setTheoryOpen(open) {
 
 // ---- the command line of the same picture ---------------------------------------------------------
 
-function updateCli(body) {
+// The size is the one rendered: a `camera pixel` scene keeps its own.
+function updateCli(body, response) {
   const withParams = (name, values) => {
     const pairs = Object.entries(values || {}).map(([k, v]) => `${k}=${v}`);
     return pairs.length ? `${name}:${pairs.join(',')}` : name;
   };
   const model = body.model || '';
   const path = model.startsWith('upload/') ? model.split('/').slice(2).join('/') : model.split('/').slice(1).join('/');
-  const algorithm = currentAlgorithm();
+  const algorithm = pluginByName(body.algorithm);
   const words = ['hsr render', path, '-a', withParams(body.algorithm, body.params)];
   if (!algorithm || algorithm.kind !== 'hidden_line') words.push('-l', withParams(body.lighting, body.lighting_params));
-  words.push(`--width ${body.width}`, `--height ${body.height}`, ...camera.cliOptions());
+  words.push(`--width ${response.width}`, `--height ${response.height}`, ...cliCameraOptions(body.camera));
   if (body.step) words.push(`--step ${body.step}`);
   words.push('-o', algorithm && algorithm.kind === 'hidden_line' ? 'drawing.png' : 'picture.png');
   $('cli').textContent = words.join(' ');
@@ -425,6 +426,7 @@ async function upload(file) {
     const { id } = await uploadModel(file);
     models.push({ id, name: file.name, bytes: file.size, kind: file.name.endsWith('.scene') ? 'scene' : 'model' });
     settings.model = id;
+    steps.current = null;
     fillModels();
     $('model').value = id;
     changed({ resetSteps: true });
@@ -467,6 +469,7 @@ const compareElements = {
 function wire() {
   $('model').addEventListener('change', (e) => {
     settings.model = e.target.value;
+    steps.current = null;
     changed({ resetSteps: true });
   });
   $('upload').addEventListener('change', (e) => {

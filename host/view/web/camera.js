@@ -135,21 +135,20 @@ export class Camera {
     }
     return camera;
   }
+}
 
-  // The same camera as `hsr render` options.
-  cliOptions() {
-    const s = this.state;
-    const options = [];
-    if (parseVector(s.eye)) {
-      options.push(`--eye ${parseVector(s.eye).join(',')}`);
-      if (parseVector(s.target)) options.push(`--target ${parseVector(s.target).join(',')}`);
-      if (parseVector(s.up)) options.push(`--up ${parseVector(s.up).join(',')}`);
-    } else {
-      options.push(`--yaw ${s.yaw}`, `--pitch ${s.pitch}`);
-    }
-    options.push(`--zoom ${s.zoom}`);
-    if (s.projection === 'orthographic') options.push('--ortho');
-    if (s.fov !== 35) options.push(`--fov ${s.fov}`);
-    return options;
+// The `hsr render` options of a request's camera.
+export function cliCameraOptions(camera) {
+  const options = [];
+  if (camera.eye) {
+    options.push(`--eye ${camera.eye.join(',')}`);
+    if (camera.target) options.push(`--target ${camera.target.join(',')}`);
+    if (camera.up) options.push(`--up ${camera.up.join(',')}`);
+  } else {
+    options.push(`--yaw ${camera.yaw}`, `--pitch ${camera.pitch}`);
   }
+  options.push(`--zoom ${camera.zoom}`);
+  if (camera.projection === 'orthographic') options.push('--ortho');
+  if (camera.fov !== 35) options.push(`--fov ${camera.fov}`);
+  return options;
 }
