@@ -128,7 +128,7 @@ hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id) const
 
 std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes) {
     // The name is kept for the id and the file's extension; the file itself is upload_dir/<n><ext>.
-    std::string name = fs::path(file_name).filename().string();
+    const std::string& name = file_name;
     const bool plain = !name.empty() && name[0] != '.' && name.size() <= 100 &&
                        std::all_of(name.begin(), name.end(), [](unsigned char c) {
                            return std::isalnum(c) || c == '.' || c == '-' || c == '_' || c == ' ';

@@ -112,6 +112,7 @@ struct hsr::host::ViewServer::State {
     FrameRenderer frames;
     json plugins;  // GET /api/plugins, made once
     std::optional<std::string> initial_model;
+    uint64_t upload_bytes = hsr::limits().upload_bytes;  // the limit in force when the server started
     httplib::Server server;
 
     explicit State(ViewConfig c)
@@ -171,7 +172,6 @@ struct hsr::host::ViewServer::State {
     }
 
     void routes() {
-        const uint64_t upload_bytes = hsr::limits().upload_bytes;
         server.set_payload_max_length(upload_bytes);
         server.Get("/", [this](const httplib::Request&, httplib::Response& res) {
             guarded(res, [&] { serve_file("index.html", res); });
@@ -197,7 +197,7 @@ struct hsr::host::ViewServer::State {
         server.Get(R"(/api/theory/([^/]+))", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] { send_json(res, 200, theory_page(registry, req.matches[1].str())); });
         });
-        server.Post("/api/upload", [this, upload_bytes](const httplib::Request& req, httplib::Response& res) {
+        server.Post("/api/upload", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
                 if (req.body.size() > upload_bytes) throw ViewError(413, "", upload_too_large(req.body.size()));
                 if (req.body.empty()) throw ViewError(400, "", "upload: the body is empty (send the model file's bytes)");
@@ -212,7 +212,7 @@ struct hsr::host::ViewServer::State {
             guarded(res, [&] { send_json(res, 200, frames.compare(parse_body(req))); });
         });
         // What no handler answered (404, 405) and bodies over the limit (413), as JSON too.
-        server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+        server.set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
             if (!res.body.empty()) return;
             if (res.status == 413) {
                 uint64_t length = 0;
@@ -228,20 +228,19 @@ struct hsr::host::ViewServer::State {
         });
     }
 
-    static std::string upload_too_large(uint64_t bytes) {
-        try {
-            hsr::check_limit(&hsr::Limits::upload_bytes, bytes, "upload");
-        } catch (const hsr::Error& e) {
-            return e.what();
-        }
+    // check_limit's message, for the limit the server started with.
+    std::string upload_too_large(uint64_t bytes) const {
+        if (bytes > upload_bytes)
+            return fmt::format("upload: {} bytes, over the limit of {} (raise it with --limit upload-bytes=N)", bytes,
+                               upload_bytes);
         return fmt::format("upload: the body is over the limit of {} bytes (raise it with --limit upload-bytes=N)",
-                           hsr::limits().upload_bytes);
+                           upload_bytes);
     }
 
     json info() const {
         return {{"version", HSR_VERSION},
                 {"abi", fmt::format("{}.{}", HSR_ABI_MAJOR, HSR_ABI_MINOR)},
-                {"limits", {{"upload_bytes", hsr::limits().upload_bytes},
+                {"limits", {{"upload_bytes", upload_bytes},
                             {"max_image_side", view_max_image_side},
                             {"image_pixels", hsr::limits().image_pixels}}},
                 {"initial_model", initial_model ? json(*initial_model) : json(nullptr)}};

@@ -1,0 +1,540 @@
+// hsr view's server (host/view_server.hpp), started in this process on a free port of 127.0.0.1 and
+// spoken to over HTTP with cpp-httplib's client: every endpoint, the CLI's messages for bad values,
+// steps checked against the full render and against the plugin's own counts, compare, uploads and
+// their cap, and requests that try to read files outside the served folders. Also the hidden-line
+// step option of the framework (LineSettings::stop_after_event).
+#include "cli_support.hpp"
+#include "test_models.hpp"
+
+#include "view_server.hpp"
+#include "view_theory.hpp"
+
+#include "hsr/camera.hpp"
+#include "hsr/image.hpp"
+#include "hsr/limits.hpp"
+#include "hsr/lines.hpp"
+#include "hsr/plugin_registry.hpp"
+#include "hsr/scene_builder.hpp"
+
+#include <catch2/catch.hpp>
+#include <fmt/format.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <regex>
+#include <thread>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// A scratch folder of models: two plain ones, one in a sub-folder, a hidden one, a link that leaves
+// the folder, and a .scene file naming a mesh outside it. Beside it, outside, a "secret" model.
+fs::path make_model_folder() {
+    const fs::path root = cli::scratch_dir() / "view";
+    fs::remove_all(root);
+    fs::create_directories(root / "models" / "sub");
+    fs::create_directories(root / "outside");
+    fs::copy_file(test_models::path("cube.obj"), root / "models" / "cube.obj");
+    fs::copy_file(test_models::path("tetrahedron.off"), root / "models" / "sub" / "tetrahedron.off");
+    fs::copy_file(test_models::path("cube.obj"), root / "models" / ".hidden.obj");
+    fs::copy_file(test_models::path("cube.obj"), root / "outside" / "secret.obj");
+    fs::create_symlink(root / "outside" / "secret.obj", root / "models" / "link.obj");
+    std::ofstream(root / "models" / "escape.scene") << "mesh ../outside/secret.obj\n";
+    return root;
+}
+
+struct RunningServer {
+    fs::path root = make_model_folder();
+    std::unique_ptr<hsr::host::ViewServer> server;
+    int port = 0;
+    std::thread thread;
+
+    RunningServer() {
+        hsr::host::ViewConfig config;
+        config.model_folders = {root / "models", test_models::dir};
+        config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_TEST_PLUGIN_DIR};
+        config.initial_model = root / "models" / "cube.obj";
+        config.upload_parent = root;
+        server = std::make_unique<hsr::host::ViewServer>(config);
+        port = server->bind("127.0.0.1", 0);
+        thread = std::thread([this] { server->run(); });
+        REQUIRE(get("/api/info")->status == 200);  // running: stop() below will end run()
+    }
+    ~RunningServer() {
+        server->stop();
+        thread.join();
+    }
+
+    httplib::Client client() const {
+        httplib::Client c("127.0.0.1", port);
+        c.set_read_timeout(120, 0);
+        return c;
+    }
+    httplib::Result get(const std::string& path) const { return client().Get(path.c_str()); }
+    httplib::Result post(const std::string& path, const json& body) const {
+        return client().Post(path.c_str(), body.dump(), "application/json");
+    }
+    // The response as JSON, after checking its status.
+    json post_json(const std::string& path, const json& body, int status = 200) const {
+        httplib::Result r = post(path, body);
+        REQUIRE(r);
+        INFO(path << " " << body.dump() << " -> " << r->body.substr(0, 400));
+        REQUIRE(r->status == status);
+        CHECK(r->get_header_value("Content-Type") == "application/json");
+        return json::parse(r->body);
+    }
+    json get_json(const std::string& path, int status = 200) const {
+        httplib::Result r = get(path);
+        REQUIRE(r);
+        INFO(path << " -> " << r->body.substr(0, 400));
+        REQUIRE(r->status == status);
+        return json::parse(r->body);
+    }
+};
+
+std::string decode_base64(const std::string& text) {
+    std::string out;
+    uint32_t bits = 0;
+    int count = 0;
+    for (char c : text) {
+        const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        const char* at = std::strchr(digits, c);
+        if (c == '=' || at == nullptr) break;
+        bits = bits << 6 | uint32_t(at - digits);
+        if ((count += 6) >= 8) {
+            count -= 8;
+            out += char((bits >> count) & 0xff);
+        }
+    }
+    return out;
+}
+
+std::string png_bytes(const json& frame) {
+    const std::string url = frame.at("png").get<std::string>();
+    const std::string prefix = "data:image/png;base64,";
+    REQUIRE(url.rfind(prefix, 0) == 0);
+    return decode_base64(url.substr(prefix.size()));
+}
+
+template <class T>
+std::vector<T> decode_array(const json& base64_text) {
+    const std::string bytes = decode_base64(base64_text.get<std::string>());
+    std::vector<T> values(bytes.size() / sizeof(T));
+    std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+    return values;
+}
+
+json frame_request(const std::string& model, const std::string& algorithm, int size) {
+    return {{"model", model}, {"algorithm", algorithm}, {"params", json::object()}, {"lighting", "blinn-phong"},
+            {"camera", {{"yaw", 30}, {"pitch", 20}, {"zoom", 1}, {"projection", "perspective"}, {"fov", 35}}},
+            {"width", size}, {"height", size}, {"step", nullptr}, {"buffers", false}};
+}
+
+// The CLI's message for the same mistake: hsr render's one-line error without its prefix.
+std::string cli_message(const std::string& args, const std::string& tag) {
+    const cli::Run run = cli::run_hsr(args, tag);
+    REQUIRE(run.status != 0);
+    std::string message = run.err.substr(std::string("hsr: error: ").size());
+    message = message.substr(0, message.find('\n'));
+    const std::string hint = " (see hsr --help)";
+    if (message.ends_with(hint)) message.resize(message.size() - hint.size());
+    return message;
+}
+
+}  // namespace
+
+TEST_CASE("view: info, models, plugins and the page", "[view]") {
+    RunningServer s;
+    const json info = s.get_json("/api/info");
+    CHECK(info["abi"] == fmt::format("{}.{}", HSR_ABI_MAJOR, HSR_ABI_MINOR));
+    CHECK(info["initial_model"] == "0/cube.obj");
+    CHECK(info["limits"]["upload_bytes"] == hsr::limits().upload_bytes);
+    CHECK(info["limits"]["max_image_side"] == 4096);
+
+    const json models = s.get_json("/api/models");
+    REQUIRE(models["folders"].size() == 2);
+    CHECK(models["folders"][0] == fs::canonical(s.root / "models").string());
+    std::vector<std::string> ids;
+    for (const json& m : models["models"]) ids.push_back(m["id"]);
+    CHECK(std::is_sorted(ids.begin(), ids.end()));
+    for (const char* id : {"0/cube.obj", "0/sub/tetrahedron.off", "0/escape.scene", "1/cube.obj", "1/boxes.scene"})
+        CHECK(std::count(ids.begin(), ids.end(), id) == 1);
+    for (const char* id : {"0/.hidden.obj", "0/link.obj"}) CHECK(std::count(ids.begin(), ids.end(), id) == 0);
+    for (const json& m : models["models"])
+        if (m["id"] == "0/cube.obj") {
+            CHECK(m["bytes"] == fs::file_size(s.root / "models" / "cube.obj"));
+            CHECK(m["kind"] == "model");
+            CHECK(m["name"] == "cube.obj");
+        }
+
+    const json plugins = s.get_json("/api/plugins");
+    auto find = [&](const char* kind, const char* name) {
+        for (const json& p : plugins[kind])
+            if (p["name"] == name) return p;
+        FAIL("no plugin " << name << " in " << kind);
+        return json();
+    };
+    const json zbuffer = find("hidden_surface", "zbuffer");
+    CHECK(zbuffer["steps"] == true);
+    CHECK(zbuffer["abi"] == "1.3");
+    CHECK(find("hidden_surface", "frozen-1.0")["steps"] == false);
+    CHECK(find("hidden_line", "handmade-lines")["steps"] == true);
+    find("lighting", "blinn-phong");
+    bool depth_test = false;
+    for (const json& p : zbuffer["params"])
+        if (p["name"] == "depth-test") {
+            depth_test = true;
+            CHECK(p["type"] == "enum");
+            CHECK(p["default"] == "less");
+            CHECK(p["choices"] == json({"less", "greater"}));
+        }
+    CHECK(depth_test);
+
+    httplib::Result page = s.get("/");
+    REQUIRE(page);
+    CHECK(page->status == 200);
+    CHECK(page->get_header_value("Content-Type") == "text/html; charset=utf-8");
+    CHECK(page->body == cli::slurp(fs::path(HSR_SOURCE_DIR) / "host/view/web/index.html"));
+    CHECK(s.get("/static/index.html")->body == page->body);
+    const json missing = s.get_json("/static/no-such-file.js", 404);
+    CHECK(missing["error"] == "no file 'no-such-file.js'");
+    CHECK(s.get_json("/api/nothing", 404).contains("error"));
+}
+
+TEST_CASE("view: a frame, and the CLI's messages for bad values", "[view]") {
+    RunningServer s;
+    json request = frame_request("0/cube.obj", "zbuffer", 64);
+    request["buffers"] = true;
+    const json frame = s.post_json("/api/frame", request);
+    CHECK(frame["kind"] == "surface");
+    CHECK(frame["width"] == 64);
+    CHECK(frame["stats"]["triangles"] == 12);
+    CHECK(frame["stats"]["counters"]["triangles-in"] == 12);
+    CHECK(frame["steps"].is_null());
+    // The picture decodes to the size asked for: a PNG's IHDR holds it.
+    const std::string png = png_bytes(frame);
+    REQUIRE(png.size() > 24);
+    CHECK(png.substr(1, 3) == "PNG");
+    CHECK(uint8_t(png[19]) == 64);
+    CHECK(uint8_t(png[23]) == 64);
+    // Buffers: each width * height; the covered pixels are those with a face and a finite depth, and
+    // each has its face's object (cube.obj: one object, 0).
+    const auto depth = decode_array<float>(frame["buffers"]["depth"]);
+    const auto face = decode_array<uint32_t>(frame["buffers"]["face"]);
+    const auto object = decode_array<uint32_t>(frame["buffers"]["object"]);
+    const auto complexity = decode_array<uint32_t>(frame["buffers"]["depth_complexity"]);
+    REQUIRE(depth.size() == 64 * 64);
+    REQUIRE(face.size() == 64 * 64);
+    REQUIRE(complexity.size() == 64 * 64);
+    std::size_t covered = 0;
+    for (std::size_t p = 0; p < face.size(); ++p) {
+        CHECK((face[p] == HSR_NO_FACE) == std::isinf(depth[p]));
+        CHECK((face[p] == HSR_NO_FACE) == (complexity[p] == 0));
+        CHECK(object[p] == (face[p] == HSR_NO_FACE ? HSR_NO_FACE : 0u));
+        if (face[p] != HSR_NO_FACE) {
+            CHECK(face[p] < 12);
+            ++covered;
+        }
+    }
+    CHECK(covered == frame["stats"]["counters"]["fragments-shaded"]);
+    CHECK(frame["buffers"]["instance"].is_null());
+
+    const std::string cube = test_models::path("cube.obj").string();
+    struct Case {
+        const char* field;
+        json value;
+        std::string cli_args;
+    };
+    const Case cases[] = {
+        {"params.cull-backfaces", json{{"cull-backfaces", "maybe"}}, "-a zbuffer:cull-backfaces=maybe"},
+        {"params.no-such", json{{"no-such", "1"}}, "-a zbuffer:no-such=1"},
+        {"lighting_params.interpolation", json{{"interpolation", "glossy"}}, "-l blinn-phong:interpolation=glossy"},
+        {"lighting_params.mode", json{{"mode", "glossy"}}, "-l blinn-phong:mode=glossy"},
+        {"algorithm", "no-such-plugin", "-a no-such-plugin"},
+        {"lighting", "no-such-lighting", "-l no-such-lighting"},
+        {"camera.zoom", -1, "--zoom -1"},
+        {"camera.fov", 200, "--fov 200"},
+        {"camera.eye", json{1, 2}, "--eye 1,2"},
+    };
+    for (const Case& c : cases) {
+        json bad = frame_request("0/cube.obj", "zbuffer", 32);
+        const std::string field = c.field;
+        if (field.starts_with("params."))
+            bad["params"] = c.value;
+        else if (field.starts_with("lighting_params."))
+            bad["lighting_params"] = c.value;
+        else if (field.starts_with("camera."))
+            bad["camera"][field.substr(7)] = c.value;
+        else
+            bad[field] = c.value;
+        const json error = s.post_json("/api/frame", bad, 400);
+        CHECK(error["field"] == c.field);
+        // The folders searched differ (the test's plugin folders), so a missing plugin's message is
+        // compared up to the list of them.
+        auto before_search = [](std::string message) { return message.substr(0, message.find(" (searched: ")); };
+        CHECK(before_search(error["error"]) ==
+              before_search(cli_message("render " + cube + " -o x.png " + c.cli_args, "view-cli")));
+    }
+    json too_large = frame_request("0/cube.obj", "zbuffer", 32);
+    too_large["width"] = 5000;
+    const json size_error = s.post_json("/api/frame", too_large, 400);
+    CHECK(size_error["field"] == "width");
+    CHECK(size_error["error"] == "image size 5000x32: each side must be between 1 and 4096");
+    CHECK(s.post_json("/api/frame", json{{"model", "0/cube.obj"}, {"step", 0}}, 400)["error"] ==
+          cli_message("render " + cube + " -o x.png --step 0", "view-cli"));
+    httplib::Result not_json = s.client().Post("/api/frame", "{model:", "application/json");
+    REQUIRE(not_json);
+    CHECK(not_json->status == 400);
+    CHECK_THAT(json::parse(not_json->body)["error"].get<std::string>(), Catch::StartsWith("the request body is not JSON"));
+
+    // A plugin that fails: a JSON error, and the server goes on.
+    json failing = frame_request("0/cube.obj", "throwing", 32);
+    const json failure = s.post_json("/api/frame", failing, 500);
+    CHECK_THAT(failure["error"].get<std::string>(), Catch::Contains("throwing"));
+    CHECK(s.post_json("/api/frame", frame_request("0/cube.obj", "zbuffer", 32))["kind"] == "surface");
+    // A step request to a plugin without steps.
+    json no_steps = frame_request("0/cube.obj", "frozen-1.0", 32);
+    no_steps["step"] = 1;
+    const json no_steps_error = s.post_json("/api/frame", no_steps, 400);
+    CHECK(no_steps_error["field"] == "step");
+    CHECK_THAT(no_steps_error["error"].get<std::string>(), Catch::Contains("cannot show its steps"));
+}
+
+TEST_CASE("view: zbuffer steps against the full render and the plugin's own counts", "[view]") {
+    RunningServer s;
+    const std::string bunny = "1/bunny.obj";
+    test_models::require_fetched();
+    const json full = s.post_json("/api/frame", frame_request(bunny, "zbuffer", 512));
+    const uint64_t triangles = full["stats"]["counters"]["triangles-in"];
+    CHECK(triangles == 69666);
+
+    // Steps in the middle: zbuffer draws triangle k - 1 at step k. The pixels the server finds
+    // written and rejected (from the buffers before and after) are as many as the plugin counted.
+    int checked = 0;
+    for (uint64_t step : {1u, 2u, 1000u, 20000u, 30001u, 45678u, 50000u, 60000u, 65000u}) {
+        json request = frame_request(bunny, "zbuffer", 512);
+        request["step"] = step;
+        const json frame = s.post_json("/api/frame", request);
+        const json& steps = frame["steps"];
+        CHECK(steps["total"] == triangles);
+        CHECK(steps["current"] == step);
+        CHECK(steps["type"] == "triangle");
+        CHECK(steps["face"] == step - 1);
+        std::smatch m;
+        const std::string text = steps["text"];
+        INFO(text);
+        CHECK(text.rfind(fmt::format("triangle {}:", step - 1), 0) == 0);
+        if (std::regex_search(text, m, std::regex(R"((\d+) pixels? written, (\d+) rejected)"))) {
+            REQUIRE(steps["written"].is_array());
+            REQUIRE(steps["rejected"].is_array());
+            CHECK(steps["written"].size() == std::stoul(m[1]));
+            CHECK(steps["rejected"].size() == std::stoul(m[2]));
+            ++checked;
+            // The outline of the triangle: three sides inside the image, around every pixel written.
+            REQUIRE(steps["outline"].size() == 3);
+            float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
+            for (const json& line : steps["outline"]) {
+                for (int k = 0; k < 4; k += 2) {
+                    x0 = std::min(x0, line[k].get<float>()), x1 = std::max(x1, line[k].get<float>());
+                    y0 = std::min(y0, line[k + 1].get<float>()), y1 = std::max(y1, line[k + 1].get<float>());
+                }
+            }
+            CHECK(x0 >= 0);
+            CHECK(x1 <= 512);
+            for (const json& p : steps["written"]) {
+                CHECK(p[0].get<float>() + 0.5f >= x0);
+                CHECK(p[0].get<float>() + 0.5f <= x1);
+                CHECK(p[1].get<float>() + 0.5f >= y0);
+                CHECK(p[1].get<float>() + 0.5f <= y1);
+            }
+        }
+    }
+    CHECK(checked >= 3);
+
+    // The last step is the full render, to the byte; a step past the end is the last step.
+    for (uint64_t step : {triangles, triangles + 5}) {
+        json request = frame_request(bunny, "zbuffer", 512);
+        request["step"] = step;
+        const json last = s.post_json("/api/frame", request);
+        CHECK(last["steps"]["current"] == triangles);
+        CHECK(png_bytes(last) == png_bytes(full));
+    }
+}
+
+TEST_CASE("view: hidden-line steps are the plugin's trace events", "[view]") {
+    RunningServer s;
+    json request = frame_request("0/cube.obj", "handmade-lines", 64);
+    request["edges"] = "all";
+    const json full = s.post_json("/api/frame", request);
+    CHECK(full["kind"] == "lines");
+    CHECK(full["buffers"].is_null());
+    const uint64_t edges = full["stats"]["counters"]["edges-requested"];
+    CHECK(edges == 12);  // "all" leaves out the diagonals inside the square faces
+    request["step"] = 4;
+    const json step = s.post_json("/api/frame", request);
+    CHECK(step["steps"]["total"] == edges);  // handmade-lines: one "edge-begin" per edge
+    CHECK(step["steps"]["current"] == 4);
+    CHECK(step["steps"]["type"] == "edge-begin");
+    CHECK(step["steps"]["text"] == "edge-begin: edge 3, qi 0, t 0");
+    REQUIRE(step["steps"]["lines"].size() == 1);
+    CHECK(step["steps"]["lines"][0][4] == 0);
+    request["step"] = edges;
+    CHECK(png_bytes(s.post_json("/api/frame", request)) == png_bytes(full));
+}
+
+TEST_CASE("lines: stop_after_event keeps the segments emitted before the next event", "[view]") {
+    hsr::PluginRegistry registry;
+    registry.scan_directory(HSR_TEST_PLUGIN_DIR);
+    hsr::HiddenLineRemover remover(registry.find(HSR_KIND_HIDDEN_LINE_REMOVER, "handmade-lines"), {});
+    const hsr::SceneData cube = hsr::load_model(test_models::path("cube.obj"));
+    hsr::CameraSettings view;
+    view.width = view.height = 64;
+    view.yaw_degrees = 30;
+    view.pitch_degrees = 20;
+    const hsr_camera camera = hsr::make_camera(cube.bounds_min, cube.bounds_max, view);
+    hsr::LineSettings settings;
+    settings.edges = hsr::EdgeSelection::kAll;
+    const hsr::LineDrawing whole = hsr::render_lines(cube.view(), camera, remover, settings);
+    const uint64_t edges = whole.edges.size();
+    REQUIRE(edges > 6);
+    CHECK(whole.trace_events == 0);  // not asked for
+    CHECK_FALSE(whole.stopped_at);
+    // handmade-lines sends event e, then after every third edge a batch of those three segments:
+    // before event k + 1 it has emitted 3 * floor(k / 3) segments.
+    for (uint64_t k = 1; k <= edges + 1; ++k) {
+        settings.stop_after_event = k;
+        const hsr::LineDrawing part = hsr::render_lines(cube.view(), camera, remover, settings);
+        INFO("k = " << k);
+        CHECK(part.trace_events == edges);
+        if (k <= edges) {
+            REQUIRE(part.stopped_at);
+            CHECK(part.stopped_at->index == k);
+            CHECK(part.stopped_at->type == "edge-begin");
+            CHECK(part.stopped_at->edge == k - 1);
+            CHECK(part.segments.size() == (k == edges ? edges : 3 * (k / 3)));
+        } else {
+            CHECK_FALSE(part.stopped_at);
+            CHECK(part.segments.size() == edges);
+        }
+    }
+}
+
+TEST_CASE("view: compare two plugins' visibility", "[view]") {
+    RunningServer s;
+    json a = frame_request("0/cube.obj", "zbuffer", 48);
+    json b = a;
+    b["params"] = {{"depth-test", "greater"}};
+    a["buffers"] = b["buffers"] = true;
+    const json result = s.post_json("/api/compare", {{"a", a}, {"b", b}});
+    const auto face_a = decode_array<uint32_t>(result["a"]["buffers"]["face"]);
+    const auto face_b = decode_array<uint32_t>(result["b"]["buffers"]["face"]);
+    REQUIRE(face_a.size() == face_b.size());
+    uint64_t differing = 0;
+    for (std::size_t p = 0; p < face_a.size(); ++p) differing += face_a[p] != face_b[p];
+    CHECK(differing > 0);
+    CHECK(result["differing_pixels"] == differing);
+    CHECK(png_bytes({{"png", result["diff_png"]}}).substr(1, 3) == "PNG");
+    CHECK(s.post_json("/api/compare", {{"a", a}, {"b", a}})["differing_pixels"] == 0);
+    json other_size = a;
+    other_size["width"] = 40;
+    CHECK(s.post_json("/api/compare", {{"a", a}, {"b", other_size}}, 400)["field"] == "b.width");
+    json bad = a;
+    bad["params"] = {{"depth-test", "sideways"}};
+    CHECK(s.post_json("/api/compare", {{"a", a}, {"b", bad}}, 400)["field"] == "b.params.depth-test");
+}
+
+TEST_CASE("view: uploads, and their cap", "[view]") {
+    hsr::Limits limits;
+    limits.upload_bytes = 2000;
+    hsr::set_limits(limits);
+    RunningServer s;
+    const std::string cube = cli::slurp(test_models::path("cube.obj"));
+    REQUIRE(cube.size() < 2000);
+    httplib::Headers headers{{"X-File-Name", "my cube.obj"}};
+    httplib::Result r = s.client().Post("/api/upload", headers, cube, "application/octet-stream");
+    REQUIRE(r);
+    REQUIRE(r->status == 200);
+    const std::string id = json::parse(r->body)["id"];
+    CHECK(std::regex_match(id, std::regex(R"(upload/\d+/my cube\.obj)")));
+    CHECK(s.post_json("/api/frame", frame_request(id, "zbuffer", 32))["stats"]["triangles"] == 12);
+    const json models = s.get_json("/api/models")["models"];
+    INFO(models.dump());
+    CHECK(std::count_if(models.begin(), models.end(), [&](const json& m) { return m["id"] == id; }) == 1);
+
+    httplib::Result large = s.client().Post("/api/upload", headers, std::string(3000, 'v'), "application/octet-stream");
+    REQUIRE(large);
+    CHECK(large->status == 413);
+    CHECK(json::parse(large->body)["error"] ==
+          "upload: 3000 bytes, over the limit of 2000 (raise it with --limit upload-bytes=N)");
+    for (const char* name : {"../../evil.obj", ".hidden.obj", "x.scene", "notes.txt", ""}) {
+        httplib::Result refused = s.client().Post("/api/upload", {{"X-File-Name", name}}, cube, "application/octet-stream");
+        REQUIRE(refused);
+        INFO(name << ": " << refused->body);
+        CHECK(refused->status == 400);
+    }
+    hsr::set_limits(hsr::Limits{});
+    CHECK(s.get_json("/api/info")["limits"]["upload_bytes"] == 2000);  // as when the server started
+}
+
+TEST_CASE("view: nothing outside the served folders is read", "[view]") {
+    RunningServer s;
+    const std::string secret = (s.root / "outside" / "secret.obj").string();
+    for (const std::string& id : {std::string("0/../outside/secret.obj"), std::string("0/%2e%2e/outside/secret.obj"),
+                                  std::string("0/sub/../../outside/secret.obj"), secret, "/" + secret, "0//" + secret,
+                                  std::string("0/link.obj"), std::string("0/.hidden.obj"), std::string("9/cube.obj"),
+                                  std::string("upload/1/cube.obj"), std::string("0/")}) {
+        const json error = s.post_json("/api/frame", frame_request(id, "zbuffer", 16), 404);
+        CHECK(error["error"] == fmt::format("no model '{}'", id));
+        CHECK(error["field"] == "model");
+    }
+    const json escape = s.post_json("/api/frame", frame_request("0/escape.scene", "zbuffer", 16), 400);
+    CHECK_THAT(escape["error"].get<std::string>(), Catch::Contains("lies outside the folders hsr view serves"));
+    for (const char* path : {"/static/../../../CMakeLists.txt", "/static/%2e%2e/%2e%2e/host/view.cpp", "/static/..%2f..%2fsetup.sh",
+                             "/static//etc/passwd", "/api/theory/..%2f..%2fREADME", "/api/theory/%2e%2e"}) {
+        httplib::Result r = s.get(path);
+        REQUIRE(r);
+        INFO(path << " -> " << r->status << " " << r->body.substr(0, 200));
+        CHECK((r->status == 404 || r->status == 400));
+        CHECK(r->body.find("hsr") == std::string::npos);  // none of those files' text
+    }
+}
+
+TEST_CASE("view: theory pages", "[view]") {
+    RunningServer s;
+    const json zbuffer = s.get_json("/api/theory/zbuffer");
+    const std::string markdown = cli::slurp(fs::path(HSR_SOURCE_DIR) / "docs/algorithms/zbuffer.md");
+    const std::string heading = markdown.substr(2, markdown.find('\n') - 2);
+    REQUIRE(markdown.rfind("# ", 0) == 0);
+    CHECK(zbuffer["title"] == heading);
+    CHECK_THAT(zbuffer["html"].get<std::string>(), Catch::StartsWith("<h1>"));
+    // A plugin without a page: one made from its description and parameters.
+    const json made = s.get_json("/api/theory/throwing");
+    CHECK(made["title"] == "throwing");
+    CHECK_THAT(made["html"].get<std::string>(), Catch::Contains("throws on purpose (test plugin)"));
+    CHECK_THAT(made["html"].get<std::string>(), Catch::Contains("throw-in"));
+    CHECK(s.get_json("/api/theory/no-such-plugin", 404)["error"] == "no plugin 'no-such-plugin'");
+    // Safe mode: raw HTML and javascript: links are dropped.
+    const std::string html = hsr::host::markdown_to_html("a <script>alert(1)</script> [x](javascript:alert(1))\n");
+    CHECK(html.find("<script>") == std::string::npos);
+    CHECK(html.find("javascript:") == std::string::npos);
+}
+
+TEST_CASE("view: frames from several clients at once", "[view]") {
+    RunningServer s;
+    std::vector<std::thread> clients;
+    std::atomic<int> ok{0};
+    for (int t = 0; t < 4; ++t)
+        clients.emplace_back([&, t] {
+            for (int i = 0; i < 5; ++i) {
+                json request = frame_request("0/cube.obj", t % 2 ? "zbuffer" : "handmade-lines", 32 + t);
+                request["camera"]["yaw"] = 10 * i;
+                httplib::Result r = s.post("/api/frame", request);
+                if (r && r->status == 200) ++ok;
+            }
+        });
+    for (std::thread& c : clients) c.join();
+    CHECK(ok == 20);
+}
