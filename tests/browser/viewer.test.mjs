@@ -231,9 +231,10 @@ async function main() {
     assert(Number.isInteger(total) && total > 2, `total: ${total}`);
     // The step to show: the one whose triangle both writes and is rejected at the most pixels
     // (the most telling picture for the docs), asked of the server directly.
-    let k = Math.ceil(total / 2);
+    let k = response.steps.current === 2 ? 3 : 2;
     let most = -1;
     for (let step = 1; step <= Math.min(total, 64); step += 1) {
+      if (step === response.steps.current) continue;  // a jump must go somewhere
       const answer = await (await fetch(new URL('api/frame', serverUrl), {
         method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ ...request, step }) })).json();
       const written = answer.steps?.written?.length ?? 0;

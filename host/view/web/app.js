@@ -1,9 +1,10 @@
 // The viewer page: loads the models and plugins, keeps the settings, asks the server for frames
 // (latest wins) and shows them with their steps, buffers, stats, comparison and theory.
 
-import { getJson, postJson, uploadModel, ApiError } from './api.js';
+import { getJson, postJson, ApiError } from './api.js';
 import { Camera, cliCameraOptions } from './camera.js';
-import { ParamForm } from './form.js';
+import { ParamForm, fillSelect } from './form.js';
+import { ModelList } from './models.js';
 import { StepControls, drawStepOverlay } from './steps.js';
 import { decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid } from './buffers.js';
 import { compareRequest, showCompare, hideCompare } from './compare.js';
@@ -86,18 +87,6 @@ const lightingForm = new ParamForm($('lighting-params'), (values) => {
   changed({});
 });
 
-function fillSelect(select, groups, selected) {
-  select.replaceChildren();
-  for (const [label, items] of groups) {
-    if (!items.length) continue;
-    const group = document.createElement('optgroup');
-    group.label = label;
-    for (const item of items) group.append(new Option(item.text, item.value));
-    select.append(group);
-  }
-  if ([...select.options].some((o) => o.value === selected)) select.value = selected;
-  return select.value;
-}
 
 function algorithmChosen() {
   const algorithm = currentAlgorithm();
@@ -405,57 +394,17 @@ function updateCli(body, response) {
   $('cli').textContent = words.join(' ');
 }
 
-// ---- models and uploads ---------------------------------------------------------------------------
+// ---- models ------------------------------------------------------------------------------------------
 
-let models = [];
-
-function fillModels() {
-  const folders = new Map();
-  for (const m of models) {
-    const folder = m.id.startsWith('upload/') ? 'uploaded' : 'models';
-    if (!folders.has(folder)) folders.set(folder, []);
-    const kb = m.bytes ? ` (${m.bytes < 1e6 ? `${Math.ceil(m.bytes / 1024)} KB` : `${(m.bytes / 1e6).toFixed(1)} MB`})` : '';
-    folders.get(folder).push({ value: m.id, text: `${m.id.startsWith('upload/') ? m.name : m.id.replace(/^\d+\//, '')}${kb}` });
-  }
-  settings.model = fillSelect($('model'), [...folders.entries()], settings.model) || null;
-}
-
-async function upload(file) {
-  setStatus(`uploading ${file.name}…`);
-  try {
-    const { id } = await uploadModel(file);
-    models.push({ id, name: file.name, bytes: file.size, kind: file.name.endsWith('.scene') ? 'scene' : 'model' });
+const modelList = new ModelList($('model'), {
+  onUploaded: (id) => {
     settings.model = id;
     steps.current = null;
-    fillModels();
-    $('model').value = id;
     changed({ resetSteps: true });
-  } catch (e) {
-    reportError(e);
-  }
-}
-
-function setUpDrop() {
-  const target = $('drop-target');
-  let depth = 0;
-  window.addEventListener('dragenter', (e) => {
-    if (![...(e.dataTransfer?.types || [])].includes('Files')) return;
-    depth += 1;
-    target.hidden = false;
-  });
-  window.addEventListener('dragleave', () => {
-    depth = Math.max(0, depth - 1);
-    if (depth === 0) target.hidden = true;
-  });
-  window.addEventListener('dragover', (e) => e.preventDefault());
-  window.addEventListener('drop', (e) => {
-    e.preventDefault();
-    depth = 0;
-    target.hidden = true;
-    const file = e.dataTransfer?.files?.[0];
-    if (file) upload(file);
-  });
-}
+  },
+  onError: (e) => reportError(e),
+  onStatus: (text) => setStatus(text),
+});
 
 // ---- wiring -----------------------------------------------------------------------------------------
 
@@ -473,7 +422,7 @@ function wire() {
     changed({ resetSteps: true });
   });
   $('upload').addEventListener('change', (e) => {
-    if (e.target.files[0]) upload(e.target.files[0]);
+    if (e.target.files[0]) modelList.upload(e.target.files[0]);
     e.target.value = '';
   });
   $('algorithm').addEventListener('change', (e) => {
@@ -535,13 +484,14 @@ function wire() {
     updatePixelInfo();
   });
   window.addEventListener('resize', () => redraw());
-  setUpDrop();
+  modelList.acceptDrops($('drop-target'));
 }
 
 async function start() {
   window.hsrView = { lastRequest: null, lastResponse: null, idle: () => scheduler.idle() };
   wire();
   let info;
+  let models;
   try {
     [info, plugins] = await Promise.all([getJson('/api/info'), getJson('/api/plugins')]);
     models = (await getJson('/api/models')).models || [];
@@ -550,10 +500,16 @@ async function start() {
     setStatus('the server did not answer');
     return;
   }
+  for (const kind of ['hidden_surface', 'hidden_line', 'lighting']) {
+    if (!Array.isArray(plugins[kind])) plugins[kind] = [];
+  }
   limits = info.limits || limits;
   for (const side of ['width', 'height']) $(side).max = String(limits.max_image_side || 4096);
-  if (info.initial_model) settings.model = info.initial_model;
-  fillModels();
+  // The model named on the command line comes first, unless this browser already saw that
+  // command's model and chose another since.
+  if (info.initial_model && info.initial_model !== settings.initialModel) settings.model = info.initial_model;
+  settings.initialModel = info.initial_model || null;
+  settings.model = modelList.set(models, settings.model);
 
   const option = (p) => ({ value: p.name, text: p.steps ? `${p.name} (steps)` : p.name });
   settings.algorithm = fillSelect($('algorithm'), [

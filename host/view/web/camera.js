@@ -41,7 +41,10 @@ export class Camera {
   }
 
   set(state) {
-    this.state = { ...DEFAULT_CAMERA, ...(state || {}) };
+    this.state = { ...DEFAULT_CAMERA, ...(state && typeof state === 'object' ? state : {}) };
+    for (const key of Object.keys(DEFAULT_CAMERA)) {
+      if (typeof this.state[key] !== typeof DEFAULT_CAMERA[key]) this.state[key] = DEFAULT_CAMERA[key];
+    }
     this.writeInputs();
   }
 

@@ -145,3 +145,18 @@ export class ParamForm {
     for (const param of this.params) this.showError(param.name, '');
   }
 }
+
+// Fills a <select> with groups [[label, [{value, text}]]], choosing `selected` if it is there;
+// returns the value chosen.
+export function fillSelect(select, groups, selected) {
+  select.replaceChildren();
+  for (const [label, items] of groups) {
+    if (!items.length) continue;
+    const group = document.createElement('optgroup');
+    group.label = label;
+    for (const item of items) group.append(new Option(item.text, item.value));
+    select.append(group);
+  }
+  if ([...select.options].some((o) => o.value === selected)) select.value = selected;
+  return select.value;
+}

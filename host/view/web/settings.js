@@ -9,12 +9,20 @@ export const DEFAULT_SETTINGS = Object.freeze({
   camera: null, width: 512, height: 512,
   bufferView: 'frame', gridMode: 'depth', speed: '5',
   compare: false, compareAlgorithm: null, theoryOpen: false,
+  initialModel: null,                      // the model hsr view was started with, last visit
 });
 
 export function loadSettings() {
   try {
     const stored = JSON.parse(localStorage.getItem(KEY) || '{}');
-    return { ...DEFAULT_SETTINGS, ...(stored && typeof stored === 'object' ? stored : {}) };
+    const settings = { ...DEFAULT_SETTINGS, ...(stored && typeof stored === 'object' ? stored : {}) };
+    // A store written by hand or by another page must not break this one.
+    for (const key of Object.keys(DEFAULT_SETTINGS)) {
+      const expected = DEFAULT_SETTINGS[key];
+      if (expected !== null && typeof settings[key] !== typeof expected) settings[key] = expected;
+    }
+    for (const key of ['params', 'lightingParams']) settings[key] = { ...settings[key] };
+    return settings;
   } catch {
     return { ...DEFAULT_SETTINGS };
   }

@@ -25,6 +25,14 @@ export class StepControls {
     el.forward.addEventListener('click', () => this.go(this.current === null ? 1 : this.current + 1));
     el.play.addEventListener('click', () => this.setPlaying(!this.playing));
     el.slider.addEventListener('input', () => this.go(Number(el.slider.value)));
+    // The arrow keys step back and forward while the step bar is shown and no field has the focus.
+    document.addEventListener('keydown', (e) => {
+      if (el.play.closest('[hidden]') || e.target.closest?.('input, select, textarea')) return;
+      if (e.key === 'ArrowRight') el.forward.click();
+      else if (e.key === 'ArrowLeft') el.back.click();
+      else return;
+      e.preventDefault();
+    });
     el.number.addEventListener('change', () => {
       const k = Math.round(Number(el.number.value));
       if (Number.isFinite(k) && k >= 1) this.go(k);
