@@ -73,7 +73,16 @@ std::pair<std::string, int> parse_listen(const std::string& text) {
 void open_in_browser(const std::string& url) {
     pid_t pid = 0;
     const char* argv[] = {"xdg-open", url.c_str(), nullptr};
-    if (posix_spawnp(&pid, "xdg-open", nullptr, nullptr, const_cast<char* const*>(argv), environ) != 0) {
+    // The browser must not inherit the blocked SIGINT and SIGTERM of this process (run_view).
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t none;
+    sigemptyset(&none);
+    posix_spawnattr_setsigmask(&attributes, &none);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+    const int failed = posix_spawnp(&pid, "xdg-open", nullptr, &attributes, const_cast<char* const*>(argv), environ);
+    posix_spawnattr_destroy(&attributes);
+    if (failed != 0) {
         std::fprintf(stderr, "hsr view: could not run xdg-open; open %s yourself\n", url.c_str());
         return;
     }

@@ -35,6 +35,7 @@ namespace {
 using hsr::host::ViewError;
 
 constexpr std::size_t cached_models = 4;
+constexpr uint64_t cached_model_bytes = uint64_t(1) << 30;  // of the models kept besides the newest
 constexpr std::size_t cached_instances = 16;
 constexpr std::size_t cached_step_totals = 256;
 constexpr std::size_t max_step_pixels = 20000;
@@ -98,8 +99,11 @@ glm::vec3 vector_field(const json& camera, const char* name) {
     const std::string field = fmt::format("camera.{}", name);
     std::string text;
     if (value->is_array()) {
-        for (std::size_t k = 0; k < value->size(); ++k)
-            text += (k ? "," : "") + ((*value)[k].is_number() ? fmt::format("{}", (*value)[k].get<double>()) : (*value)[k].dump());
+        for (std::size_t k = 0; k < value->size(); ++k) {
+            if (k > 0) text += ',';
+            const json& item = (*value)[k];
+            text += item.is_number() ? fmt::format("{}", item.get<double>()) : item.dump();
+        }
     } else {
         text = value->is_string() ? value->get<std::string>() : value->dump();
     }
@@ -221,7 +225,17 @@ struct LoadedModel {
     std::optional<glm::vec3> background;
     std::optional<std::pair<uint32_t, uint32_t>> pixel_camera_size;  // `camera pixel`: its size
     fs::file_time_type modified;
-    uint64_t bytes = 0;
+    uint64_t bytes = 0;  // the file's
+
+    // About what it holds in memory, for the cache's bound.
+    uint64_t memory() const {
+        auto size = [](const hsr::SceneData& d) {
+            return d.positions.size() * 4 + d.indices.size() * 4 + d.face_normals.size() * 4 +
+                   d.corner_normals.size() * 4 + d.face_colors.size() * 4 + d.edge_neighbors.size() * 4 +
+                   d.face_object.size() * 4 + d.instances.size() * sizeof(hsr_instance);
+        };
+        return size(scene) + (flat ? size(*flat) : 0);
+    }
 
     const hsr::SceneData& flat_scene() {
         if (scene.instances.empty()) return scene;
@@ -353,7 +367,16 @@ struct hsr::host::FrameRenderer::State {
         }
         std::shared_ptr<LoadedModel> loaded = load_model_entry(models.find(id), models);
         model_cache.emplace_front(id, loaded);
-        if (model_cache.size() > cached_models) model_cache.pop_back();
+        // The newest stays; older ones go while there are too many or they hold too much.
+        uint64_t held = 0;
+        std::size_t kept = 0;
+        for (auto it = model_cache.begin(); it != model_cache.end(); ++it, ++kept) {
+            held += it == model_cache.begin() ? 0 : it->second->memory();
+            if (kept >= cached_models || held > cached_model_bytes) {
+                model_cache.erase(it, model_cache.end());
+                break;
+            }
+        }
         return loaded;
     }
 
@@ -429,7 +452,8 @@ struct hsr::host::FrameRenderer::State {
         hsr::FrameSettings settings;
         settings.background = model.background ? *model.background
                                                : hsr::host::parse_color_option(hsr::host::default_background, "background");
-        settings.count_depth_tests = q.buffers || q.step;
+        // Depth-test counts came with ABI 1.1; an older plugin has none (buffers.depth_tests null).
+        settings.count_depth_tests = (q.buffers || q.step) && remover.plugin().descriptor.abi_minor >= 1;
 
         json steps = nullptr;
         hsr::Frame before;

@@ -19,11 +19,15 @@ namespace {
 
 constexpr std::uintmax_t max_page_bytes = 1u << 20;
 
-// The text of the first line that starts with "# ", or the fallback.
+// The text of the first line that starts with "# ", code marks (`) left out, or the fallback.
 std::string first_heading(const std::string& markdown, const std::string& fallback) {
     std::istringstream in(markdown);
-    for (std::string line; std::getline(in, line);)
-        if (line.rfind("# ", 0) == 0) return line.substr(2);
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("# ", 0) != 0) continue;
+        std::string title = line.substr(2);
+        std::erase(title, '`');
+        return title;
+    }
     return fallback;
 }
 

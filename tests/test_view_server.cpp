@@ -506,9 +506,8 @@ TEST_CASE("view: theory pages", "[view]") {
     RunningServer s;
     const json zbuffer = s.get_json("/api/theory/zbuffer");
     const std::string markdown = cli::slurp(fs::path(HSR_SOURCE_DIR) / "docs/algorithms/zbuffer.md");
-    const std::string heading = markdown.substr(2, markdown.find('\n') - 2);
-    REQUIRE(markdown.rfind("# ", 0) == 0);
-    CHECK(zbuffer["title"] == heading);
+    REQUIRE(markdown.rfind("# `zbuffer`: ", 0) == 0);
+    CHECK(zbuffer["title"] == "zbuffer: " + markdown.substr(13, markdown.find('\n') - 13));
     CHECK_THAT(zbuffer["html"].get<std::string>(), Catch::StartsWith("<h1>"));
     // A plugin without a page: one made from its description and parameters.
     const json made = s.get_json("/api/theory/throwing");
@@ -537,4 +536,20 @@ TEST_CASE("view: frames from several clients at once", "[view]") {
         });
     for (std::thread& c : clients) c.join();
     CHECK(ok == 20);
+}
+
+TEST_CASE("view: the command line", "[view]") {
+    const cli::Run help = cli::run_hsr("view --help", "view-help");
+    CHECK(help.status == 0);
+    CHECK_THAT(help.out, Catch::Contains("127.0.0.1:8080"));  // loopback unless told otherwise
+    cli::require_one_line_error(cli::run_hsr("view --listen nonsense", "view-listen"),
+                                "--listen 'nonsense': expected HOST:PORT");
+    cli::require_one_line_error(cli::run_hsr("view --listen 127.0.0.1:70000", "view-port"), "expected HOST:PORT");
+    cli::require_one_line_error(cli::run_hsr("view --models /no/such/folder --listen 127.0.0.1:0", "view-models"),
+                                "--models '/no/such/folder': no such folder");
+    cli::require_one_line_error(cli::run_hsr("view /no/such.obj --listen 127.0.0.1:0", "view-model"),
+                                "'/no/such.obj': no such file");
+    cli::require_one_line_error(cli::run_hsr("view --limit upload-bytes=0 --listen 127.0.0.1:0", "view-limit"),
+                                "--limit upload-bytes: '0' is not a whole number of at least 1");
+    cli::require_one_line_error(cli::run_hsr("view --listen 192.0.2.1:0", "view-address"), "cannot listen on 192.0.2.1:0");
 }
