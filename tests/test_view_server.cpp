@@ -25,6 +25,8 @@
 #include <regex>
 #include <thread>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -32,8 +34,9 @@ namespace {
 
 // A scratch folder of models: two plain ones, one in a sub-folder, a hidden one, a link that leaves
 // the folder, and a .scene file naming a mesh outside it. Beside it, outside, a "secret" model.
+// One folder per process: ctest -j runs this file's test cases at the same time.
 fs::path make_model_folder() {
-    const fs::path root = cli::scratch_dir() / "view";
+    const fs::path root = cli::scratch_dir() / fmt::format("view-{}", ::getpid());
     fs::remove_all(root);
     fs::create_directories(root / "models" / "sub");
     fs::create_directories(root / "outside");
@@ -66,6 +69,8 @@ struct RunningServer {
     ~RunningServer() {
         server->stop();
         thread.join();
+        std::error_code ignored;
+        fs::remove_all(root, ignored);
     }
 
     httplib::Client client() const {
