@@ -49,7 +49,7 @@ function clearFieldErrors() {
 
 // Shows an error next to the field at fault if there is one, else on the page's error line.
 function reportError(error) {
-  const message = error instanceof ApiError || error.field !== undefined ? error.message : String(error.message || error);
+  const message = String(error.message || error);
   const field = error.field || '';
   let placed = false;
   if (field.startsWith('params.')) placed = paramForm.showError(field.slice(7), message);
