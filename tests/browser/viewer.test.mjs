@@ -190,6 +190,7 @@ async function main() {
       await page.mouse.down();
       await page.mouse.move(start.x + 60, start.y + 20, { steps: 6 });
       await page.mouse.up();
+      await page.mouse.move(5, 5);  // off the picture: no hover readout wanted yet
     });
     await idle();
     const request = await page.evaluate(() => window.hsrView.lastRequest);

@@ -18,7 +18,9 @@ const GRID_MAX_SIDE = 64;
 const settings = loadSettings();
 let plugins = { hidden_surface: [], hidden_line: [], lighting: [] };
 let limits = { max_image_side: 4096 };
-let hovering = false;
+let hovering = false;        // the mouse rests on the picture: frames carry their buffers
+let hoverTimer = null;
+const HOVER_REST_MS = 250;
 let pointer = null;          // the pixel under the mouse
 let frameSerial = 0;         // frames shown
 let upgradeAskedFor = -1;    // the frame whose buffers a hover asked for
@@ -116,9 +118,7 @@ const camera = new Camera({
   settings.camera = camera.state;
   changed({});
 });
-camera.onDragEnd = () => {
-  if (hovering) requestFrame();
-};
+camera.onDragEnd = () => restHover();
 
 const steps = new StepControls({
   play: $('step-play'), back: $('step-back'), forward: $('step-forward'), first: $('step-first'),
@@ -346,9 +346,20 @@ function updatePixelInfo() {
   } else if (shown.frameBuffers) {
     info.textContent = pixelInfo(shown.frameBuffers, pointer.x, pointer.y);
   } else {
-    info.textContent = `${pointer.x}, ${pointer.y}: loading the buffers…`;
-    askForBuffers();
+    info.textContent = `${pointer.x}, ${pointer.y}: ${hovering ? 'loading the buffers…' : 'rest the mouse for its depth'}`;
+    if (hovering) askForBuffers();
   }
+}
+
+// The buffers of a frame are large: the readout asks for them once the mouse rests on the picture,
+// not while it passes over it or starts a drag.
+function restHover() {
+  clearTimeout(hoverTimer);
+  hoverTimer = setTimeout(() => {
+    if (!pointer || camera.dragging) return;
+    hovering = true;
+    updatePixelInfo();
+  }, HOVER_REST_MS);
 }
 
 // ---- theory --------------------------------------------------------------------------------------
@@ -473,12 +484,14 @@ function wire() {
   const canvas = $('canvas');
   camera.attach(canvas);
   canvas.addEventListener('pointermove', (e) => {
-    hovering = true;
     if (camera.dragging) return;
     pointer = pixelUnder(e);
+    restHover();
     updatePixelInfo();
   });
+  canvas.addEventListener('pointerdown', () => clearTimeout(hoverTimer));
   canvas.addEventListener('pointerleave', () => {
+    clearTimeout(hoverTimer);
     hovering = false;
     pointer = null;
     updatePixelInfo();

@@ -112,7 +112,8 @@ export class StepControls {
     number.max = String(total);
     const shown = this.current ?? total;
     slider.value = String(shown);
-    number.value = String(shown);
+    // The full render before its step count is known has no number yet.
+    number.value = this.current === null && this.total === null ? '' : String(shown);
     totalText.textContent = `/ ${this.total ?? '–'}`;
   }
 }
