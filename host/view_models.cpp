@@ -123,7 +123,7 @@ hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id) const
                 if (model.id == id) return std::move(model);
         }
     }
-    throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id)));
+    throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id, hsr::kMaxQuotedPathChars)));
 }
 
 std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes) {

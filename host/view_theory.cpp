@@ -63,28 +63,32 @@ std::string hsr::host::markdown_to_html(const std::string& markdown) {
 }
 
 nlohmann::json hsr::host::theory_page(const hsr::PluginRegistry& registry, const std::string& name) {
-    std::string markdown;
+    std::string markdown, title;
     if (const EmbeddedFile* page = find_embedded_file("algorithms/" + name + ".md"); page != nullptr && name.find('/') == std::string::npos) {
         markdown.assign(reinterpret_cast<const char*>(page->bytes), page->size);
     } else {
-        const hsr::Plugin* plugin = nullptr;
-        for (const hsr::Plugin& p : registry.plugins())
-            if (p.descriptor.name == name) {
-                plugin = &p;
+        // A page beside a library of a plugin of that name, <folder>/<plugin name>.md; else one made
+        // from the first such plugin.
+        const hsr::Plugin* first = nullptr;
+        for (const hsr::Plugin& plugin : registry.plugins()) {
+            if (plugin.descriptor.name != name) continue;
+            if (first == nullptr) first = &plugin;
+            const fs::path beside = plugin.path.parent_path() / (name + ".md");
+            std::error_code ec;
+            if (fs::is_regular_file(beside, ec) && fs::file_size(beside, ec) <= max_page_bytes) {
+                std::ifstream in(beside, std::ios::binary);
+                std::ostringstream text;
+                text << in.rdbuf();
+                markdown = text.str();
                 break;
             }
-        if (plugin == nullptr) throw ViewError(404, "", fmt::format("no plugin '{}'", hsr::printable(name)));
-        // A page beside the library: <folder>/<plugin name>.md.
-        const fs::path beside = plugin->path.parent_path() / (name + ".md");
-        std::error_code ec;
-        if (fs::is_regular_file(beside, ec) && fs::file_size(beside, ec) <= max_page_bytes) {
-            std::ifstream in(beside, std::ios::binary);
-            std::ostringstream text;
-            text << in.rdbuf();
-            markdown = text.str();
-        } else {
-            markdown = generated_page(*plugin);
+        }
+        if (first == nullptr) throw ViewError(404, "", fmt::format("no plugin '{}'", hsr::printable(name)));
+        if (markdown.empty()) {
+            markdown = generated_page(*first);
+            title = name;
         }
     }
-    return {{"name", name}, {"title", first_heading(markdown, name)}, {"html", markdown_to_html(markdown)}};
+    return {{"name", name}, {"title", title.empty() ? first_heading(markdown, name) : title},
+            {"html", markdown_to_html(markdown)}};
 }

@@ -10,8 +10,8 @@
 namespace hsr::host {
 
 // {"name", "title", "html"}: docs/algorithms/<name>.md as built in; else <name>.md beside the
-// plugin's library; else a page made from the plugin's description and parameters. ViewError 404
-// when there is neither a page nor a plugin of that name.
+// plugin's library (any library with a plugin of that name); else a page made from the plugin's
+// description and parameters. ViewError 404 when there is neither a page nor a plugin of that name.
 nlohmann::json theory_page(const hsr::PluginRegistry& registry, const std::string& name);
 
 // CommonMark to HTML, raw HTML and unsafe links left out.

@@ -51,6 +51,7 @@ fs::path make_model_folder() {
 
 struct RunningServer {
     fs::path root = make_model_folder();
+    fs::path third_party = root / "third-party";  // a plugin folder: a plugin with a page beside it
     std::unique_ptr<hsr::host::ViewServer> server;
     int port = 0;
     std::thread thread;
@@ -58,7 +59,10 @@ struct RunningServer {
     RunningServer() {
         hsr::host::ViewConfig config;
         config.model_folders = {root / "models", test_models::dir};
-        config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_TEST_PLUGIN_DIR};
+        fs::create_directories(third_party);
+        fs::copy_file(HSR_THIRD_PARTY_PLUGIN, third_party / "third-party.so");
+        std::ofstream(third_party / "third-party.md") << "# A third party's `z-buffer`\n\nEvery pixel, <b>once</b>.\n";
+        config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_TEST_PLUGIN_DIR, third_party.string()};
         config.initial_model = root / "models" / "cube.obj";
         config.upload_parent = root;
         server = std::make_unique<hsr::host::ViewServer>(config);
@@ -517,9 +521,19 @@ TEST_CASE("view: theory pages", "[view]") {
     // A plugin without a page: one made from its description and parameters.
     const json made = s.get_json("/api/theory/throwing");
     CHECK(made["title"] == "throwing");
+    const json made_lines = s.get_json("/api/theory/handmade-lines");
+    CHECK(made_lines["title"] == "handmade-lines");
+    CHECK_THAT(made_lines["html"].get<std::string>(), Catch::StartsWith("<h1>handmade-lines</h1>"));
     CHECK_THAT(made["html"].get<std::string>(), Catch::Contains("throws on purpose (test plugin)"));
     CHECK_THAT(made["html"].get<std::string>(), Catch::Contains("throw-in"));
     CHECK(s.get_json("/api/theory/no-such-plugin", 404)["error"] == "no plugin 'no-such-plugin'");
+    // A third-party plugin's own page, beside its library; its raw HTML dropped.
+    const json beside = s.get_json("/api/theory/third-party");
+    CHECK(beside["title"] == "A third party's z-buffer");
+    CHECK_THAT(beside["html"].get<std::string>(), Catch::Contains("<h1>A third party’s <code>z-buffer</code></h1>") ||
+                                                  Catch::Contains("<h1>A third party's <code>z-buffer</code></h1>"));
+    CHECK_THAT(beside["html"].get<std::string>(), Catch::Contains("Every pixel, "));
+    CHECK(beside["html"].get<std::string>().find("<b>") == std::string::npos);
     // Safe mode: raw HTML and javascript: links are dropped.
     const std::string html = hsr::host::markdown_to_html("a <script>alert(1)</script> [x](javascript:alert(1))\n");
     CHECK(html.find("<script>") == std::string::npos);
