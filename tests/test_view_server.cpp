@@ -26,6 +26,8 @@
 #include <regex>
 #include <thread>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 

@@ -1,0 +1,65 @@
+// The model list: the served models (/api/models) and the uploaded ones in one select, and the
+// upload of a model file chosen or dropped anywhere on the page (POST /api/upload).
+
+import { uploadModel } from './api.js';
+import { fillSelect } from './form.js';
+
+const sizeText = (bytes) => (!bytes ? ''
+  : bytes < 1e6 ? ` (${Math.ceil(bytes / 1024)} KB)` : ` (${(bytes / 1e6).toFixed(1)} MB)`);
+
+export class ModelList {
+  // select: the <select>; onUploaded(id) after an upload, onError(e), onStatus(text).
+  constructor(select, { onUploaded, onError, onStatus }) {
+    this.select = select;
+    this.models = [];
+    this.onUploaded = onUploaded;
+    this.onError = onError;
+    this.onStatus = onStatus;
+  }
+
+  // Fills the select with `models`, choosing `selected` if it is there; returns the id chosen.
+  set(models, selected) {
+    this.models = models;
+    const folders = new Map();
+    for (const m of models) {
+      const uploaded = m.id.startsWith('upload/');
+      const folder = uploaded ? 'uploaded' : 'models';
+      if (!folders.has(folder)) folders.set(folder, []);
+      folders.get(folder).push({ value: m.id, text: `${uploaded ? m.name : m.id.replace(/^\d+\//, '')}${sizeText(m.bytes)}` });
+    }
+    return fillSelect(this.select, [...folders.entries()], selected) || null;
+  }
+
+  async upload(file) {
+    this.onStatus(`uploading ${file.name}…`);
+    try {
+      const { id } = await uploadModel(file);
+      this.set([...this.models, { id, name: file.name, bytes: file.size }], id);
+      this.onUploaded(id);
+    } catch (e) {
+      this.onError(e);
+    }
+  }
+
+  // A file dragged over the window shows `target`; dropping it uploads it.
+  acceptDrops(target) {
+    let depth = 0;
+    window.addEventListener('dragenter', (e) => {
+      if (![...(e.dataTransfer?.types || [])].includes('Files')) return;
+      depth += 1;
+      target.hidden = false;
+    });
+    window.addEventListener('dragleave', () => {
+      depth = Math.max(0, depth - 1);
+      if (depth === 0) target.hidden = true;
+    });
+    window.addEventListener('dragover', (e) => e.preventDefault());
+    window.addEventListener('drop', (e) => {
+      e.preventDefault();
+      depth = 0;
+      target.hidden = true;
+      const file = e.dataTransfer?.files?.[0];
+      if (file) this.upload(file);
+    });
+  }
+}

@@ -1,0 +1,156 @@
+// Step-by-step controls (play/pause, back/forward, first/last, slider, number box, speed) and the
+// overlay that draws what one step did over the picture: its lines coloured by role (hsr_step_role:
+// subject, written, rejected, context), its triangle's outline, and the pixels it wrote or rejected.
+
+export const ROLE_COLORS = ['#ffd400', '#34d058', '#ff4d4f', '#2fd3ff'];  // subject written rejected context
+const OUTLINE_COLOR = '#ffffff';
+const PLAY_ICON = '<svg viewBox="0 0 16 16" width="14" height="14" aria-hidden="true"><path d="M4 3v10l9-5z" fill="currentColor"/></svg>';
+const PAUSE_ICON = '<svg viewBox="0 0 16 16" width="14" height="14" aria-hidden="true">'
+  + '<rect x="3.5" y="3" width="3" height="10" fill="currentColor"/><rect x="9.5" y="3" width="3" height="10" fill="currentColor"/></svg>';
+
+export class StepControls {
+  // el: the controls by id; onStep(k) asks for step k (null = the full render).
+  constructor(el, onStep) {
+    this.el = el;
+    this.onStep = onStep;
+    this.total = null;       // steps of the full render, once the server told
+    this.current = null;     // the step shown, null = the full render
+    this.playing = false;
+    this.timer = null;
+    this.lastAdvance = 0;
+
+    el.first.addEventListener('click', () => this.go(1));
+    el.last.addEventListener('click', () => this.go(this.total ?? null));
+    el.back.addEventListener('click', () => this.go(Math.max(1, (this.current ?? this.total ?? 2) - 1)));
+    el.forward.addEventListener('click', () => this.go(this.current === null ? 1 : this.current + 1));
+    el.play.addEventListener('click', () => this.setPlaying(!this.playing));
+    el.slider.addEventListener('input', () => this.go(Number(el.slider.value)));
+    // The arrow keys step back and forward while the step bar is shown and no field has the focus.
+    document.addEventListener('keydown', (e) => {
+      if (el.play.closest('[hidden]') || e.target.closest?.('input, select, textarea')) return;
+      if (e.key === 'ArrowRight') el.forward.click();
+      else if (e.key === 'ArrowLeft') el.back.click();
+      else return;
+      e.preventDefault();
+    });
+    el.number.addEventListener('change', () => {
+      const k = Math.round(Number(el.number.value));
+      if (Number.isFinite(k) && k >= 1) this.go(k);
+    });
+  }
+
+  speed() {
+    return Number(this.el.speed.value) || 5;
+  }
+
+  // Step k (clamped to the known total), or the full render for null.
+  go(k) {
+    if (k !== null) {
+      k = Math.max(1, Math.round(k));
+      if (this.total !== null) k = Math.min(k, this.total);
+    }
+    this.current = k;
+    this.show();
+    this.onStep(k);
+  }
+
+  setPlaying(playing) {
+    this.playing = playing;
+    this.el.play.innerHTML = playing ? PAUSE_ICON : PLAY_ICON;
+    this.el.play.setAttribute('aria-label', playing ? 'pause' : 'play');
+    this.el.play.classList.toggle('active', playing);
+    if (playing) {
+      if (this.current === null || (this.total !== null && this.current >= this.total)) this.current = 0;
+      this.lastAdvance = performance.now();
+      this.advance();
+    } else {
+      clearTimeout(this.timer);
+      this.timer = null;
+    }
+  }
+
+  // One tick of playback: as many steps as the speed asks for in the time since the last tick
+  // (a render may take longer than a step at high speed), then wait for that frame.
+  advance() {
+    if (!this.playing) return;
+    const now = performance.now();
+    const due = Math.max(1, Math.round(((now - this.lastAdvance) / 1000) * this.speed()));
+    this.lastAdvance = now;
+    const next = (this.current ?? 0) + due;
+    if (this.total !== null && next >= this.total) {
+      this.go(this.total);
+      this.setPlaying(false);
+      return;
+    }
+    this.go(next);
+  }
+
+  // Called with each frame the page shows (its `steps` field, or null).
+  frameShown(steps, isStepRequest) {
+    if (steps && Number.isFinite(steps.total)) this.total = steps.total;
+    if (steps && isStepRequest && Number.isFinite(steps.current)) this.current = steps.current;
+    this.el.text.textContent = steps && isStepRequest && steps.text ? `step ${steps.current}: ${steps.text}`
+      : (this.total !== null ? `the full render (${this.total} steps)` : 'the full render');
+    this.show();
+    if (this.playing) {
+      const wait = Math.max(0, 1000 / this.speed() - (performance.now() - this.lastAdvance));
+      clearTimeout(this.timer);
+      this.timer = setTimeout(() => this.advance(), wait);
+    }
+  }
+
+  // A new algorithm, model, camera or size: the count is unknown until the server answers.
+  invalidate() {
+    this.total = null;
+    this.show();
+  }
+
+  show() {
+    const { slider, number, totalText } = this.el;
+    const total = this.total ?? Math.max(1, this.current ?? 1);
+    slider.max = String(total);
+    number.max = String(total);
+    const shown = this.current ?? total;
+    slider.value = String(shown);
+    // The full render before its step count is known has no number yet.
+    number.value = this.current === null && this.total === null ? '' : String(shown);
+    totalText.textContent = `/ ${this.total ?? '–'}`;
+  }
+}
+
+// Draws one step's highlight on the overlay canvas (cleared first); steps null clears it.
+export function drawStepOverlay(canvas, steps) {
+  const ctx = canvas.getContext('2d');
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  if (!steps) return;
+  // Lines are drawn one display pixel wide whatever the picture's scale on screen.
+  const scale = canvas.width / Math.max(1, canvas.getBoundingClientRect().width || canvas.width);
+  const dots = (points, color) => {
+    if (!Array.isArray(points)) return;
+    ctx.fillStyle = color;
+    for (const [x, y] of points) ctx.fillRect(x, y, 1, 1);
+  };
+  ctx.globalAlpha = 0.85;
+  dots(steps.rejected, ROLE_COLORS[2]);
+  dots(steps.written, ROLE_COLORS[1]);
+  ctx.globalAlpha = 1;
+  ctx.lineWidth = Math.max(1, 1.5 * scale);
+  if (Array.isArray(steps.outline)) {
+    ctx.strokeStyle = OUTLINE_COLOR;
+    ctx.beginPath();
+    for (const [x0, y0, x1, y1] of steps.outline) {
+      ctx.moveTo(x0, y0);
+      ctx.lineTo(x1, y1);
+    }
+    ctx.stroke();
+  }
+  if (Array.isArray(steps.lines)) {
+    for (const [x0, y0, x1, y1, role] of steps.lines) {
+      ctx.strokeStyle = ROLE_COLORS[role] ?? ROLE_COLORS[0];
+      ctx.beginPath();
+      ctx.moveTo(x0, y0);
+      ctx.lineTo(x1, y1);
+      ctx.stroke();
+    }
+  }
+}
