@@ -25,6 +25,12 @@ install_missing() {
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
+# playwright-core for the browser test (tests/browser), from its lockfile; the test itself drives
+# Debian's chromium. Node.js and npm come with the machine.
+install_browser_test() {
+    (cd tests/browser && npm ci --prefer-offline --no-audit --no-fund --loglevel=error)
+}
+
 build() {
     cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
     cmake --build build -j"$(nproc)"
@@ -59,6 +65,8 @@ render)
     ;;
 test)
     install_missing
+    install_browser_test
+    export HSR_BROWSER_TEST_REQUIRED=1  # a skipped browser test fails the run
     bash models/fetch-models.sh
     build
     ctest --test-dir build --output-on-failure -j"$(nproc)"

@@ -55,9 +55,12 @@ std::string one_line(std::string text) {
     return text;
 }
 
+// Debian's cpp-httplib compresses an "application/json" answer with Brotli at its slowest quality
+// for any client that accepts it, as browsers do: 2.4 s for the 7 MB of a 512x512 frame with its
+// buffers, against 0.3 s uncompressed on loopback. It leaves a type with parameters alone.
 void send_json(httplib::Response& res, int status, const json& body) {
     res.status = status;
-    res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+    res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json; charset=utf-8");
 }
 
 void send_error(httplib::Response& res, int status, const std::string& message, const std::string& field = "") {
