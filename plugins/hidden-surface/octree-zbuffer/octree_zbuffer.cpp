@@ -676,28 +676,14 @@ private:
     // The outline of the pixels [x0, x1] x [y0, y1] clipped to the image.
     template <class Steps>
     void add_box(Steps& steps, int32_t x0, int32_t y0, int32_t x1, int32_t y1, hsr_step_role role) const {
-        x0 = std::max(x0, 0);
-        y0 = std::max(y0, 0);
-        x1 = std::min(x1, width_ - 1);
-        y1 = std::min(y1, height_ - 1);
-        if (x0 <= x1 && y0 <= y1) steps.box(float(x0), float(y0), float(x1 + 1), float(y1 + 1), role);
+        raster::pixel_box_lines(steps, x0, y0, x1, y1, width_, height_, role);
     }
 
     // A triangle's outline (corners of the leaf mesh), when it needs no clipping and lies within a
     // pixel of the image.
     template <class Steps>
     void add_outline(Steps& steps, const uint32_t* corner) const {
-        const uint32_t codes = geometry_.vertex_outcode(corner[0]) | geometry_.vertex_outcode(corner[1]) |
-                               geometry_.vertex_outcode(corner[2]);
-        if (codes & (raster::kNeedsClipping | raster::kNonFinite)) return;
-        float x[3], y[3];
-        for (int k = 0; k < 3; ++k) {
-            const raster::WindowVertex& v = geometry_.window_vertex(corner[k]);
-            x[k] = float(v.exact_x);
-            y[k] = float(v.exact_y);
-            if (!(x[k] >= -1.0f && x[k] <= float(width_ + 1) && y[k] >= -1.0f && y[k] <= float(height_ + 1))) return;
-        }
-        for (int k = 0; k < 3; ++k) steps.line(x[k], y[k], x[(k + 1) % 3], y[(k + 1) % 3], HSR_STEP_SUBJECT);
+        geometry_.outline_lines(steps, corner);
     }
 
     // The step of a node's box test: visited (its screen box SUBJECT) or culled (REJECTED), and why.

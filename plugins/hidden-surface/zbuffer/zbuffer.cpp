@@ -98,6 +98,7 @@ private:
     void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
         constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
         const raster::PixelBuffers buffers(target);
+        const uint32_t* indices = scene.raw().indices;
         for (uint32_t k = 0; k < scene.placement_count(); ++k) {
             const hsr::sdk::Placement placement = scene.placement(k);
             geometry_.place(placement);
@@ -111,6 +112,7 @@ private:
                     pixels.depth_tested += test.tested;
                     pixels.written += test.written;
                 });
+                if constexpr (Steps::enabled) geometry_.outline_lines(steps, indices + 3 * size_t(t));
                 raster::triangle_step(steps, before, geometry_.stats(), t, placement.instance,
                                       pixels.depth_tested - pixels_before.depth_tested,
                                       pixels.written - pixels_before.written);

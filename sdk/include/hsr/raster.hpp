@@ -141,6 +141,18 @@ void triangle_step(StepsT& steps, const TriangleStats& before, const TriangleSta
     }
 }
 
+// Lines of a step (ABI 1.3): the outline of the pixels [x0, x1] x [y0, y1], clipped to a width x
+// height image (nothing when the box misses it).
+template <class StepsT>
+void pixel_box_lines(StepsT& steps, int32_t x0, int32_t y0, int32_t x1, int32_t y1, int32_t width, int32_t height,
+                     hsr_step_role role) {
+    x0 = std::max(x0, 0);
+    y0 = std::max(y0, 0);
+    x1 = std::min(x1, width - 1);
+    y1 = std::min(y1, height - 1);
+    if (x0 <= x1 && y0 <= y1) steps.box(float(x0), float(y0), float(x1 + 1), float(y1 + 1), role);
+}
+
 // Checks what a rasterizing plugin relies on and throws hsr::sdk::InvalidArgument with a one-line
 // message starting with the plugin's name. Scans the index array once (cheap next to rendering).
 inline void validate_frame(const char* plugin, const hsr_scene& scene, const hsr_camera& camera,
@@ -291,6 +303,21 @@ public:
     }
 
     const TriangleStats& stats() const { return stats_; }
+
+    // Lines of a step (ABI 1.3): the outline of the triangle with vertices corner[0..2] of the
+    // current placement, when it needs no clipping and lies within a pixel of the image.
+    template <class StepsT>
+    void outline_lines(StepsT& steps, const uint32_t* corner) const {
+        if ((outcode_[corner[0]] | outcode_[corner[1]] | outcode_[corner[2]]) & (kNeedsClipping | kNonFinite)) return;
+        float x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            const WindowVertex& v = window_[corner[k]];
+            x[k] = float(v.exact_x);
+            y[k] = float(v.exact_y);
+            if (!(x[k] >= -1.0f && x[k] <= float(width_ + 1) && y[k] >= -1.0f && y[k] <= float(height_ + 1))) return;
+        }
+        for (int k = 0; k < 3; ++k) steps.line(x[k], y[k], x[(k + 1) % 3], y[(k + 1) % 3], HSR_STEP_SUBJECT);
+    }
 
 private:
     // Outside the view volume (all corners beyond one plane) or a culled back face: counted, true.
