@@ -149,6 +149,29 @@ json counters_json(const std::vector<std::pair<std::string, uint64_t>>& counters
     return out;
 }
 
+// The parts of a frame's answer that pictures and line drawings share: the picture as a PNG data
+// URL, its size and kind, and the stats, with the time the PNG took.
+struct PictureTimes {
+    double visibility_ms = 0, shading_ms = 0;
+};
+json picture_response(const char* kind, uint32_t width, uint32_t height, std::span<const uint8_t> rgb,
+                      const std::vector<std::pair<std::string, uint64_t>>& counters, PictureTimes times,
+                      uint64_t triangles) {
+    const auto encode_start = std::chrono::steady_clock::now();
+    json response;
+    response["png"] = png_data_url(width, height, rgb);
+    const double encode_ms = ms_since(encode_start);
+    response["width"] = width;
+    response["height"] = height;
+    response["kind"] = kind;
+    response["stats"] = {{"counters", counters_json(counters)},
+                         {"visibility_ms", times.visibility_ms},
+                         {"shading_ms", times.shading_ms},
+                         {"triangles", triangles},
+                         {"encode_ms", encode_ms}};
+    return response;
+}
+
 }  // namespace
 
 std::string hsr::host::base64(const void* bytes, std::size_t size) {
@@ -302,18 +325,8 @@ struct hsr::host::FrameRenderer::State {
         const hsr_shading_context context = hsr::make_shading_context(camera, lights);
         hsr::Frame frame = hsr::render_frame(scene, camera, remover, lighting, context, settings);
 
-        const auto encode_start = std::chrono::steady_clock::now();
-        json response;
-        response["png"] = png_data_url(frame.width, frame.height, frame.rgb);
-        const double encode_ms = ms_since(encode_start);
-        response["width"] = frame.width;
-        response["height"] = frame.height;
-        response["kind"] = "surface";
-        response["stats"] = {{"counters", counters_json(frame.counters)},
-                             {"visibility_ms", frame.visibility_ms},
-                             {"shading_ms", frame.shading_ms},
-                             {"triangles", hsr::drawn_triangle_count(scene)},
-                             {"encode_ms", encode_ms}};
+        json response = picture_response("surface", frame.width, frame.height, frame.rgb, frame.counters,
+                                         {frame.visibility_ms, frame.shading_ms}, hsr::drawn_triangle_count(scene));
         if (q.step) {
             const hsr::StepRecord& last = frame.steps->last;
             const bool any = last.index > 0;
@@ -371,19 +384,9 @@ struct hsr::host::FrameRenderer::State {
         }
         hsr::LineStyle style;
         style.hidden = q.hidden;
-        const auto encode_start = std::chrono::steady_clock::now();
         const hsr::Image image = hsr::draw_line_image(drawing, style);
-        json response;
-        response["png"] = png_data_url(image.width, image.height, image.pixels);
-        const double encode_ms = ms_since(encode_start);
-        response["width"] = image.width;
-        response["height"] = image.height;
-        response["kind"] = "lines";
-        response["stats"] = {{"counters", counters_json(drawing.counters)},
-                             {"visibility_ms", drawing.lines_ms},
-                             {"shading_ms", 0.0},
-                             {"triangles", scene.triangle_count},
-                             {"encode_ms", encode_ms}};
+        json response = picture_response("lines", image.width, image.height, image.pixels, drawing.counters,
+                                         {drawing.lines_ms, 0.0}, scene.triangle_count);
         json steps = nullptr;
         if (q.step) {
             steps = json{{"total", drawing.trace_events}, {"current", drawing.stopped_at ? drawing.stopped_at->index : 0}};
