@@ -378,6 +378,21 @@ async function main() {
     assert(kept.request.camera.yaw !== 30, 'the camera was not kept');
   });
 
+  await check('hierarchical-zbuffer\'s steps offer its z-pyramid levels as buffers to show', async () => {
+    await andFrame(() => page.click('#step-forward'));
+    const options = await page.$$eval('#buffer-select option', (all) => all.map((o) => o.value));
+    const levels = options.filter((v) => /^step:z-pyramid-\d+$/.test(v));
+    assert(levels.length > 0, `buffer options: ${options.join(', ')}`);
+    const before = await canvasPixels();
+    await page.selectOption('#buffer-select', levels[0]);
+    await idle();
+    assert(await canvasPixels() !== before, `showing ${levels[0]} left the picture as it was`);
+    assert(!(await errorState()), await text('#error'));
+    await screenshot('pyramid');
+    await page.selectOption('#buffer-select', 'frame');
+    await andFrame(() => page.click('#step-last'));
+  });
+
   await check('a small picture shows the pixel grid with each pixel\'s depth', async () => {
     await andFrame(async () => {
       await page.fill('#width', '16');

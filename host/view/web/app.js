@@ -501,7 +501,11 @@ function wire() {
 }
 
 async function start() {
-  window.hsrView = { lastRequest: null, lastResponse: null, idle: () => scheduler.idle() };
+  // For scripts that drive the page (tests/browser): the last frame asked for and shown, whether
+  // anything is on its way, and the camera as the controls hold it now.
+  window.hsrView = {
+    lastRequest: null, lastResponse: null, idle: () => scheduler.idle(), camera: () => camera.request(),
+  };
   wire();
   let info;
   let models;
