@@ -394,18 +394,29 @@ struct hsr::host::FrameRenderer::State {
             if (drawing.stopped_at) {
                 const hsr::TraceEventRecord& e = *drawing.stopped_at;
                 steps["type"] = e.type;
-                steps["text"] = describe_trace_event(e);
+                steps["text"] = e.text.empty() ? describe_trace_event(e) : e.text;
                 steps["face"] = e.face < scene.triangle_count ? json(e.face) : json(nullptr);
-                if (e.edge < drawing.edges.size()) {
+                for (std::size_t k = 0; k < e.roles.size(); ++k) {
+                    const float* p = &e.lines[4 * k];
+                    if (std::isfinite(p[0] + p[1] + p[2] + p[3])) lines.push_back({p[0], p[1], p[2], p[3], e.roles[k]});
+                }
+                // A plugin that draws nothing for its step gets its edge, and the piece t0..t1 of it.
+                if (e.roles.empty() && e.edge < drawing.edges.size()) {
                     auto point = [&](uint32_t v) {
                         return glm::vec3(scene.positions[3 * v], scene.positions[3 * v + 1], scene.positions[3 * v + 2]);
                     };
-                    for (const json& line : projected_segment(camera, point(drawing.edges.vertices[2 * e.edge]),
-                                                              point(drawing.edges.vertices[2 * e.edge + 1]))) {
-                        json with_role = line;
-                        with_role.push_back(HSR_STEP_SUBJECT);
-                        lines.push_back(std::move(with_role));
-                    }
+                    const glm::vec3 a = point(drawing.edges.vertices[2 * e.edge]);
+                    const glm::vec3 b = point(drawing.edges.vertices[2 * e.edge + 1]);
+                    auto add = [&](glm::vec3 from, glm::vec3 to, uint32_t role) {
+                        for (const json& line : projected_segment(camera, from, to)) {
+                            json with_role = line;
+                            with_role.push_back(role);
+                            lines.push_back(std::move(with_role));
+                        }
+                    };
+                    add(a, b, HSR_STEP_SUBJECT);
+                    if (std::isfinite(e.t0) && std::isfinite(e.t1))
+                        add(a + float(e.t0) * (b - a), a + float(e.t1) * (b - a), HSR_STEP_REJECTED);
                 }
                 if (e.face < scene.triangle_count) outline = triangle_outline(scene, camera, e.face, 0);
             } else {

@@ -317,6 +317,87 @@ TEST_CASE("floating-horizon: visible and hidden pieces cover each drawn edge", "
     }
 }
 
+// The index (1-based) of the last trace line containing `needle`, or 0.
+uint64_t last_event_with(const std::string& trace, const std::string& needle) {
+    std::istringstream lines(trace);
+    std::string line;
+    uint64_t found = 0;
+    for (uint64_t k = 1; std::getline(lines, line); ++k)
+        if (line.find(needle) != std::string::npos) found = k;
+    return found;
+}
+
+TEST_CASE("floating-horizon: a curve's step draws the curve and the horizons", "[floating-horizon][trace]") {
+    const hsr::SceneData& s = surface("sin(x)*cos(y)", "-3:3,-3:3,16x16");
+    for (const bool screen : {true, false}) {
+        INFO("space=" << (screen ? "screen" : "vertical"));
+        const hsr_camera camera = orbit(s, 40, 30, 1, true, 256);
+        const std::vector<hsr::Setting> params = {{"space", screen ? "screen" : "vertical"}, {"diagonals", "true"}};
+        std::ostringstream trace;
+        const hsr::LineDrawing whole = draw(s, camera, false, params, &trace);
+        // The last curve's step: after it, every edge of the grid is in the horizons.
+        const uint64_t last = last_event_with(trace.str(), "\"text\":\"curve 16 of 16: ");
+        REQUIRE(last > 0);
+        CHECK(last_event_with(trace.str(), "visible pieces") == last);
+        hsr::LineSettings settings;
+        settings.edges = hsr::EdgeSelection::kAll;
+        settings.stop_after_event = last;
+        const hsr::LineDrawing step = line_tests::draw(kPlugin, s.view(), camera, settings, params);
+        REQUIRE(step.stopped_at);
+        const hsr::TraceEventRecord& e = *step.stopped_at;
+        CHECK(e.type == "horizon-update");
+        CHECK(e.text.rfind("curve 16 of 16: ", 0) == 0);
+        REQUIRE(e.roles.size() * 4 == e.lines.size());
+        size_t subject = 0;
+        std::vector<glm::dvec2> upper, lower;  // the horizons' line starts, in the order drawn
+        for (size_t k = 0; k < e.roles.size(); ++k) {
+            const float* l = &e.lines[4 * k];
+            for (int c = 0; c < 4; ++c) REQUIRE(std::isfinite(l[c]));
+            for (int c = 0; c < 4; c += 2) {
+                CHECK(l[c] > -2.0f);
+                CHECK(l[c] < float(camera.width) + 2.0f);
+                CHECK(l[c + 1] > -2.0f);
+                CHECK(l[c + 1] < float(camera.height) + 2.0f);
+            }
+            REQUIRE(e.roles[k] <= HSR_STEP_CONTEXT);
+            if (e.roles[k] == HSR_STEP_SUBJECT) ++subject;
+            if (e.roles[k] == HSR_STEP_CONTEXT) ((upper.size() == lower.size() ? upper : lower)).push_back({l[0], l[1]});
+        }
+        CHECK(subject == 15);  // the curve's 15 segments
+        REQUIRE(upper.size() == lower.size());
+        REQUIRE(upper.size() > 100);
+        if (!screen) continue;
+        // In the image's columns the horizons are the top and the bottom of everything drawn: at each
+        // column, the least and the greatest y of the visible segments there.
+        size_t compared = 0;
+        for (size_t k = 0; k < upper.size(); ++k) {
+            const double x = upper[k].x;
+            double top = INFINITY, bottom = -INFINITY;
+            for (const hsr::LineSegment& seg : whole.segments) {
+                if (seg.qi != 0) continue;
+                const double x0 = std::min(seg.a.x, seg.b.x), x1 = std::max(seg.a.x, seg.b.x);
+                if (x < x0 - 1e-4 || x > x1 + 1e-4) continue;
+                if (x1 - x0 < 1e-6) {
+                    top = std::min({top, double(seg.a.y), double(seg.b.y)});
+                    bottom = std::max({bottom, double(seg.a.y), double(seg.b.y)});
+                    continue;
+                }
+                const double f = std::clamp((x - seg.a.x) / (double(seg.b.x) - seg.a.x), 0.0, 1.0);
+                const double y = seg.a.y + f * (double(seg.b.y) - seg.a.y);
+                top = std::min(top, y);
+                bottom = std::max(bottom, y);
+            }
+            if (!std::isfinite(top)) continue;
+            INFO("column x = " << x);
+            CHECK(upper[k].x == Approx(lower[k].x).margin(1e-3));
+            CHECK(upper[k].y == Approx(top).margin(0.02));
+            CHECK(lower[k].y == Approx(bottom).margin(0.02));
+            ++compared;
+        }
+        CHECK(compared + 2 >= upper.size());
+    }
+}
+
 TEST_CASE("floating-horizon: refuses meshes that are not grids, and views without an order", "[floating-horizon]") {
     for (const char* file : {"cube.obj", "bunny.obj"}) {
         const hsr::SceneData& m = line_tests::model(file);

@@ -5,8 +5,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 namespace hsr {
@@ -54,6 +56,7 @@ void collect_counter(void* context, const char* name, uint64_t value) {
 // and how many segments came before event stop_after + 1.
 struct TraceWriter {
     std::ostream* out = nullptr;
+    bool plugin_has_drawing = false;  // claims ABI 1.3: events may carry text and lines
     uint64_t stop_after = 0;
     const LineDrawing* drawing = nullptr;
     uint64_t events = 0;
@@ -61,10 +64,17 @@ struct TraceWriter {
     std::optional<size_t> segments_before_next;
 };
 
+constexpr uint32_t kMaxEventLines = 1u << 20;
+
+// A plugin's string, read up to its NUL or max_bytes, whichever comes first.
+std::string_view bounded(const char* text, size_t max_bytes) { return {text, strnlen(text, max_bytes)}; }
+
 void write_event(void* context, const hsr_trace_event* event) {
     auto& w = *static_cast<TraceWriter*>(context);
     if (event == nullptr) return;
-    if (w.out != nullptr) *w.out << trace_event_json(*event) << '\n';
+    const bool has_drawing =
+        w.plugin_has_drawing && event->struct_size >= offsetof(hsr_trace_event, line_roles) + sizeof(event->line_roles);
+    if (w.out != nullptr) *w.out << trace_event_json(*event, has_drawing) << '\n';
     ++w.events;
     if (w.stop_after == 0) return;
     if (w.events == w.stop_after) {
@@ -77,6 +87,14 @@ void write_event(void* context, const hsr_trace_event* event) {
         r.qi = event->qi;
         r.t0 = event->t0;
         r.t1 = event->t1;
+        if (has_drawing) {
+            if (event->text != nullptr) r.text = printable(bounded(event->text, 1024), 300);
+            const uint32_t lines = event->lines != nullptr ? std::min(event->line_count, kMaxEventLines) : 0;
+            r.lines.assign(event->lines, event->lines + 4 * size_t(lines));
+            r.roles.assign(lines, HSR_STEP_SUBJECT);
+            if (event->line_roles != nullptr)
+                for (uint32_t k = 0; k < lines; ++k) r.roles[k] = std::min<uint32_t>(event->line_roles[k], HSR_STEP_CONTEXT);
+        }
     } else if (w.events == w.stop_after + 1) {
         w.segments_before_next = w.drawing->segments.size();
     }
@@ -104,7 +122,7 @@ uint64_t LineDrawing::counter(const std::string& name) const {
     return 0;
 }
 
-std::string trace_event_json(const hsr_trace_event& e) {
+std::string trace_event_json(const hsr_trace_event& e, bool with_text) {
     std::string out = "{\"type\":";
     append_json_string(out, e.type != nullptr ? e.type : "");
     if (e.edge != HSR_NO_EDGE) out += fmt::format(",\"edge\":{}", e.edge);
@@ -113,6 +131,10 @@ std::string trace_event_json(const hsr_trace_event& e) {
     if (e.qi >= 0) out += fmt::format(",\"qi\":{}", e.qi);
     if (std::isfinite(e.t0)) out += fmt::format(",\"t0\":{}", e.t0);
     if (std::isfinite(e.t1)) out += fmt::format(",\"t1\":{}", e.t1);
+    if (with_text && e.text != nullptr) {
+        out += ",\"text\":";
+        append_json_string(out, printable(bounded(e.text, 1024), 300).c_str());
+    }
     out += '}';
     return out;
 }
@@ -129,6 +151,7 @@ LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, Hidde
     hsr_segment_sink sink{&collector, &collect_segments};
     TraceWriter writer;
     writer.out = settings.trace;
+    writer.plugin_has_drawing = remover.plugin().descriptor.abi_minor >= 3;
     writer.stop_after = settings.stop_after_event;
     writer.drawing = &drawing;
     hsr_trace_sink trace{&writer, &write_event};

@@ -43,8 +43,8 @@ static hsr_status render_lines(void* instance, const hsr_scene* scene, const hsr
     (void)error;
     for (e = 0; e < request->edge_count; ++e) {
         if (trace != 0) {
-            hsr_trace_event event;
-            event.struct_size = sizeof event;
+            /* Zero-initialised: the fields a newer header appends stay NULL and 0 (no text, no lines). */
+            hsr_trace_event event = {.struct_size = sizeof(hsr_trace_event)};
             event.type = "edge-begin";
             event.edge = e;
             event.face = HSR_NO_FACE;

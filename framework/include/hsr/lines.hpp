@@ -32,6 +32,9 @@ struct TraceEventRecord {
     uint32_t edge = HSR_NO_EDGE, face = HSR_NO_FACE, object = HSR_NO_OBJECT;
     int32_t qi = -1;
     double t0 = 0, t1 = 0;  // NaN when not given
+    std::string text;       // the plugin's (ABI 1.3), or empty
+    std::vector<float> lines;     // the plugin's, 4 per line: x0, y0, x1, y1 in window coordinates
+    std::vector<uint32_t> roles;  // an hsr_step_role per line
 };
 
 struct LineDrawing {
@@ -64,7 +67,8 @@ struct LineSettings {
 LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, HiddenLineRemover& remover,
                          const LineSettings& settings);
 
-// One trace event as a JSON object (no newline): fields that hold their "none" value are left out.
-std::string trace_event_json(const hsr_trace_event& event);
+// One trace event as a JSON object (no newline): fields that hold their "none" value are left out,
+// and the text unless with_text (the plugin claims ABI 1.3 and the event's struct_size covers it).
+std::string trace_event_json(const hsr_trace_event& event, bool with_text = false);
 
 }  // namespace hsr

@@ -236,7 +236,16 @@ private:
             auto param = [&](double t) { return reversed ? 1.0 - t : t; };
             const uint32_t object =
                 scene_->face_object != nullptr ? scene_->face_object[geometry_.graph.edge_face(edge, 0)] : HSR_NO_OBJECT;
-            if (trace.enabled()) trace.emit({"edge-begin", r, HSR_NO_FACE, object, std::max(qi_start, 0), param(0.0)});
+            // The piece [t0, t1] of the walk as a line of the next trace event.
+            auto trace_piece = [&](double t0, double t1, hsr_step_role role) {
+                const glm::dvec2 p = geometry_.window_at(from, to, t0), q = geometry_.window_at(from, to, t1);
+                trace.line(float(p.x), float(p.y), float(q.x), float(q.y), role);
+            };
+            if (trace.enabled()) {
+                trace_piece(0.0, 1.0, HSR_STEP_SUBJECT);
+                trace.emit({"edge-begin", r, HSR_NO_FACE, object, std::max(qi_start, 0), param(0.0)},
+                           "edge %u: starts with QI %d", r, std::max(qi_start, 0));
+            }
             double t0 = 0.0;
             int32_t qi = qi_start;
             auto piece = [&](double t1) {
@@ -247,19 +256,31 @@ private:
                 if (reversed) std::swap(p, q);
                 segments.add(glm::vec2(p), glm::vec2(q), r, flags, shown);
             };
-            for (const QiChange& change : edge_walk_.changes()) {
+            const std::vector<QiChange>& changes = edge_walk_.changes();
+            for (size_t k = 0; k < changes.size(); ++k) {
+                const QiChange& change = changes[k];
                 piece(change.t);
                 if (trace.enabled()) {
                     const uint32_t face_object = scene_->face_object != nullptr && change.face != HSR_NO_FACE
                                                      ? scene_->face_object[change.face]
                                                      : HSR_NO_OBJECT;
-                    trace.emit({"qi-change", r, change.face, face_object, std::max(change.qi, 0), param(change.t)});
+                    // The piece before the change as context, the one after it as shown with the new QI.
+                    const double next = k + 1 < changes.size() ? changes[k + 1].t : 1.0;
+                    trace_piece(t0, change.t, HSR_STEP_CONTEXT);
+                    trace_piece(change.t, std::max(next, change.t), change.qi <= 0 ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED);
+                    trace.emit({"qi-change", r, change.face, face_object, std::max(change.qi, 0), param(change.t)},
+                               "edge %u: QI %d to %d at t %.4g (crossing a contour of face %u)", r, std::max(qi, 0),
+                               std::max(change.qi, 0), param(change.t), change.face);
                 }
                 t0 = std::max(t0, change.t);
                 qi = change.qi;
             }
             piece(1.0);
-            if (trace.enabled()) trace.emit({"edge-end", r, HSR_NO_FACE, object, std::max(qi_end, 0), param(1.0)});
+            if (trace.enabled()) {
+                trace_piece(0.0, 1.0, HSR_STEP_SUBJECT);
+                trace.emit({"edge-end", r, HSR_NO_FACE, object, std::max(qi_end, 0), param(1.0)},
+                           "edge %u: ends with QI %d", r, std::max(qi_end, 0));
+            }
         }
     }
 
@@ -274,7 +295,24 @@ private:
             }
         const uint32_t face = geometry_.graph.faces_at(seed)[0];
         const uint32_t object = scene_->face_object != nullptr ? scene_->face_object[face] : HSR_NO_OBJECT;
-        trace.emit({"component-seed", edge, HSR_NO_FACE, object, seed_qi_, t});
+        // The first seed's step also shows the contour edges, found for the whole scene before it.
+        const bool first = seed_counts_.seeds == 1;
+        if (first)
+            for (const appel::ContourEdge& c : geometry_.contours) {
+                const glm::dvec2 p = geometry_.window[c.v0], q = geometry_.window[c.v1];
+                trace.line(float(p.x), float(p.y), float(q.x), float(q.y), HSR_STEP_CONTEXT);
+            }
+        const glm::dvec2 at = geometry_.window[seed];
+        const float cross = 4.0f;  // pixels: a cross marking the seed vertex
+        trace.line(float(at.x) - cross, float(at.y), float(at.x) + cross, float(at.y), HSR_STEP_SUBJECT);
+        trace.line(float(at.x), float(at.y) - cross, float(at.x), float(at.y) + cross, HSR_STEP_SUBJECT);
+        if (first)
+            trace.emit({"component-seed", edge, HSR_NO_FACE, object, seed_qi_, t},
+                       "%zu contour edges; part %llu starts at vertex %u with QI %d", geometry_.contours.size(),
+                       static_cast<unsigned long long>(seed_counts_.seeds), seed, seed_qi_);
+        else
+            trace.emit({"component-seed", edge, HSR_NO_FACE, object, seed_qi_, t}, "part %llu starts at vertex %u with QI %d",
+                       static_cast<unsigned long long>(seed_counts_.seeds), seed, seed_qi_);
     }
 
     const bool use_grid_;

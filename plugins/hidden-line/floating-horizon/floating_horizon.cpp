@@ -97,7 +97,11 @@ private:
     void project(const hsr::sdk::Scene& scene, const hsr_camera& camera);
     // Tests a requested edge against the horizons and returns its pieces; adds an edge to them.
     void classify_edge(uint32_t a, uint32_t b, uint32_t edge);
-    void update_edge(uint32_t a, uint32_t b, uint32_t edge);
+    // Adds an edge to the horizons; returns the number of column values changed and, in event, the
+    // "horizon-update" step to report (type nullptr when there is none).
+    uint64_t update_edge(uint32_t a, uint32_t b, uint32_t edge, hsr::sdk::Trace::Event& event);
+    // For a step: curve j (SUBJECT) and both horizons (CONTEXT) as lines in the output image.
+    void draw_curve_and_horizons(uint32_t j) const;
     uint32_t& request_of(Kind kind, uint32_t i, uint32_t j);
 
     int subcolumns_;
@@ -109,6 +113,9 @@ private:
     CurveOrder order_;
     std::vector<SpacePoint> window_;  // the output image: x, y (down), clip w
     std::vector<SpacePoint> space_;   // the horizons' space: column x, height, weight
+    glm::dmat4 view_projection_{1.0};
+    double image_width_ = 0, image_height_ = 0;
+    uint64_t visible_pieces_ = 0;  // of the requested edges classified so far
     std::vector<uint32_t> curve_edge_, cross_edge_, diagonal_edge_;  // request index or HSR_NO_EDGE
     Horizon horizon_;
     std::vector<Piece> pieces_, merged_;
@@ -144,7 +151,7 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
     request_ = &request;
     segments_ = &segments;
     trace_ = &trace;
-    crossings_ = columns_updated_ = column_tests_ = drawn_ = 0;
+    crossings_ = columns_updated_ = column_tests_ = drawn_ = visible_pieces_ = 0;
     const uint32_t nI = order_.layout.along, nJ = order_.layout.curves;
     // A grid edge from (i0, j0) to (i1, j1), in the request's direction when requested.
     auto ends = [&](uint32_t edge, uint32_t i0, uint32_t j0, uint32_t i1, uint32_t j1) {
@@ -157,8 +164,10 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
         if (trace.enabled()) {
             uint32_t first = HSR_NO_EDGE;
             for (uint32_t i = 0; i + 1 < nI && first == HSR_NO_EDGE; ++i) first = request_of(Kind::curve, i, j);
-            trace.emit({"curve-begin", first});
+            draw_curve_and_horizons(j);
+            trace.emit({"curve-begin", first}, "curve %u of %u: tested against the horizons of the nearer ones", n + 1, nJ);
         }
+        const uint64_t visible_before = visible_pieces_;
         // The curve is tested against the horizons of what is nearer as a whole (no part of a curve
         // can hide another part of it: the rays toward the eye leave it at once), then added.
         for (uint32_t i = 0; i + 1 < nI; ++i) {
@@ -167,10 +176,23 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
             const auto [a, b] = ends(edge, i, j, i + 1, j);
             classify_edge(a, b, edge);
         }
+        // The curve's last "horizon-update" step is held back to show the curve done.
+        hsr::sdk::Trace::Event last{nullptr};
+        uint64_t columns_changed = 0;
         for (uint32_t i = 0; i + 1 < nI; ++i) {
             const uint32_t edge = request_of(Kind::curve, i, j);
             const auto [a, b] = ends(edge, i, j, i + 1, j);
-            update_edge(a, b, edge);
+            hsr::sdk::Trace::Event event{nullptr};
+            columns_changed += update_edge(a, b, edge, event);
+            if (event.type == nullptr) continue;
+            if (last.type != nullptr) trace.emit(last);
+            last = event;
+        }
+        if (last.type != nullptr) {
+            draw_curve_and_horizons(j);
+            trace.emit(last, "curve %u of %u: %llu visible pieces; the horizons moved at %llu column values", n + 1,
+                       nJ, static_cast<unsigned long long>(visible_pieces_ - visible_before),
+                       static_cast<unsigned long long>(columns_changed));
         }
         if (n + 1 == nJ) break;
         // The strip between this curve and the next one: cross edges and diagonals, nearest first;
@@ -183,7 +205,9 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
             const auto [a, b] = cross ? ends(edge, i, strip, i, strip + 1) : ends(edge, i, strip, i + 1, strip + 1);
             if (edge != HSR_NO_EDGE && (cross || diagonals_)) classify_edge(a, b, edge);
             if (!cross && !diagonals_) edge = HSR_NO_EDGE;
-            update_edge(a, b, edge);
+            hsr::sdk::Trace::Event event{nullptr};
+            update_edge(a, b, edge, event);
+            if (event.type != nullptr) trace.emit(event);
         }
     }
 
@@ -229,6 +253,9 @@ void FloatingHorizon::map_request(const hsr::sdk::LineRequest& request, const Gr
 // height = height offset / depth distance. Both are projective maps, so edges stay straight.
 void FloatingHorizon::project(const hsr::sdk::Scene& scene, const hsr_camera& camera) {
     const glm::dmat4 vp(hsr::sdk::load_matrix(camera.view_projection));
+    view_projection_ = vp;
+    image_width_ = camera.width;
+    image_height_ = camera.height;
     const uint32_t V = scene.vertex_count();
     window_.resize(V);
     space_.resize(V);
@@ -327,14 +354,16 @@ void FloatingHorizon::classify_edge(uint32_t a, uint32_t b, uint32_t edge) {
                 trace_->emit({piece.visible ? "visible-from" : "hidden-from", edge, HSR_NO_FACE, HSR_NO_OBJECT,
                               piece.visible ? 0 : -1, t0});
         }
-        if (piece.visible)
+        if (piece.visible) {
             segments_->add(point(t0), point(t1), edge, flags, 0);
+            ++visible_pieces_;
+        }
         else if (hidden_too)
             segments_->add(point(t0), point(t1), edge, flags, -1);
     }
 }
 
-void FloatingHorizon::update_edge(uint32_t a, uint32_t b, uint32_t edge) {
+uint64_t FloatingHorizon::update_edge(uint32_t a, uint32_t b, uint32_t edge, hsr::sdk::Trace::Event& event) {
     double s_lo, s_hi;
     const SpacePoint& A = space_[a];
     const SpacePoint& B = space_[b];
@@ -342,7 +371,52 @@ void FloatingHorizon::update_edge(uint32_t a, uint32_t b, uint32_t edge) {
     columns_updated_ += changed;
     if (changed > 0 && edge != HSR_NO_EDGE && trace_->enabled()) {
         auto along = [&](double s) { return (s / B.w) / ((1 - s) / A.w + s / B.w); };
-        trace_->emit({"horizon-update", edge, HSR_NO_FACE, HSR_NO_OBJECT, -1, along(s_lo), along(s_hi)});
+        event = {"horizon-update", edge, HSR_NO_FACE, HSR_NO_OBJECT, -1, along(s_lo), along(s_hi)};
+    }
+    return changed;
+}
+
+// A point (x, height) of the horizons' space is a ray from the eye (a line along the view, for an
+// orthographic camera); its window point is that of any point on it: the one at distance 1 in depth
+// (depth 0).
+void FloatingHorizon::draw_curve_and_horizons(uint32_t j) const {
+    const CurveOrder& o = order_;
+    auto to_window = [&](double x, double h) {
+        if (screen_space_) return glm::vec2(float(x), float(-h));
+        double depth, lateral, height;
+        if (o.view.perspective) {
+            depth = o.view.eye_depth + o.view.depth_sign;
+            lateral = o.view.eye_lateral + x;
+            height = o.view.eye_height + h;
+        } else {
+            depth = 0;
+            lateral = x;
+            height = h;
+        }
+        const glm::dvec3 p = o.layout.curves_are_rows ? glm::dvec3(lateral, height, -depth) : glm::dvec3(depth, height, -lateral);
+        const glm::dvec4 clip = view_projection_ * glm::dvec4(p, 1.0);
+        return glm::vec2(float((clip.x / clip.w + 1.0) * 0.5 * image_width_), float((1.0 - clip.y / clip.w) * 0.5 * image_height_));
+    };
+    bool have = false;
+    glm::vec2 upper_at, lower_at;
+    horizon_.for_each_column([&](double x, double upper, double lower) {
+        if (!(upper > -kInf)) {
+            have = false;
+            return;
+        }
+        const glm::vec2 u = to_window(x, upper), l = to_window(x, lower);
+        if (have) {
+            trace_->line(upper_at.x, upper_at.y, u.x, u.y, HSR_STEP_CONTEXT);
+            trace_->line(lower_at.x, lower_at.y, l.x, l.y, HSR_STEP_CONTEXT);
+        }
+        upper_at = u;
+        lower_at = l;
+        have = true;
+    });
+    for (uint32_t i = 0; i + 1 < o.layout.along; ++i) {
+        const SpacePoint& a = window_[o.layout.vertex(i, j)];
+        const SpacePoint& b = window_[o.layout.vertex(i + 1, j)];
+        trace_->line(float(a.x), float(a.h), float(b.x), float(b.h), HSR_STEP_SUBJECT);
     }
 }
 

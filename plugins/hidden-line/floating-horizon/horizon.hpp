@@ -79,6 +79,12 @@ public:
         }
     }
     size_t size() const { return x_.size(); }
+    // f(x, upper, lower) for each column, with the values at the column itself (-kInf and kInf where
+    // nothing reached it yet).
+    template <class F>
+    void for_each_column(F&& f) const {
+        for (size_t k = 0; k < x_.size(); ++k) f(x_[k], upper_[kAt][k], lower_[kAt][k]);
+    }
 
     // The visible pieces of the segment from vertex a to vertex b against the horizons, merged, in
     // order of s. Returns the number of column intervals looked at.

@@ -137,9 +137,7 @@ public:
         builder_.build(scene, set_);
         view_.load(camera);
         prepare_bodies(scene.raw());
-        if (trace.enabled())
-            for (const roberts::Body& body : set_.bodies)
-                trace.emit({.type = "body", .face = set_.plane_face[body.first_plane], .object = body.object});
+        if (trace.enabled()) trace_bodies(scene.raw(), trace);
 
         Stats stats;
         const bool want_hidden = request.want_hidden();
@@ -155,25 +153,38 @@ public:
                 if (trace.enabled()) trace.emit({.type = "edge-behind-eye", .edge = e, .object = object});
                 continue;
             }
-            if (trace.enabled())
-                trace.emit({.type = "edge-begin", .edge = e, .object = object, .t0 = t_begin, .t1 = t_end});
+            if (trace.enabled()) {
+                trace_line(a, b - a, t_begin, t_end, HSR_STEP_SUBJECT, trace);
+                trace.emit({.type = "edge-begin", .edge = e, .object = object, .t0 = t_begin, .t1 = t_end},
+                           "edge %u of body %u: tested against the bodies nearest first", e, object);
+            }
             // Roberts' first step: an edge whose faces are all turned away is hidden by its own body.
             const bool back = plane_is_back_[set_.plane_of_triangle[face0]] &&
                               (face1 == HSR_NO_FACE || plane_is_back_[set_.plane_of_triangle[face1]]);
             if (back) {
                 ++stats.edges_back;
-                if (trace.enabled())
-                    trace.emit({.type = "back-edge", .edge = e, .face = face0, .object = object, .t0 = t_begin, .t1 = t_end});
+                if (trace.enabled()) {
+                    trace_line(a, b - a, t_begin, t_end, HSR_STEP_REJECTED, trace);
+                    trace.emit({.type = "back-edge", .edge = e, .face = face0, .object = object, .t0 = t_begin, .t1 = t_end},
+                               "edge %u: every face of it is turned away, so its own body hides it", e);
+                }
                 if (want_hidden) {
                     segments.add(window_at(a, b - a, t_begin), window_at(a, b - a, t_end), e, request.flags(e), -1);
                     ++stats.pieces_hidden;
                 }
-                if (trace.enabled()) trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = -1});
+                if (trace.enabled()) {
+                    trace_line(a, b - a, t_begin, t_end, HSR_STEP_REJECTED, trace);
+                    trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = -1}, "edge %u: hidden", e);
+                }
                 continue;
             }
             const bool visible =
                 resolve(a, b - a, t_begin, t_end, e, request.flags(e), body, want_hidden, segments, trace, stats);
-            if (trace.enabled()) trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = visible ? 0 : -1});
+            if (trace.enabled()) {
+                trace_line(a, b - a, t_begin, t_end, visible ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED, trace);
+                trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = visible ? 0 : -1},
+                           visible ? "edge %u: done, visible in part or whole" : "edge %u: done, hidden", e);
+            }
         }
 
         roberts::PenetrationStats penetration;
@@ -181,15 +192,20 @@ public:
         for (const roberts::PenetrationLine& line : penetration_lines_) {
             const roberts::Body& A = set_.bodies[line.body_a];
             const roberts::Body& B = set_.bodies[line.body_b];
-            if (trace.enabled()) {
-                trace.emit({.type = "penetration-begin", .face = set_.plane_face[line.plane_a], .object = A.object});
-                trace.emit({.type = "penetration-body", .face = set_.plane_face[line.plane_b], .object = B.object});
-            }
             double t_begin, t_end;
+            const bool in_front = view_.in_front(line.start, line.end, t_begin, t_end);
+            if (trace.enabled()) {
+                if (in_front) trace_line(line.start, line.end - line.start, t_begin, t_end, HSR_STEP_SUBJECT, trace);
+                trace.emit({.type = "penetration-begin", .face = set_.plane_face[line.plane_a], .object = A.object},
+                           "penetration line: where body %u meets body %u", A.object, B.object);
+                if (in_front) trace_line(line.start, line.end - line.start, t_begin, t_end, HSR_STEP_SUBJECT, trace);
+                trace.emit({.type = "penetration-body", .face = set_.plane_face[line.plane_b], .object = B.object},
+                           "penetration line: on a face of body %u", B.object);
+            }
             bool visible = false;
             // A line that comes out as a point in the picture (a short one, or one seen end-on) is
             // not drawn.
-            if (view_.in_front(line.start, line.end, t_begin, t_end) &&
+            if (in_front &&
                 glm::length(window_at(line.start, line.end - line.start, t_end) -
                             window_at(line.start, line.end - line.start, t_begin)) >= kSliverPixels) {
                 const uint64_t before = stats.pieces_visible;
@@ -197,7 +213,13 @@ public:
                                   kNoBody, want_hidden, segments, trace, stats);
                 stats.penetration_pieces_visible += stats.pieces_visible - before;
             }
-            if (trace.enabled()) trace.emit({.type = "penetration-end", .qi = visible ? 0 : -1});
+            if (trace.enabled()) {
+                if (in_front)
+                    trace_line(line.start, line.end - line.start, t_begin, t_end,
+                               visible ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED, trace);
+                trace.emit({.type = "penetration-end", .qi = visible ? 0 : -1},
+                           visible ? "penetration line: visible in part or whole" : "penetration line: hidden");
+            }
         }
 
         counters.set("bodies", set_.bodies.size());
@@ -411,9 +433,14 @@ private:
                 for (uint32_t later = rank; later < screens_.size(); ++later) {
                     if (screens_[later].body == skip_body) continue;
                     ++stats.depth_rejections;
-                    if (trace.enabled())
+                    if (trace.enabled()) {
+                        trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
+                        trace_box(screens_[later].body, trace);
                         trace.emit({.type = "rejected-by-depth", .edge = edge,
-                                    .object = set_.bodies[screens_[later].body].object});
+                                    .object = set_.bodies[screens_[later].body].object},
+                                   "body %u lies wholly behind the line: it cannot hide it",
+                                   set_.bodies[screens_[later].body].object);
+                    }
                 }
                 break;
             }
@@ -421,8 +448,12 @@ private:
             if (line_max.x < screen.window_min.x || line_min.x > screen.window_max.x ||
                 line_max.y < screen.window_min.y || line_min.y > screen.window_max.y) {
                 ++stats.bounds_rejections;
-                if (trace.enabled())
-                    trace.emit({.type = "rejected-by-bounds", .edge = edge, .object = set_.bodies[body].object});
+                if (trace.enabled()) {
+                    trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
+                    trace_box(body, trace);
+                    trace.emit({.type = "rejected-by-bounds", .edge = edge, .object = set_.bodies[body].object},
+                               "body %u: its box in the picture misses the line", set_.bodies[body].object);
+                }
                 continue;
             }
             const uint32_t object = set_.bodies[body].object;
@@ -447,9 +478,13 @@ private:
             if (trace.enabled()) {
                 const uint32_t exit = roberts::ParametricTest::exit_plane(planes, start, direction,
                                                                           0.5 * (hidden.t0 + hidden.t1));
+                trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
+                trace_line(start, direction, hidden.t0, hidden.t1, HSR_STEP_REJECTED, trace);
+                trace_box(body, trace);
                 trace.emit({.type = "hidden-by", .edge = edge,
                             .face = exit == UINT32_MAX ? HSR_NO_FACE : set_.plane_face[exit], .object = object,
-                            .t0 = hidden.t0, .t1 = hidden.t1});
+                            .t0 = hidden.t0, .t1 = hidden.t1},
+                           "body %u hides t %.4g to %.4g of the line", object, hidden.t0, hidden.t1);
             }
             // Each piece loses what the body hides: at most two pieces are left of it.
             next_pieces_.clear();
@@ -475,7 +510,12 @@ private:
             }
             segments.add(window_at(start, direction, piece.t0), window_at(start, direction, piece.t1), edge, flags, 0);
             ++stats.pieces_visible;
-            if (trace.enabled()) trace.emit({.type = "visible", .edge = edge, .qi = 0, .t0 = piece.t0, .t1 = piece.t1});
+            if (trace.enabled()) {
+                trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
+                trace_line(start, direction, piece.t0, piece.t1, HSR_STEP_WRITTEN, trace);
+                trace.emit({.type = "visible", .edge = edge, .qi = 0, .t0 = piece.t0, .t1 = piece.t1},
+                           "visible: t %.4g to %.4g of the line", piece.t0, piece.t1);
+            }
             hidden_from = piece.t1;
         }
         if (want_hidden && t_end > hidden_from) {
@@ -483,6 +523,55 @@ private:
             ++stats.pieces_hidden;
         }
         return !pieces_.empty();
+    }
+
+    // --- steps for a viewer (only when tracing) ----------------------------------------------------
+
+    // The piece [t0, t1] of start + t·direction (in front of the eye) as a line of the next event.
+    void trace_line(glm::dvec3 start, glm::dvec3 direction, double t0, double t1, hsr_step_role role,
+                    const hsr::sdk::Trace& trace) const {
+        const glm::dvec2 p = window_at(start, direction, t0), q = window_at(start, direction, t1);
+        trace.line(float(p.x), float(p.y), float(q.x), float(q.y), role);
+    }
+    // A body's box in the picture (none when it reaches behind the eye).
+    void trace_box(uint32_t body, const hsr::sdk::Trace& trace) const {
+        const BodyView& v = body_views_[body];
+        if (!v.window_box_valid) return;
+        const float x0 = float(v.window_min.x), y0 = float(v.window_min.y);
+        const float x1 = float(v.window_max.x), y1 = float(v.window_max.y);
+        trace.line(x0, y0, x1, y0, HSR_STEP_CONTEXT);
+        trace.line(x1, y0, x1, y1, HSR_STEP_CONTEXT);
+        trace.line(x1, y1, x0, y1, HSR_STEP_CONTEXT);
+        trace.line(x0, y1, x0, y0, HSR_STEP_CONTEXT);
+    }
+    // One "body" event per body, showing the edges of its triangles that face the eye (CONTEXT).
+    void trace_bodies(const hsr_scene& s, const hsr::sdk::Trace& trace) {
+        // The triangles of each body, grouped by a counting sort over the planes' bodies.
+        std::vector<uint32_t> body_of_plane(set_.planes.size(), 0), first(set_.bodies.size() + 1, 0), order(s.triangle_count);
+        for (uint32_t b = 0; b < set_.bodies.size(); ++b)
+            for (uint32_t j = 0; j < set_.bodies[b].plane_count; ++j) body_of_plane[set_.bodies[b].first_plane + j] = b;
+        for (uint32_t t = 0; t < s.triangle_count; ++t) ++first[body_of_plane[set_.plane_of_triangle[t]] + 1];
+        for (size_t b = 0; b < set_.bodies.size(); ++b) first[b + 1] += first[b];
+        std::vector<uint32_t> next(first.begin(), first.end() - 1);
+        for (uint32_t t = 0; t < s.triangle_count; ++t) order[next[body_of_plane[set_.plane_of_triangle[t]]]++] = t;
+        for (uint32_t b = 0; b < set_.bodies.size(); ++b) {
+            const roberts::Body& body = set_.bodies[b];
+            for (uint32_t k = first[b]; k < first[b + 1]; ++k) {
+                const uint32_t t = order[k];
+                if (plane_is_back_[set_.plane_of_triangle[t]]) continue;
+                glm::dvec3 corner[3];
+                bool in_front = true;
+                for (int c = 0; c < 3; ++c) {
+                    corner[c] = position(s, s.indices[3 * size_t(t) + c]);
+                    in_front = in_front && (!view_.perspective || view_.clip_w(corner[c]) > view_.near_w);
+                }
+                if (!in_front) continue;
+                for (int c = 0; c < 3; ++c) trace_line(corner[c], corner[(c + 1) % 3] - corner[c], 0.0, 1.0, HSR_STEP_CONTEXT, trace);
+            }
+            trace.emit({.type = "body", .face = set_.plane_face[body.first_plane], .object = body.object},
+                       "body %u: %u planes, %u of them facing the eye", body.object, body.plane_count,
+                       body_views_[b].exact.front_count);
+        }
     }
 
     roberts::BodyBuilder builder_;

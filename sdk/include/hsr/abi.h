@@ -423,6 +423,14 @@ typedef struct hsr_trace_event {
     uint32_t object;    /* the body (hsr_scene.face_object) concerned */
     int32_t qi;         /* quantitative invisibility after this step */
     double t0, t1;      /* parameters along the edge (0 at its first vertex, 1 at its second) */
+    /* Since 1.3: what a viewer draws for this step, as in hsr_step_event. Read only when
+     * struct_size covers them and the plugin claims minor 3 or later. */
+    const char* text;           /* one line for a person, or NULL: the host writes one from the
+                                   fields above */
+    uint32_t line_count;
+    const float* lines;         /* 4 * line_count: x0, y0, x1, y1 in window coordinates (see
+                                   hsr_camera), to draw over the lines found so far */
+    const uint32_t* line_roles; /* line_count hsr_step_role values, or NULL: all HSR_STEP_SUBJECT */
 } hsr_trace_event;
 
 typedef struct hsr_trace_sink {

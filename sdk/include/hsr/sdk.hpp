@@ -434,7 +434,14 @@ public:
         double t0 = std::numeric_limits<double>::quiet_NaN();
         double t1 = std::numeric_limits<double>::quiet_NaN();
     };
-    void emit(const Event& e) const {
+    // Lines for the next emit() to show (window coordinates); call only when enabled().
+    void line(float x0, float y0, float x1, float y1, hsr_step_role role = HSR_STEP_SUBJECT) const {
+        lines_.insert(lines_.end(), {x0, y0, x1, y1});
+        roles_.push_back(role);
+    }
+    // text: one line for a person (printf format), or nullptr for the host's own.
+    template <class... Args>
+    void emit(const Event& e, const char* format = nullptr, Args... args) const {
         if (sink_ == nullptr) return;
         hsr_trace_event out{};
         out.struct_size = sizeof out;
@@ -445,11 +452,27 @@ public:
         out.qi = e.qi;
         out.t0 = e.t0;
         out.t1 = e.t1;
+        if (format != nullptr) {
+            if constexpr (sizeof...(Args) == 0)
+                std::snprintf(text_, sizeof text_, "%s", format);
+            else
+                std::snprintf(text_, sizeof text_, format, args...);
+            out.text = text_;
+        }
+        out.line_count = static_cast<uint32_t>(roles_.size());
+        out.lines = lines_.empty() ? nullptr : lines_.data();
+        out.line_roles = roles_.empty() ? nullptr : roles_.data();
         sink_->event(sink_->context, &out);
+        lines_.clear();
+        roles_.clear();
     }
 
 private:
     const hsr_trace_sink* sink_;
+    // The lines and text under construction: filled through a const Trace, as emit() is const.
+    mutable std::vector<float> lines_;
+    mutable std::vector<uint32_t> roles_;
+    mutable char text_[256] = {};
 };
 
 // A hidden-line algorithm (ABI 1.2): finds the visible (and on request hidden) pieces of the requested
