@@ -377,6 +377,62 @@ TEST_CASE("appel: a non-convex prism seen from many sides: concave vertices wher
 // ------------------------------------------------------------------------------------------------ //
 // The trace, the parameters, the refusals
 
+TEST_CASE("appel: a QI change's step draws the edge on either side of the change", "[appel][trace]") {
+    hsr::SceneBuilder builder;
+    add_box(builder, {-4, 0.5f, -2}, {4, 2, 0});
+    add_box(builder, {1, -1, 1}, {6, 4, 3});
+    const hsr::SceneData data = builder.build();
+    const hsr_scene scene = data.view();
+    const hsr_camera camera = simple_perspective_camera();
+    std::ostringstream text;
+    const hsr::LineDrawing d = draw(scene, camera, hsr::EdgeSelection::kAll, false, {}, &text);
+    const std::vector<Event> events = parse_trace(text.str());
+    const glm::dmat4 vp = line_reference::view_projection(camera);
+    auto stop_at = [&](uint64_t k) {
+        hsr::LineSettings settings;
+        settings.edges = hsr::EdgeSelection::kAll;
+        settings.stop_after_event = k;
+        const hsr::LineDrawing part = line_tests::draw("appel", scene, camera, settings);
+        REQUIRE(part.stopped_at);
+        const hsr::TraceEventRecord& e = *part.stopped_at;
+        REQUIRE(e.roles.size() * 4 == e.lines.size());
+        for (size_t n = 0; n < e.roles.size(); ++n) {
+            CHECK(e.roles[n] <= HSR_STEP_CONTEXT);
+            for (int c = 0; c < 4; ++c) {
+                CHECK(std::isfinite(e.lines[4 * n + c]));
+                CHECK(e.lines[4 * n + c] > -2.0f);
+                CHECK(e.lines[4 * n + c] < float(camera.width) + 2.0f);
+            }
+        }
+        return e;
+    };
+    // The first seed's step shows the contour edges, as many as the counter says.
+    const hsr::TraceEventRecord seed = stop_at(1);
+    CHECK(seed.type == "component-seed");
+    CHECK(seed.text.find(std::to_string(d.counter("contour-edges")) + " contour edges") != std::string::npos);
+    CHECK(uint64_t(std::count(seed.roles.begin(), seed.roles.end(), uint32_t(HSR_STEP_CONTEXT))) ==
+          d.counter("contour-edges"));
+    uint64_t changes = 0;
+    for (size_t k = 0; k < events.size(); ++k) {
+        if (events[k].type != "qi-change") continue;
+        INFO("event " << k + 1 << ", edge " << events[k].edge);
+        const hsr::TraceEventRecord e = stop_at(k + 1);
+        CHECK(e.text.find("to " + std::to_string(events[k].qi) + " at t") != std::string::npos);
+        // Both pieces meet at the change, the point at t0 along the edge.
+        const uint32_t edge = uint32_t(events[k].edge);
+        const glm::dvec3 p0 = line_reference::position(scene, d.edges.vertices[2 * edge]);
+        const glm::dvec3 p1 = line_reference::position(scene, d.edges.vertices[2 * edge + 1]);
+        const glm::dvec2 at = line_reference::to_window(camera, vp, p0 + events[k].t0 * (p1 - p0));
+        REQUIRE(e.roles.size() == 2);
+        CHECK(e.roles[0] == HSR_STEP_CONTEXT);
+        CHECK(e.roles[1] == (events[k].qi == 0 ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED));
+        CHECK(glm::length(glm::dvec2(e.lines[2], e.lines[3]) - at) < 0.01);
+        CHECK(glm::length(glm::dvec2(e.lines[4], e.lines[5]) - at) < 0.01);
+        ++changes;
+    }
+    CHECK(changes > 0);
+}
+
 TEST_CASE("appel: the trace's QI changes are where the segments change", "[appel][trace]") {
     hsr::SceneBuilder builder;
     add_box(builder, {-4, 0.5f, -2}, {4, 2, 0});

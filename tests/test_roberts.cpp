@@ -724,6 +724,74 @@ TEST_CASE("roberts: counters and trace events", "[roberts]") {
     CHECK(d.trace_events > 0);
 }
 
+TEST_CASE("roberts: steps draw the edge and the hidden interval on it", "[roberts][trace]") {
+    const hsr::SceneData& boxes = model("boxes.scene");
+    const hsr_scene scene = boxes.view();
+    const hsr_camera camera = orbit(boxes, 35, 25, 1.3f, false, 400);
+    std::ostringstream trace;
+    const hsr::LineDrawing whole = draw(boxes, camera, false, &trace);
+    const glm::dmat4 vp = line_reference::view_projection(camera);
+    auto window = [&](glm::dvec3 p) { return line_reference::to_window(camera, vp, p); };
+    auto field = [](const std::string& line, const std::string& key) {
+        const size_t at = line.find("\"" + key + "\":");
+        return at == std::string::npos ? std::string() : line.substr(at + key.size() + 3);
+    };
+    auto stop_at = [&](uint64_t k) {
+        hsr::LineSettings settings;
+        settings.edges = hsr::EdgeSelection::kAll;
+        settings.stop_after_event = k;
+        const hsr::LineDrawing d = line_tests::draw("roberts", scene, camera, settings);
+        REQUIRE(d.stopped_at);
+        const hsr::TraceEventRecord& e = *d.stopped_at;
+        REQUIRE(e.roles.size() * 4 == e.lines.size());
+        for (size_t n = 0; n < e.roles.size(); ++n) {
+            CHECK(e.roles[n] <= HSR_STEP_CONTEXT);
+            for (int c = 0; c < 4; ++c) CHECK(std::isfinite(e.lines[4 * n + c]));
+        }
+        CHECK_FALSE(e.text.empty());
+        return e;
+    };
+    // The first step: the first body's faces turned toward the eye, as context.
+    const hsr::TraceEventRecord first = stop_at(1);
+    CHECK(first.type == "body");
+    CHECK(first.text.rfind("body ", 0) == 0);
+    REQUIRE_FALSE(first.roles.empty());
+    for (uint32_t role : first.roles) CHECK(role == HSR_STEP_CONTEXT);
+    // Each hidden interval of an edge: the edge in yellow and, in red, exactly the piece t0..t1 of it.
+    std::istringstream lines(trace.str());
+    std::string line;
+    int checked = 0;
+    for (uint64_t k = 1; std::getline(lines, line) && checked < 10; ++k) {
+        if (line.find("\"type\":\"hidden-by\"") == std::string::npos || field(line, "edge").empty()) continue;
+        const uint32_t edge = uint32_t(std::stoul(field(line, "edge")));
+        const double t0 = std::stod(field(line, "t0")), t1 = std::stod(field(line, "t1"));
+        INFO("event " << k << ": " << line);
+        const hsr::TraceEventRecord e = stop_at(k);
+        CHECK(e.edge == edge);
+        const glm::dvec3 a = line_reference::position(scene, whole.edges.vertices[2 * edge]);
+        const glm::dvec3 b = line_reference::position(scene, whole.edges.vertices[2 * edge + 1]);
+        const glm::dvec2 p = window(a + t0 * (b - a)), q = window(a + t1 * (b - a));
+        const glm::dvec2 wa = window(a), wb = window(b);
+        int rejected = 0, subject = 0;
+        for (size_t n = 0; n < e.roles.size(); ++n) {
+            const glm::dvec2 u(e.lines[4 * n], e.lines[4 * n + 1]), v(e.lines[4 * n + 2], e.lines[4 * n + 3]);
+            if (e.roles[n] == HSR_STEP_REJECTED) {
+                ++rejected;
+                CHECK(glm::length(u - p) < 0.01);
+                CHECK(glm::length(v - q) < 0.01);
+            } else if (e.roles[n] == HSR_STEP_SUBJECT) {
+                ++subject;  // on the edge's line in the picture
+                for (const glm::dvec2 end : {u, v}) CHECK(distance_to_segment(end, wa, wb) < 0.01);
+            }
+        }
+        CHECK(rejected == 1);
+        CHECK(subject == 1);
+        CHECK(e.text.find("hides t") != std::string::npos);
+        ++checked;
+    }
+    CHECK(checked >= 3);
+}
+
 TEST_CASE("roberts: times on grids of boxes", "[.][roberts-bench]") {
     std::mt19937 random(7);
     std::uniform_real_distribution<float> angle(0, 360), jitter(-0.3f, 0.3f);

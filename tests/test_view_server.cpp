@@ -401,6 +401,32 @@ TEST_CASE("view: hidden-line steps are the plugin's trace events", "[view]") {
     CHECK(png_bytes(s.post_json("/api/frame", request)) == png_bytes(full));
 }
 
+TEST_CASE("view: roberts and appel steps send the plugin's lines with roles and its text", "[view]") {
+    RunningServer s;
+    for (const char* algorithm : {"roberts", "appel"}) {
+        INFO(algorithm);
+        json request = frame_request("0/cube.obj", algorithm, 64);
+        request["edges"] = "all";
+        request["step"] = 2;
+        const json steps = s.post_json("/api/frame", request)["steps"];
+        const std::string text = steps["text"];
+        // roberts: its one body, then edge 0; appel: the seed, then the first edge walked.
+        CHECK(steps["type"] == "edge-begin");
+        CHECK(text.find(std::string(algorithm) == "roberts" ? "edge 0 of body 0" : "starts with QI") != std::string::npos);
+        CHECK(text.find(':') != std::string::npos);  // the plugin's words, not "type: field, field"
+        REQUIRE(steps["lines"].size() > 0);
+        for (const json& line : steps["lines"]) {
+            REQUIRE(line.size() == 5);
+            CHECK(line[4].get<int>() >= HSR_STEP_SUBJECT);
+            CHECK(line[4].get<int>() <= HSR_STEP_CONTEXT);
+        }
+        request["step"] = 1;
+        const json first = s.post_json("/api/frame", request)["steps"];
+        if (std::string(algorithm) == "appel") CHECK(first["text"].get<std::string>().find("contour edges") != std::string::npos);
+        else CHECK(first["text"].get<std::string>().rfind("body 0: 6 planes", 0) == 0);
+    }
+}
+
 TEST_CASE("lines: stop_after_event keeps the segments emitted before the next event", "[view]") {
     hsr::PluginRegistry registry;
     registry.scan_directory(HSR_TEST_PLUGIN_DIR);
