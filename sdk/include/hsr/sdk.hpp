@@ -434,8 +434,10 @@ public:
         double t0 = std::numeric_limits<double>::quiet_NaN();
         double t1 = std::numeric_limits<double>::quiet_NaN();
     };
-    // Lines for the next emit() to show (window coordinates); call only when enabled().
+    // A line for the next emit() to show (window coordinates); guard the work of finding it with
+    // enabled().
     void line(float x0, float y0, float x1, float y1, hsr_step_role role = HSR_STEP_SUBJECT) const {
+        if (sink_ == nullptr) return;
         lines_.insert(lines_.end(), {x0, y0, x1, y1});
         roles_.push_back(role);
     }
