@@ -7,8 +7,6 @@
 // Needs playwright-core (npm ci in this folder) and Debian's chromium.
 
 import { spawn } from 'node:child_process';
-import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
 import readline from 'node:readline';
 import { chromium } from 'playwright-core';
@@ -42,14 +40,16 @@ const median = (values) => {
   return sorted.length % 2 ? sorted[mid] : (sorted[mid - 1] + sorted[mid]) / 2;
 };
 
+const log = (m) => process.stderr.write(`[${(performance.now() / 1000).toFixed(1)} s] ${m}\n`);
 const { server, url } = await startServer();
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'hsr-orbit-bench-'));
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync', `--user-data-dir=${profile}`],
-});
+log(`server ${url}`);
+let browser = null;
 try {
+  browser = await chromium.launch({
+    executablePath: '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
   const page = await browser.newPage({ viewport: { width: 1400, height: 1000 } });
   await page.goto(url);
   const frame = () => page.$eval('#canvas', (c) => Number(c.dataset.frame || 0));
@@ -63,6 +63,7 @@ try {
     await page.press(id, 'Enter');
   }
   await settled();
+  log('page ready');
 
   const box = await page.$eval('#canvas', (c) => {
     const r = c.getBoundingClientRect();
@@ -87,12 +88,14 @@ try {
     const dragEnd = performance.now();
     const framesDuringDrag = (await frame()) - firstFrame;
     await page.mouse.up();
+    log(`drag ${run + 1} ended`);
     // The last move is done: wait until the frame shown is the one asked for with the final camera.
     await page.waitForFunction(() => {
       const v = window.hsrView;
       return v && v.idle() && v.lastRequest && v.lastRequest.camera.yaw === v.camera().yaw;
     }, null, { timeout: 30_000, polling: 'raf' });
     const final = performance.now();
+    log(`drag ${run + 1}: ${framesDuringDrag} frames`);
     fps.push((framesDuringDrag * 1000) / (dragEnd - start));
     latency.push(final - dragEnd);
   }
@@ -101,7 +104,6 @@ try {
   console.log(`frames per second while dragging: median ${round(median(fps))} (runs: ${fps.map(round).join(', ')})`);
   console.log(`last mouse move to final frame, ms: median ${round(median(latency))} (runs: ${latency.map(round).join(', ')})`);
 } finally {
-  await browser.close();
+  await browser?.close();
   server.kill('SIGTERM');
-  fs.rmSync(profile, { recursive: true, force: true });
 }
