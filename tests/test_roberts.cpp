@@ -724,6 +724,42 @@ TEST_CASE("roberts: counters and trace events", "[roberts]") {
     CHECK(d.trace_events > 0);
 }
 
+TEST_CASE("roberts: the drawing at step k holds the segments found before step k + 1", "[roberts][trace]") {
+    // The SDK hands the host the segments found so far before each trace event, so a drawing
+    // stopped at a step grows with k and is, segment for segment, the start of the whole drawing.
+    const hsr::SceneData& boxes = model("boxes.scene");
+    const hsr_scene scene = boxes.view();
+    const hsr_camera camera = orbit(boxes, 35, 25, 1.3f, false, 400);
+    auto at_step = [&](uint64_t k) {
+        hsr::LineSettings settings;
+        settings.edges = hsr::EdgeSelection::kAll;
+        settings.stop_after_event = k;
+        return line_tests::draw("roberts", scene, camera, settings);
+    };
+    hsr::LineSettings plain;
+    plain.edges = hsr::EdgeSelection::kAll;
+    const hsr::LineDrawing whole = line_tests::draw("roberts", scene, camera, plain);
+    const uint64_t total = at_step(1).trace_events;
+    REQUIRE(total > 10);
+    REQUIRE(whole.segments.size() > 10);
+    size_t previous = 0;
+    for (uint64_t k : {uint64_t{1}, total / 4, total / 2, 3 * total / 4, total}) {
+        INFO("step " << k << " of " << total);
+        const hsr::LineDrawing d = at_step(k);
+        CHECK(d.segments.size() >= previous);
+        REQUIRE(d.segments.size() <= whole.segments.size());
+        for (size_t n = 0; n < d.segments.size(); ++n) {
+            CHECK(d.segments[n].a == whole.segments[n].a);
+            CHECK(d.segments[n].b == whole.segments[n].b);
+            CHECK(d.segments[n].edge == whole.segments[n].edge);
+        }
+        previous = d.segments.size();
+        if (k == 1) CHECK(d.segments.empty());  // a body's planes: nothing decided yet
+        if (k == total / 2) CHECK((d.segments.size() > 0 && d.segments.size() < whole.segments.size()));
+    }
+    CHECK(previous == whole.segments.size());
+}
+
 TEST_CASE("roberts: steps draw the edge and the hidden interval on it", "[roberts][trace]") {
     const hsr::SceneData& boxes = model("boxes.scene");
     const hsr_scene scene = boxes.view();

@@ -423,7 +423,11 @@ private:
 // The optional step events (hsr_trace_event). Check enabled() before building an event's data.
 class Trace {
 public:
-    explicit Trace(const hsr_trace_sink* sink) : sink_(sink != nullptr && sink->event != nullptr ? sink : nullptr) {}
+    // With `segments`, every event first hands the host the segments found so far, so that the
+    // host sees segments and events in the order they were found (the viewer draws step k from the
+    // segments before event k + 1). Without a trace, segments go in full batches as usual.
+    explicit Trace(const hsr_trace_sink* sink, SegmentWriter* segments = nullptr)
+        : sink_(sink != nullptr && sink->event != nullptr ? sink : nullptr), segments_(segments) {}
     bool enabled() const { return sink_ != nullptr; }
     struct Event {
         const char* type;
@@ -445,6 +449,7 @@ public:
     template <class... Args>
     void emit(const Event& e, const char* format = nullptr, Args... args) const {
         if (sink_ == nullptr) return;
+        if (segments_ != nullptr) segments_->flush();
         hsr_trace_event out{};
         out.struct_size = sizeof out;
         out.type = e.type;
@@ -471,6 +476,7 @@ public:
 
 private:
     const hsr_trace_sink* sink_;
+    SegmentWriter* segments_;
     // The lines and text under construction: filled through a const Trace, as emit() is const.
     mutable std::vector<float> lines_;
     mutable std::vector<uint32_t> roles_;
@@ -601,8 +607,8 @@ hsr_status render_lines(void* instance, const hsr_scene* scene, const hsr_camera
             throw InvalidArgument("render_lines: the host must copy instances out for a hidden-line remover");
         SegmentWriter writer(*segments);
         Counters counters;
-        static_cast<T*>(instance)->render_lines(scene_view, *camera, LineRequest(*request), writer, Trace(trace),
-                                                counters);
+        static_cast<T*>(instance)->render_lines(scene_view, *camera, LineRequest(*request), writer,
+                                                Trace(trace, &writer), counters);
         writer.flush();
         counters.set("segments", writer.emitted());
         counters.flush(sink);
