@@ -195,7 +195,7 @@ TEST_CASE("view: info, models, plugins and the page", "[view]") {
     };
     const json zbuffer = find("hidden_surface", "zbuffer");
     CHECK(zbuffer["steps"] == true);
-    CHECK(zbuffer["abi"] == "1.3");
+    CHECK(zbuffer["abi"] == std::to_string(HSR_ABI_MAJOR) + "." + std::to_string(HSR_ABI_MINOR));
     CHECK(find("hidden_surface", "frozen-1.0")["steps"] == false);
     CHECK(find("hidden_line", "handmade-lines")["steps"] == true);
     find("lighting", "blinn-phong");

@@ -241,7 +241,7 @@ private:
                         draw_piece<kCountTests>(s, t, placement.instance, -std::numeric_limits<double>::infinity(),
                                                 true, buffers, stats, steps);
                     };
-                    if (c0 & c1 & c2 & raster::kOutsideFrustum) {
+                    if (c0 & c1 & c2 & raster::kOutsideAnyPlane) {
                         geometry_.process(t, draw_whole);
                         continue;
                     }

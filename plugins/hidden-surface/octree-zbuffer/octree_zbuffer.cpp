@@ -530,7 +530,7 @@ private:
         const uint32_t i0 = corner[0], i1 = corner[1], i2 = corner[2];
         const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
                        c2 = geometry_.vertex_outcode(i2);
-        if (((c0 | c1 | c2) & (raster::kNeedsClipping | raster::kNonFinite)) || (c0 & c1 & c2 & raster::kOutsideFrustum))
+        if (((c0 | c1 | c2) & (raster::kNeedsClipping | raster::kNonFinite)) || (c0 & c1 & c2 & raster::kOutsideAnyPlane))
             return TriangleVisibility::kUntested;
         if (cull_backfaces_ && !raster::is_front_facing(geometry_.clip_vertex(i0), geometry_.clip_vertex(i1),
                                                         geometry_.clip_vertex(i2)))

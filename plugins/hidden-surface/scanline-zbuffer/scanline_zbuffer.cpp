@@ -217,7 +217,7 @@ private:
             const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
                            c2 = geometry_.vertex_outcode(i2);
             const uint32_t codes = c0 | c1 | c2;
-            const bool rejected = (c0 & c1 & c2 & raster::kOutsideFrustum) ||
+            const bool rejected = (c0 & c1 & c2 & raster::kOutsideAnyPlane) ||
                                   (cull_backfaces_ && !raster::is_front_facing(geometry_.clip_vertex(i0),
                                                                                geometry_.clip_vertex(i1),
                                                                                geometry_.clip_vertex(i2)));

@@ -46,6 +46,9 @@
  *        step of the algorithm (hsr_step_event: what it did, the lines to draw over the picture,
  *        the plugin's own buffers) to an hsr_step_sink that can stop the render after any step.
  *        Optional: a plugin without it renders as before, without steps.
+ *   1.4  sections: hsr_camera.clip_plane_count and clip_planes, half-spaces that keep part of the
+ *        scene. A host hands clip planes only to a plugin of minor 4 or later, which honours them or
+ *        refuses the call with HSR_ERROR_UNSUPPORTED.
  */
 #ifndef HSR_ABI_H
 #define HSR_ABI_H
@@ -59,7 +62,7 @@ extern "C" {
 
 #define HSR_API_NAME "hsr"
 #define HSR_ABI_MAJOR 1
-#define HSR_ABI_MINOR 3
+#define HSR_ABI_MINOR 4
 #define HSR_ENTRY_SYMBOL "hsr_plugin_entry"
 
 #if defined(_WIN32)
@@ -175,6 +178,8 @@ typedef struct hsr_scene {
     const hsr_instance* instances; /* instance_count elements, stepped by struct_size */
 } hsr_scene;
 
+#define HSR_MAX_CLIP_PLANES 8
+
 typedef enum hsr_projection {
     HSR_PROJECTION_PERSPECTIVE = 0,
     HSR_PROJECTION_ORTHOGRAPHIC = 1
@@ -197,6 +202,11 @@ typedef struct hsr_camera {
     float view_direction[3];   /* world-space unit direction the camera looks along */
     float near_plane;          /* view-space distances of the clip planes */
     float far_plane;
+    /* Since 1.4: sections. Only what lies on the kept side of every one of these world-space planes
+     * is drawn: a point p is kept where a*p.x + b*p.y + c*p.z + d >= 0 for each plane (a, b, c, d).
+     * What a plane cuts away hides nothing. Planes after clip_plane_count are zero. */
+    uint32_t clip_plane_count; /* 0 .. HSR_MAX_CLIP_PLANES */
+    float clip_planes[HSR_MAX_CLIP_PLANES][4];
 } hsr_camera;
 
 typedef enum hsr_light_type {

@@ -22,6 +22,8 @@
 
 namespace hsr::raster {
 
+static_assert(kMaxClipPlanes == HSR_MAX_CLIP_PLANES);
+
 // ---------------------------------------------------------------------------------------------- //
 // The depth test every z-buffer variant shares
 
@@ -174,6 +176,14 @@ inline void validate_frame(const char* plugin, const hsr_scene& scene, const hsr
         fail("visibility buffer has a NULL array");
     for (float m : camera.view_projection)
         if (!std::isfinite(m)) fail("camera view_projection matrix is not finite");
+    if (camera.struct_size >= offsetof(hsr_camera, clip_planes) + sizeof camera.clip_planes) {
+        if (camera.clip_plane_count > HSR_MAX_CLIP_PLANES)
+            fail("camera has " + std::to_string(camera.clip_plane_count) + " clip planes, more than " +
+                 std::to_string(HSR_MAX_CLIP_PLANES));
+        for (uint32_t k = 0; k < camera.clip_plane_count; ++k)
+            for (float c : camera.clip_planes[k])
+                if (!std::isfinite(c)) fail("camera clip plane " + std::to_string(k) + " is not finite");
+    }
     if (scene.vertex_count > 0 && scene.positions == nullptr) fail("scene has NULL positions");
     if (scene.triangle_count == 0) return;
     if (scene.indices == nullptr) fail("scene has NULL indices");
@@ -223,6 +233,14 @@ public:
         viewport_ = Viewport(width_, height_);
         stats_ = TriangleStats{};
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
+        const hsr::sdk::ClipPlanes world_planes(camera);
+        const glm::dmat4 plane_to_clip = glm::transpose(glm::inverse(view_projection_));
+        clip_planes_.count = int(world_planes.count);
+        for (uint32_t k = 0; k < world_planes.count; ++k) {
+            const glm::dvec4 p = plane_to_clip * world_planes.plane[k];
+            const double length = glm::length(p);
+            clip_planes_.plane[k] = length > 0.0 ? p / length : p;
+        }
         clip_.resize(scene.vertex_count);
         outcode_.resize(scene.vertex_count);
         window_.resize(scene.vertex_count);
@@ -236,7 +254,7 @@ public:
         for (uint32_t k = placement.first_vertex; k < end; ++k) {
             const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
             clip_[k] = to_clip(m, p);
-            uint32_t code = outcode(clip_[k], guard_);
+            uint32_t code = outcode(clip_[k], guard_) | clip_planes_.outcode(clip_[k]);
             if (!(code & (kNeedsClipping | kNonFinite)) && !viewport_.to_window(clip_[k], 0.0, 0.0, window_[k]))
                 code |= kNonFinite;
             outcode_[k] = code;
@@ -319,10 +337,50 @@ public:
         for (int k = 0; k < 3; ++k) steps.line(x[k], y[k], x[(k + 1) % 3], y[(k + 1) % 3], HSR_STEP_SUBJECT);
     }
 
+    // For algorithms that work on polygons (painters, BSP, area subdivision): triangle t of the
+    // current placement as the convex polygon left after clipping it to the near and far planes
+    // and the camera's clip planes (not the guard band), in clip space, its corners carrying the
+    // triangle's barycentrics (corner 0 (0, 0), corner 1 (1, 0), corner 2 (0, 1)). 0 when nothing
+    // is left, a corner is not finite, or the triangle is a back face and culling is on. Counts
+    // nothing.
+    int clipped_polygon(uint32_t t, ClipVertex (&out)[kMaxClipVertices]) const {
+        const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
+        const uint32_t c0 = outcode_[i0], c1 = outcode_[i1], c2 = outcode_[i2];
+        if (((c0 | c1 | c2) & kNonFinite) || (c0 & c1 & c2 & kOutsideAnyPlane)) return 0;
+        if (cull_backfaces_ && !is_front_facing(clip_[i0], clip_[i1], clip_[i2])) return 0;
+        const ClipVertex corners[3] = {{clip_[i0], {0.0, 0.0}}, {clip_[i1], {1.0, 0.0}}, {clip_[i2], {0.0, 1.0}}};
+        return clip_polygon(corners, 3, (c0 | c1 | c2) & ~kOutsideGuardBand, guard_, clip_planes_, out);
+    }
+
+    // Rasterizes a convex piece of a triangle given in clip space (3 to kMaxPieceVertices corners,
+    // carrying the triangle's barycentrics, as from clipped_polygon and split_by_plane): clips it to
+    // the near and far planes, the camera's clip planes and the guard band, and calls
+    // emit(const TriangleSetup&) for each of its fan triangles that holds pixel centres in the image.
+    // Pieces of one triangle that share an edge bit for bit cover each pixel centre on it once.
+    // Counts nothing; true when something was emitted.
+    template <class Emit>
+    bool rasterize_polygon(const ClipVertex* polygon, int count, Emit&& emit) const {
+        if (count < 3 || count > kMaxPieceVertices) return false;
+        uint32_t any = 0, all = ~0u;
+        for (int k = 0; k < count; ++k) {
+            const uint32_t code = outcode(polygon[k].position, guard_) | clip_planes_.outcode(polygon[k].position);
+            any |= code;
+            all &= code;
+        }
+        if ((any & kNonFinite) || (all & kOutsideAnyPlane)) return false;
+        ClipVertex clipped[kMaxClipVertices];
+        const int clipped_count = clip_polygon(polygon, count, any, guard_, clip_planes_, clipped);
+        return rasterize_clipped(clipped, clipped_count, emit) == SetupResult::kOk;
+    }
+
+    // The camera's clip planes in clip space, as this frame uses them.
+    const ClipSpacePlanes& clip_planes() const { return clip_planes_; }
+    const Viewport& viewport() const { return viewport_; }
+
 private:
     // Outside the view volume (all corners beyond one plane) or a culled back face: counted, true.
     bool culled(uint32_t i0, uint32_t i1, uint32_t i2, uint32_t all_corners) {
-        if (all_corners & kOutsideFrustum) {
+        if (all_corners & kOutsideAnyPlane) {
             ++stats_.outside;
             return true;
         }
@@ -348,18 +406,23 @@ private:
         if (any & kOutsideNear) ++stats_.clipped;
         const ClipVertex corners[3] = {{clip_[i0], {0.0, 0.0}}, {clip_[i1], {1.0, 0.0}}, {clip_[i2], {0.0, 1.0}}};
         ClipVertex polygon[kMaxClipVertices];
-        const int count = clip_triangle(corners, any, guard_, polygon);
-        if (count == 0) {
-            ++stats_.outside;
-            return;
+        const int count = clip_polygon(corners, 3, any, guard_, clip_planes_, polygon);
+        switch (rasterize_clipped(polygon, count, emit)) {
+            case SetupResult::kOk: ++stats_.rasterized; break;
+            case SetupResult::kDegenerate: ++stats_.degenerate; break;
+            case SetupResult::kOffscreen: ++stats_.outside; break;
         }
+    }
+
+    // Sets up the fan triangles of a clipped convex polygon and emits those holding pixel centres
+    // in the image: kOk when one did, else why none did (nothing left counts as offscreen).
+    template <class Emit>
+    SetupResult rasterize_clipped(const ClipVertex* polygon, int count, Emit&& emit) const {
+        if (count == 0) return SetupResult::kOffscreen;
         WindowVertex window[kMaxClipVertices];
-        for (int k = 0; k < count; ++k) {
-            if (!viewport_.to_window(polygon[k].position, polygon[k].bary.x, polygon[k].bary.y, window[k])) {
-                ++stats_.degenerate;  // only with a projection whose w is not positive in front
-                return;
-            }
-        }
+        for (int k = 0; k < count; ++k)
+            if (!viewport_.to_window(polygon[k].position, polygon[k].bary.x, polygon[k].bary.y, window[k]))
+                return SetupResult::kDegenerate;  // only with a projection whose w is not positive in front
         bool drawn = false, degenerate_only = true;
         TriangleSetup setup;
         for (int k = 1; k + 1 < count; ++k) {
@@ -373,14 +436,10 @@ private:
                 case SetupResult::kOffscreen: degenerate_only = false; break;
             }
         }
-        if (drawn)
-            ++stats_.rasterized;
-        else if (degenerate_only)
-            ++stats_.degenerate;
-        else
-            ++stats_.outside;
+        return drawn ? SetupResult::kOk : degenerate_only ? SetupResult::kDegenerate : SetupResult::kOffscreen;
     }
 
+    ClipSpacePlanes clip_planes_;
     std::vector<glm::dvec4> clip_;
     std::vector<uint32_t> outcode_;
     std::vector<WindowVertex> window_;  // valid where the outcode needs neither clipping nor skipping

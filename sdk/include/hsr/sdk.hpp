@@ -125,6 +125,27 @@ inline glm::mat4 load_matrix(const float (&m)[16]) {
     return r;
 }
 
+// The camera's section planes (ABI 1.4), world space: a point p is drawn only where
+// dot(plane, (p, 1)) >= 0 for every plane. None when the host predates them.
+struct ClipPlanes {
+    uint32_t count = 0;
+    glm::dvec4 plane[HSR_MAX_CLIP_PLANES];
+
+    explicit ClipPlanes(const hsr_camera& camera) {
+        if (camera.struct_size < offsetof(hsr_camera, clip_planes) + sizeof camera.clip_planes) return;
+        count = camera.clip_plane_count < HSR_MAX_CLIP_PLANES ? camera.clip_plane_count : HSR_MAX_CLIP_PLANES;
+        for (uint32_t k = 0; k < count; ++k) {
+            const float* p = camera.clip_planes[k];
+            plane[k] = glm::dvec4(p[0], p[1], p[2], p[3]);
+        }
+    }
+    bool keeps(const glm::dvec3& p) const {
+        for (uint32_t k = 0; k < count; ++k)
+            if (glm::dot(plane[k], glm::dvec4(p, 1.0)) < 0.0) return false;
+        return true;
+    }
+};
+
 // One placement of triangles in the world (see Scene::placement): world = transform * object, and a
 // normal n maps to rotation * n. `instance` is what goes into the visibility buffer's instance array.
 struct Placement {

@@ -56,7 +56,27 @@ enum : uint32_t {
     kOutsideFrustum = 0x3Fu,
     kOutsideGuardBand = 1u << 6,  // |x| or |y| beyond the guard band: clip in x/y before snapping
     kNonFinite = 1u << 7,         // NaN or infinity: the triangle is skipped
-    kNeedsClipping = kOutsideNear | kOutsideFar | kOutsideGuardBand,
+    kOutsideClipPlanes = 0xFFu << 8,  // bit 8 + k: on the cut-away side of the camera's clip plane k
+    kOutsideAnyPlane = kOutsideFrustum | kOutsideClipPlanes,  // shared by all corners: reject
+    kNeedsClipping = kOutsideNear | kOutsideFar | kOutsideGuardBand | kOutsideClipPlanes,
+};
+
+inline constexpr int kMaxClipPlanes = 8;  // HSR_MAX_CLIP_PLANES of hsr/abi.h
+
+// The camera's clip planes (sections) in clip space: a clip-space point c is kept where
+// dot(plane, c) >= 0. A world-space plane P becomes inverse(view_projection)^T P, the same for
+// every placement, since clip = view_projection * world.
+struct ClipSpacePlanes {
+    int count = 0;
+    glm::dvec4 plane[kMaxClipPlanes];
+
+    // The kOutsideClipPlanes bits of a clip-space point.
+    uint32_t outcode(const glm::dvec4& c) const {
+        uint32_t code = 0;
+        for (int k = 0; k < count; ++k)
+            if (glm::dot(plane[k], c) < 0.0) code |= 1u << (8 + k);
+        return code;
+    }
 };
 
 // The guard band in NDC units: |x_ndc| <= x and |y_ndc| <= y keep window coordinates within
@@ -112,7 +132,10 @@ struct ClipVertex {
     glm::dvec2 bary;
 };
 
-inline constexpr int kMaxClipVertices = 3 + 6;  // every clipping plane adds at most one vertex
+// A convex piece of a triangle handed to the rasterizer has at most kMaxPieceVertices corners;
+// every clipping plane (near, far, four of the guard band, the clip planes) adds at most one.
+inline constexpr int kMaxPieceVertices = 16;
+inline constexpr int kMaxClipVertices = kMaxPieceVertices + 6 + kMaxClipPlanes;
 
 // Sutherland-Hodgman against one plane; the inside is dot(plane, position) >= 0. The new vertex on
 // a crossing edge is always interpolated from the inside end toward the outside end, so two
@@ -139,13 +162,54 @@ inline int clip_against_plane(const ClipVertex* in, int count, const glm::dvec4&
     return written;
 }
 
-// Clips a triangle against the planes its combined outcode asks for (near, far, guard band).
-// Returns the vertex count of the convex polygon left in `out` (0 or 3..kMaxClipVertices).
-inline int clip_triangle(const ClipVertex (&triangle)[3], uint32_t combined_outcode, const GuardBand& guard,
-                         ClipVertex (&out)[kMaxClipVertices]) {
+// Splits a convex polygon by a plane into the part where dot(plane, position) >= 0 (front) and
+// the part where it is <= 0 (back); corners on the plane go to both. A crossing corner is computed
+// once, from the front end toward the back end, and given to both parts, so their shared edge is
+// bit-identical and the rasterizer's fill rule draws each pixel centre on it exactly once. Either
+// count may come back below 3 (nothing on that side). `front` and `back` hold count + 2 corners.
+inline void split_by_plane(const ClipVertex* in, int count, const glm::dvec4& plane, ClipVertex* front,
+                           int& front_count, ClipVertex* back, int& back_count) {
+    front_count = back_count = 0;
+    for (int i = 0; i < count; ++i) {
+        const ClipVertex& a = in[i];
+        const ClipVertex& b = in[i + 1 == count ? 0 : i + 1];
+        const double da = glm::dot(plane, a.position);
+        const double db = glm::dot(plane, b.position);
+        if (da >= 0.0) front[front_count++] = a;
+        if (da <= 0.0) back[back_count++] = a;
+        if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
+            const bool a_front = da > 0.0;
+            const ClipVertex& f = a_front ? a : b;
+            const ClipVertex& k = a_front ? b : a;
+            const double d_front = a_front ? da : db;
+            const double d_back = a_front ? db : da;
+            const double t = d_front / (d_front - d_back);
+            const ClipVertex crossing{f.position + t * (k.position - f.position), f.bary + t * (k.bary - f.bary)};
+            front[front_count++] = crossing;
+            back[back_count++] = crossing;
+        }
+    }
+}
+
+// The clip-space plane through three clip-space points (the 4-vector orthogonal to all three, a
+// generalized cross product): a plane of world space stays a plane of clip space, so a polygon can
+// be split by another's plane in clip space exactly as in world space. Its sign is arbitrary: test
+// a known point to orient it. Zero when the points are collinear.
+inline glm::dvec4 plane_through(const glm::dvec4& a, const glm::dvec4& b, const glm::dvec4& c) {
+    auto minor = [&](int i, int j, int k) {
+        return a[i] * (b[j] * c[k] - b[k] * c[j]) - a[j] * (b[i] * c[k] - b[k] * c[i]) +
+               a[k] * (b[i] * c[j] - b[j] * c[i]);
+    };
+    return {minor(1, 2, 3), -minor(0, 2, 3), minor(0, 1, 3), -minor(0, 1, 2)};
+}
+
+// Clips a convex polygon (count <= kMaxPieceVertices corners) against the planes its combined
+// outcode asks for (near, far, guard band, clip planes). Returns the corner count of the convex
+// polygon left in `out` (0 or 3..kMaxClipVertices).
+inline int clip_polygon(const ClipVertex* polygon, int count, uint32_t combined_outcode, const GuardBand& guard,
+                        const ClipSpacePlanes& clip_planes, ClipVertex (&out)[kMaxClipVertices]) {
     ClipVertex scratch[kMaxClipVertices];
-    std::copy(triangle, triangle + 3, out);
-    int count = 3;
+    std::copy(polygon, polygon + count, out);
     auto apply = [&](const glm::dvec4& plane) {
         if (count < 3) return;
         count = clip_against_plane(out, count, plane, scratch);
@@ -153,6 +217,8 @@ inline int clip_triangle(const ClipVertex (&triangle)[3], uint32_t combined_outc
     };
     if (combined_outcode & kOutsideNear) apply({0.0, 0.0, 1.0, 1.0});
     if (combined_outcode & kOutsideFar) apply({0.0, 0.0, -1.0, 1.0});
+    for (int k = 0; k < clip_planes.count; ++k)
+        if (combined_outcode & (1u << (8 + k))) apply(clip_planes.plane[k]);
     if (combined_outcode & kOutsideGuardBand) {
         apply({1.0, 0.0, 0.0, guard.x});
         apply({-1.0, 0.0, 0.0, guard.x});
