@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "render.hpp"
 
+#include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "hsr/params.hpp"
@@ -55,6 +56,12 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "--pitch; the picture is not framed to the model, --zoom still magnifies")
         ("target", po::value(&o.target), "x,y,z: the point the --eye looks at (default: the centre of the model's bounds)")
         ("up", po::value(&o.up), "x,y,z: the direction that is up on screen with --eye (default 0,1,0)")
+        ("near", po::value(&o.near_plane), "view-space distance of the near plane (default: just in front of the "
+                                           "model), so that it can cut into the model")
+        ("section", po::value(&o.sections)->composing(),
+         "z: cut the model at z (world space) and keep z <= z, the part away from the default view (repeatable)")
+        ("clip-plane", po::value(&o.clip_planes)->composing(),
+         "a,b,c,d: keep only a*x + b*y + c*z + d >= 0 (world space; repeatable, at most 8 with --section)")
         ("light", po::value(&o.lights)->composing(),
          "light, repeatable: point:x,y,z or dir:x,y,z (toward the light), camera space (x right, y up, "
          "z toward you), optionally followed by ,intensity=I,color=r/g/b (docs/scene-format.md). "
@@ -153,6 +160,10 @@ void check_render_options(const RenderOptions& o) {
          {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
         if (!std::isfinite(value)) throw UsageError("--{} must be a finite number", option);
     if (!(o.zoom > 0)) throw UsageError("--zoom must be positive");
+    if (o.was_given("near") && !(std::isfinite(o.near_plane) && o.near_plane > 0))
+        throw UsageError("--near must be a distance greater than 0");
+    std::vector<glm::vec4> planes;
+    hsr::host::add_clip_plane_options(o, planes);  // checked here, added again where the camera is made
     if (!(o.fov > 0 && o.fov < 180)) throw UsageError("--fov must be between 0 and 180 degrees");
     if (o.eye.empty()) {
         for (const char* option : {"target", "up"})
@@ -269,19 +280,47 @@ glm::vec3 hsr::host::parse_color_option(const std::string& text, const char* opt
     }
 }
 
-glm::vec3 hsr::host::parse_vector_option(const std::string& text, const char* option) {
-    glm::vec3 v{};
+namespace {
+
+// "n0,n1,...": `count` finite numbers separated by commas, else a UsageError naming the option.
+template <int kCount>
+glm::vec<kCount, float> parse_number_list(const std::string& text, const char* option, const char* expected) {
+    glm::vec<kCount, float> v{};
     std::size_t start = 0;
-    for (int k = 0; k < 3; ++k) {
-        const std::size_t comma = k < 2 ? text.find(',', start) : text.size();
+    for (int k = 0; k < kCount; ++k) {
+        const std::size_t comma = k + 1 < kCount ? text.find(',', start) : text.size();
         const std::string_view part = std::string_view(text).substr(start, comma == std::string::npos ? 0 : comma - start);
         const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v[k]);
         if (comma == std::string::npos || part.empty() || ec != std::errc() || end != part.data() + part.size() ||
             !std::isfinite(v[k]))
-            throw UsageError("--{} '{}': expected x,y,z (three finite numbers)", option, hsr::printable(text));
+            throw UsageError("--{} '{}': expected {}", option, hsr::printable(text), expected);
         start = comma + 1;
     }
     return v;
+}
+
+}  // namespace
+
+glm::vec3 hsr::host::parse_vector_option(const std::string& text, const char* option) {
+    return parse_number_list<3>(text, option, "x,y,z (three finite numbers)");
+}
+
+glm::vec4 hsr::host::parse_plane_option(const std::string& text, const char* option) {
+    const glm::vec4 plane = parse_number_list<4>(text, option, "a,b,c,d (four finite numbers)");
+    if (plane.x == 0.0f && plane.y == 0.0f && plane.z == 0.0f)
+        throw UsageError("--{} '{}': the plane's normal a,b,c is zero", option, hsr::printable(text));
+    return plane;
+}
+
+void hsr::host::add_clip_plane_options(const RenderOptions& o, std::vector<glm::vec4>& planes) {
+    for (float z : o.sections) {
+        if (!std::isfinite(z)) throw UsageError("--section must be a finite number");
+        planes.push_back(hsr::section_plane(z));
+    }
+    for (const std::string& text : o.clip_planes) planes.push_back(parse_plane_option(text, "clip-plane"));
+    if (planes.size() > HSR_MAX_CLIP_PLANES)
+        throw UsageError("{} sections and clip planes: at most {} (a .scene file's count too)", planes.size(),
+                         HSR_MAX_CLIP_PLANES);
 }
 
 fs::path hsr::host::model_path(const RenderOptions& o) {

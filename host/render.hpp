@@ -51,6 +51,9 @@ struct RenderOptions {
     float repeat_gap = 0.25f, repeat_jitter = 0.0f;
     float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40, fov = 35;
     std::string eye, target, up;  // x,y,z each: a look-at camera
+    std::vector<std::string> clip_planes;  // --clip-plane a,b,c,d (repeatable)
+    std::vector<float> sections;           // --section z (repeatable)
+    float near_plane = 0;                  // --near, when given
     bool orthographic = false;
     bool stats = false;
     int64_t threads = 0;  // signed, so that a negative number is refused rather than wrapped
@@ -67,6 +70,10 @@ glm::vec3 parse_color_option(const std::string& text, const char* option);
 // A point or vector option's value, "x,y,z" of finite numbers; a mistake is a UsageError naming
 // the option.
 glm::vec3 parse_vector_option(const std::string& text, const char* option);
+// A --clip-plane value, "a,b,c,d" of finite numbers with (a, b, c) not zero.
+glm::vec4 parse_plane_option(const std::string& text, const char* option);
+// The sections and clip planes the command line asks for, after those of a .scene file (`file`).
+void add_clip_plane_options(const RenderOptions& options, std::vector<glm::vec4>& planes);
 
 // The file the scene comes from: MODEL, or --heightmap's PNG, or "surface" for --surface. Its stem
 // names the default output.

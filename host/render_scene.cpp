@@ -73,6 +73,7 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
     view.zoom = o.zoom;
     view.orthographic = o.orthographic;
     view.fov_y_degrees = o.fov;
+    if (o.was_given("near")) view.near_plane = o.near_plane;
     if (!o.eye.empty()) {
         hsr::LookAt look_at;
         look_at.eye = parse_vector_option(o.eye, "eye");
@@ -96,6 +97,7 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         loaded.background = file.background;
         pixel_camera = file.pixel_camera;
         apply_scene_file_view(file, o, view);
+        view.clip_planes = file.clip_planes;
     } else {
         hsr::MeshOptions mesh_options;
         mesh_options.crease_angle_degrees = o.crease_angle;
@@ -118,7 +120,10 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
     hsr::check_image_size(view.width, view.height);
     hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(view.width) * view.height,
                      fmt::format("image size {}x{}", view.width, view.height));
-    loaded.camera = pixel_camera ? hsr::make_pixel_camera(view.width, view.height, scene.bounds_min.z, scene.bounds_max.z)
+    add_clip_plane_options(o, view.clip_planes);
+    if (pixel_camera && view.near_plane) throw UsageError("--near does not apply to a .scene file with 'camera pixel'");
+    loaded.camera = pixel_camera ? hsr::make_pixel_camera(view.width, view.height, scene.bounds_min.z,
+                                                          scene.bounds_max.z, view.clip_planes)
                                  : hsr::make_camera(scene.bounds_min, scene.bounds_max, view);
     return loaded;
 }

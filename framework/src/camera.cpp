@@ -61,7 +61,23 @@ bool is_finite(const hsr_camera& c) {
            std::isfinite(c.far_plane);
 }
 
+void set_clip_planes(hsr_camera& camera, const std::vector<glm::vec4>& planes) {
+    if (planes.size() > HSR_MAX_CLIP_PLANES)
+        throw Error("{} clip planes: at most {} are supported", planes.size(), HSR_MAX_CLIP_PLANES);
+    camera.clip_plane_count = uint32_t(planes.size());
+    for (size_t k = 0; k < planes.size(); ++k) {
+        const glm::vec4& p = planes[k];
+        if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w)))
+            throw Error("clip plane {}: the numbers must be finite", k + 1);
+        if (p.x == 0.0f && p.y == 0.0f && p.z == 0.0f)
+            throw Error("clip plane {}: its normal (a, b, c) is zero", k + 1);
+        for (int c = 0; c < 4; ++c) camera.clip_planes[k][c] = p[c];
+    }
+}
+
 }  // namespace
+
+glm::vec4 section_plane(float z_section) { return {0.0f, 0.0f, -1.0f, z_section}; }
 
 namespace {
 
@@ -105,14 +121,27 @@ glm::dmat4 projection_matrix(const CameraSettings& s, double radius, double near
     return glm::perspective(fov_y, aspect, near_plane, far_plane);
 }
 
+// The near plane: the settings' own, or `automatic` (just in front of the bounds).
+double choose_near_plane(const CameraSettings& s, double automatic, double far_plane) {
+    if (!s.near_plane) return automatic;
+    const double near_plane = *s.near_plane;
+    if (!(std::isfinite(near_plane) && near_plane > 0.0))
+        throw Error("near plane {} must be a distance greater than 0", near_plane);
+    if (!(near_plane < far_plane))
+        throw Error("near plane {} lies beyond the far plane at {:.6g}: the whole model would be cut away", near_plane,
+                    far_plane);
+    return near_plane;
+}
+
 // Throws `too_large` when a number of the camera does not fit a float.
 hsr_camera finish(const CameraSettings& s, const glm::dmat4& view, const glm::dmat4& projection,
                   const glm::dvec3& eye, const glm::dvec3& direction, double near_plane, double far_plane,
                   const std::string& too_large) {
-    const hsr_camera camera =
+    hsr_camera camera =
         assemble(s.width, s.height, s.orthographic ? HSR_PROJECTION_ORTHOGRAPHIC : HSR_PROJECTION_PERSPECTIVE, view,
                  projection, eye, direction, near_plane, far_plane);
     if (!is_finite(camera)) throw Error("{}", too_large);
+    set_clip_planes(camera, s.clip_planes);
     return camera;
 }
 
@@ -142,7 +171,7 @@ hsr_camera make_orbit_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const C
 
     // Tight around the sphere; never at or behind the eye.
     const double far_plane = distance + 1.02 * radius;
-    const double near_plane = std::max(distance - 1.02 * radius, 1e-3 * far_plane);
+    const double near_plane = choose_near_plane(s, std::max(distance - 1.02 * radius, 1e-3 * far_plane), far_plane);
 
     const glm::dmat4 view = glm::lookAt(eye, centre, up);
     return finish(s, view, projection_matrix(s, radius, near_plane, far_plane), eye, -toward_eye, near_plane,
@@ -168,7 +197,7 @@ hsr_camera make_look_at_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const
     // Around the scene's bounding sphere as seen from the eye; an eye inside it sees from near the eye.
     const double distance = glm::length(centre - eye);
     const double far_plane = distance + 1.02 * radius;
-    const double near_plane = std::max(distance - 1.02 * radius, 1e-3 * far_plane);
+    const double near_plane = choose_near_plane(s, std::max(distance - 1.02 * radius, 1e-3 * far_plane), far_plane);
     const glm::dmat4 view = glm::lookAt(eye, target, up);
     return finish(s, view, projection_matrix(s, radius, near_plane, far_plane), eye, direction, near_plane,
                   far_plane,
@@ -183,7 +212,8 @@ hsr_camera make_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraS
                             : make_orbit_camera(bounds_min, bounds_max, settings);
 }
 
-hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max) {
+hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max,
+                             const std::vector<glm::vec4>& clip_planes) {
     check_size(width, height);
     if (!std::isfinite(z_min) || !std::isfinite(z_max) || z_min > z_max)
         throw Error("pixel camera: depth range [{}, {}] is not valid", z_min, z_max);
@@ -196,9 +226,10 @@ hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float
     const double far_plane = eye.z - z_min + pad;
     const glm::dmat4 view = glm::translate(glm::dmat4(1.0), -eye);
     const glm::dmat4 projection = glm::ortho(-w / 2.0, w / 2.0, -h / 2.0, h / 2.0, near_plane, far_plane);
-    const hsr_camera camera = assemble(width, height, HSR_PROJECTION_ORTHOGRAPHIC, view, projection, eye,
+    hsr_camera camera = assemble(width, height, HSR_PROJECTION_ORTHOGRAPHIC, view, projection, eye,
                                        glm::dvec3(0, 0, -1), near_plane, far_plane);
     if (!is_finite(camera)) throw Error("pixel camera: depth range [{}, {}] is too large for single precision", z_min, z_max);
+    set_clip_planes(camera, clip_planes);
     return camera;
 }
 

@@ -142,6 +142,7 @@ std::string trace_event_json(const hsr_trace_event& e, bool with_text) {
 LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, HiddenLineRemover& remover,
                          const LineSettings& settings) {
     check_image_size(camera.width, camera.height);
+    check_clip_planes_known(remover.plugin(), camera);
     LineDrawing drawing;
     drawing.width = camera.width;
     drawing.height = camera.height;

@@ -148,6 +148,12 @@ bool needs_flat_scene(const Plugin& plugin, const hsr_scene& scene) {
     return scene.instance_count > 0 && plugin.descriptor.abi_minor < 1;
 }
 
+void check_clip_planes_known(const Plugin& plugin, const hsr_camera& camera) {
+    if (camera.clip_plane_count > 0 && plugin.descriptor.abi_minor < 4)
+        throw Error("plugin '{}' is built against ABI 1.{}, which has no clip planes (sections came with 1.4)",
+                    plugin.descriptor.name, plugin.descriptor.abi_minor);
+}
+
 namespace {
 
 // Clears the frame's visibility arrays for the camera and points a visibility buffer at them.
@@ -157,6 +163,7 @@ hsr_visibility_buffer clear_visibility(const hsr_scene& scene, const hsr_camera&
     if (needs_flat_scene(remover.plugin(), scene))
         throw Error("hidden-surface plugin '{}' is built against ABI 1.0, which has no instances; copy the "
                     "instances out first (flatten_instances)", remover.plugin().descriptor.name);
+    check_clip_planes_known(remover.plugin(), camera);
     const size_t pixels = size_t(camera.width) * camera.height;
     frame.width = camera.width;
     frame.height = camera.height;

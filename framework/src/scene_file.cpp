@@ -1,6 +1,7 @@
 // The `.scene` text format (docs/scene-format.md) and light specifications ("point:1,2,3,...").
 // A scene file is read line by line; `mesh` and `polygon` open an object that the following
 // property lines (name, color, transforms, vertices) describe, until the next top-level statement.
+#include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
 #include "hsr/limits.hpp"
@@ -216,6 +217,17 @@ private:
         } else if (keyword == "camera") {
             finish_object();
             camera(s);
+        } else if (keyword == "clip-plane" || keyword == "section") {
+            finish_object();
+            const bool section = keyword == "section";
+            expect_count(s, section ? 2 : 5, section ? "section <z>  (keeps z <= z)" : "clip-plane <a> <b> <c> <d>  (keeps a*x + b*y + c*z + d >= 0)");
+            if (result_.clip_planes.size() == HSR_MAX_CLIP_PLANES)
+                fail(s.line, fmt::format("more than {} clip planes and sections", HSR_MAX_CLIP_PLANES));
+            const glm::vec4 plane = section ? section_plane(number(s, 1, "section z"))
+                                            : glm::vec4(vector3(s, 1, "clip plane"), number(s, 4, "clip plane"));
+            if (plane.x == 0.0f && plane.y == 0.0f && plane.z == 0.0f)
+                fail(s.line, "the clip plane's normal (a, b, c) is zero");
+            result_.clip_planes.push_back(plane);
         } else if (keyword == "light") {
             finish_object();
             if (s.words.size() < 2) fail(s.line, "expected: light point:x,y,z  or  light dir:x,y,z  (then ,key=value ...)");

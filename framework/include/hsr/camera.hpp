@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 namespace hsr {
 
@@ -19,7 +20,16 @@ struct CameraSettings {
     uint32_t width = 1024, height = 1024;
     float fov_y_degrees = 35;  // perspective only; at zoom z the field of view is narrowed z times
     std::optional<LookAt> look_at;  // set: make_camera() looks from its eye; yaw and pitch are unused
+    // Orbit and look-at cameras: the near plane at this view-space distance instead of just in front
+    // of the bounds, so that it can cut into the model. Must be positive and nearer than the far plane.
+    std::optional<float> near_plane;
+    // Sections (hsr_camera.clip_planes): world-space planes (a, b, c, d) keeping a*x + b*y + c*z + d >= 0.
+    std::vector<glm::vec4> clip_planes;
 };
+
+// The clip plane of the textbook's section "cut at z <= z_section": keeps world z <= z_section, the
+// part away from the default camera (which looks along -z).
+glm::vec4 section_plane(float z_section);
 
 // make_look_at_camera() when settings.look_at is set, else make_orbit_camera().
 hsr_camera make_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const CameraSettings& settings);
@@ -41,7 +51,8 @@ hsr_camera make_look_at_camera(glm::vec3 bounds_min, glm::vec3 bounds_max, const
 // floor(x) and image row H - 1 - floor(y) (origin bottom left, y up); the viewer is on +z looking
 // toward -z, so a larger z is nearer (smaller depth, linear in z). z in [z_min, z_max] lies inside
 // the clip volume with some room to spare.
-hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max);
+hsr_camera make_pixel_camera(uint32_t width, uint32_t height, float z_min, float z_max,
+                             const std::vector<glm::vec4>& clip_planes = {});
 
 // A light spec in world space for this camera: camera-space vectors (x right, y up, z toward the
 // viewer, eye at the origin) are carried through the inverse view matrix. Throws hsr::Error when the

@@ -88,6 +88,9 @@ void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, 
 // True when a plugin was built before instancing (ABI 1.0) and the scene has instances: it must be
 // given flatten_instances(scene) instead.
 bool needs_flat_scene(const Plugin& plugin, const hsr_scene& scene);
+// Throws hsr::Error when the camera has clip planes (sections) and the plugin predates them (ABI
+// 1.4): it would ignore them and draw what they cut away.
+void check_clip_planes_known(const Plugin& plugin, const hsr_camera& camera);
 
 // Shades every covered pixel of frame's visibility buffer; uncovered pixels get the background.
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,

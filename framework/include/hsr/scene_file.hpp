@@ -51,6 +51,7 @@ struct SceneFile {
     std::optional<LookAt> look_at;                                         // `camera look-at ...`
     std::optional<bool> orthographic;
     std::vector<LightSpec> lights;
+    std::vector<glm::vec4> clip_planes;  // `clip-plane a b c d` and `section z`, in file order
 };
 
 // Throws hsr::Error "file:line: message" on any mistake, including problems with the meshes it

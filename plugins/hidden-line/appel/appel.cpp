@@ -70,6 +70,7 @@ public:
                       hsr::sdk::Counters& counters) override {
         validate(scene.raw(), camera);
         const Viewer viewer(camera);
+        hsr::sdk::refuse_clip_planes("appel", camera);
         viewer_ = &viewer;
         scene_ = &scene.raw();
         seed_counts_ = {};

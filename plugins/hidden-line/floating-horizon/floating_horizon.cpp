@@ -136,6 +136,7 @@ uint32_t& FloatingHorizon::request_of(Kind kind, uint32_t i, uint32_t j) {
 void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camera& camera,
                                    const hsr::sdk::LineRequest& request, hsr::sdk::SegmentWriter& segments,
                                    const hsr::sdk::Trace& trace, hsr::sdk::Counters& counters) {
+    hsr::sdk::refuse_clip_planes("floating-horizon", camera);
     GridShape grid;
     const std::string problem = grid_problem(scene, grid);
     if (!problem.empty())

@@ -132,6 +132,7 @@ public:
                       hsr::sdk::Counters& counters) override {
         check_scene(scene.raw());
         check_camera(camera);
+        hsr::sdk::refuse_clip_planes("roberts", camera);
         check_request(scene.raw(), request);
 
         builder_.build(scene, set_);

@@ -146,6 +146,12 @@ struct ClipPlanes {
     }
 };
 
+// For a plugin that cannot draw sections: throws Unsupported when the camera has clip planes.
+inline void refuse_clip_planes(const char* plugin, const hsr_camera& camera) {
+    if (ClipPlanes(camera).count > 0)
+        throw Unsupported(std::string(plugin) + ": clip planes (sections) are not supported by this algorithm");
+}
+
 // One placement of triangles in the world (see Scene::placement): world = transform * object, and a
 // normal n maps to rotation * n. `instance` is what goes into the visibility buffer's instance array.
 struct Placement {
