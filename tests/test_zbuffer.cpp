@@ -5,6 +5,7 @@
 #include "hsr/error.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
+#include "ray_reference.hpp"
 #include "surface_test_support.hpp"
 
 #include <catch2/catch.hpp>
@@ -27,6 +28,10 @@ using surface_tests::make_camera;
 using surface_tests::plugin;
 using surface_tests::Settings;
 using surface_tests::window_depth;
+using ray_reference::Hit;
+using ray_reference::intersect;
+using ray_reference::Ray;
+using ray_reference::window_ray;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 // ---------------------------------------------------------------------------------------------- //
@@ -173,48 +178,6 @@ bool frame_is_clean(const Frame& frame) {
 
 // ---------------------------------------------------------------------------------------------- //
 // Independent answers: ray casting in double
-
-struct Ray {
-    glm::dvec3 origin;     // on the near plane
-    glm::dvec3 direction;  // origin + direction is on the far plane
-};
-
-// The segment of view volume seen through window point (wx, wy), from unprojecting NDC depth -1 and 1.
-Ray window_ray(const hsr_camera& camera, double wx, double wy) {
-    glm::dmat4 view_projection;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) view_projection[c][r] = camera.view_projection[4 * c + r];
-    const glm::dmat4 inverse = glm::inverse(view_projection);
-    const double x = 2.0 * wx / camera.width - 1.0, y = 1.0 - 2.0 * wy / camera.height;
-    const glm::dvec4 near = inverse * glm::dvec4(x, y, -1.0, 1.0);
-    const glm::dvec4 far = inverse * glm::dvec4(x, y, 1.0, 1.0);
-    const glm::dvec3 a = glm::dvec3(near) / near.w, b = glm::dvec3(far) / far.w;
-    return {a, b - a};
-}
-
-struct Hit {
-    bool hit = false;
-    double b1 = 0, b2 = 0;  // barycentric weights of corners 1 and 2
-    glm::dvec3 point{};
-};
-
-// Ray-triangle intersection by solving origin + t d = a + b1 (b - a) + b2 (c - a) with Cramer's
-// rule; a hit needs the point inside the triangle and between the near and far planes (t in [0, 1]).
-Hit intersect(const Ray& ray, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
-    const glm::dvec3 e1 = b - a, e2 = c - a, s = ray.origin - a;
-    const glm::dmat3 m(-ray.direction, e1, e2);  // columns
-    const double det = glm::determinant(m);
-    Hit h;
-    if (std::abs(det) < 1e-300) return h;
-    const double t = glm::determinant(glm::dmat3(s, e1, e2)) / det;
-    const double b1 = glm::determinant(glm::dmat3(-ray.direction, s, e2)) / det;
-    const double b2 = glm::determinant(glm::dmat3(-ray.direction, e1, s)) / det;
-    h.hit = t >= 0 && t <= 1 && b1 >= 0 && b2 >= 0 && b1 + b2 <= 1;
-    h.b1 = b1;
-    h.b2 = b2;
-    h.point = ray.origin + t * ray.direction;
-    return h;
-}
 
 enum class Expect { covered, empty, ambiguous };
 
