@@ -67,6 +67,9 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "z toward you), optionally followed by ,intensity=I,color=r/g/b (docs/scene-format.md). "
          "Default: dir:-0.5,0.6,1")
         ("background", po::value(&o.background)->default_value(default_background), "background colour r/g/b or #rrggbb")
+        ("opacity", po::value(&o.opacity),
+         "opacity of the model, 0 (invisible) to 1 (opaque; the default); a .scene file gives each object an "
+         "`opacity` line. Needs an algorithm that returns fragment lists (a-buffer)")
         ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
         ("crease-angle", po::value(&o.crease_angle)->default_value(40),
          "degrees: shading normals are not smoothed across edges sharper than this (and, for "
@@ -160,6 +163,8 @@ void check_render_options(const RenderOptions& o) {
          {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
         if (!std::isfinite(value)) throw UsageError("--{} must be a finite number", option);
     if (!(o.zoom > 0)) throw UsageError("--zoom must be positive");
+    if (o.was_given("opacity") && !(o.opacity >= 0.0f && o.opacity <= 1.0f))
+        throw UsageError("--opacity must be between 0 and 1");
     if (o.was_given("near") && !(std::isfinite(o.near_plane) && o.near_plane > 0))
         throw UsageError("--near must be a distance greater than 0");
     std::vector<glm::vec4> planes;

@@ -54,6 +54,7 @@ struct RenderOptions {
     std::vector<std::string> clip_planes;  // --clip-plane a,b,c,d (repeatable)
     std::vector<float> sections;           // --section z (repeatable)
     float near_plane = 0;                  // --near, when given
+    float opacity = 1;                     // --opacity of a single model
     bool orthographic = false;
     bool stats = false;
     int64_t threads = 0;  // signed, so that a negative number is refused rather than wrapped

@@ -105,6 +105,12 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         loaded.scene = hsr::load_model(path, mesh_options);
     }
     hsr::SceneData& scene = loaded.scene;
+    if (o.was_given("opacity")) {
+        if (hsr::is_scene_file(path))
+            throw UsageError("--opacity is for a single model: give the objects of '{}' `opacity` lines",
+                             hsr::printable(path.string(), hsr::kMaxQuotedPathChars));
+        if (o.opacity < 1.0f) scene.object_opacity.assign(scene.object_names.size(), o.opacity);
+    }
     if (!o.repeat.empty()) {
         if (!scene.instances.empty())
             throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line); use one or the other",

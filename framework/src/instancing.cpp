@@ -128,6 +128,9 @@ SceneData flatten_instances(const SceneData& scene) {
 SceneData flatten_instances(const hsr_scene& scene) {
     SceneData flat;
     flat.object_names.resize(scene.object_count);
+    if (scene.struct_size >= offsetof(hsr_scene, object_opacity) + sizeof scene.object_opacity &&
+        scene.object_opacity != nullptr)
+        flat.object_opacity.assign(scene.object_opacity, scene.object_opacity + scene.object_count);
     for (int i = 0; i < 3; ++i) {
         flat.bounds_min[i] = scene.bounds_min[i];
         flat.bounds_max[i] = scene.bounds_max[i];

@@ -10,7 +10,7 @@
 namespace hsr {
 namespace {
 
-constexpr std::array<LimitInfo, 9> table{{
+constexpr std::array<LimitInfo, 10> table{{
     {"triangles", &Limits::triangles, "triangles to draw",
      "triangles drawn, every instance's counted (--repeat, a .scene file's repeat)"},
     {"stored-triangles", &Limits::stored_triangles, "stored triangles",
@@ -24,6 +24,7 @@ constexpr std::array<LimitInfo, 9> table{{
     {"heightmap-pixels", &Limits::heightmap_pixels, "pixels", "pixels of a --heightmap PNG, read before any step"},
     {"image-pixels", &Limits::image_pixels, "pixels", "width x height of the picture"},
     {"upload-bytes", &Limits::upload_bytes, "bytes", "size of one request body to hsr view: an uploaded model"},
+    {"fragments", &Limits::fragments, "fragments", "surface fragments of one frame that a plugin hands back in lists (a-buffer)"},
 }};
 
 Limits& current() {

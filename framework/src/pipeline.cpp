@@ -1,6 +1,9 @@
 #include "hsr/pipeline.hpp"
 
+#include "fragment_assembly.hpp"
+
 #include "hsr/error.hpp"
+#include "hsr/fragment_lists.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/instancing.hpp"
 #include "hsr/scene.hpp"
@@ -42,44 +45,7 @@ uint8_t to_byte(float v) {
     return static_cast<uint8_t>(v * 255.0f + 0.5f);
 }
 
-// Fragment arrays for one batch (a band of rows), reused across the band's rows.
-struct FragmentArrays {
-    std::vector<uint32_t> face, pixel, instance;
-    std::vector<float> bary, position, normal, color;
-
-    void reserve(size_t n) {
-        face.resize(n);
-        pixel.resize(n);
-        instance.resize(n);
-        bary.resize(2 * n);
-        position.resize(3 * n);
-        normal.resize(3 * n);
-        color.resize(3 * n);
-    }
-};
-
-// Where each instance puts its triangles: world = transform * p, normals turn by rotation.
-struct Placements {
-    std::vector<glm::mat4> transform;
-    std::vector<glm::mat3> rotation;
-
-    explicit Placements(const hsr_scene& scene) {
-        for (uint32_t k = 0; k < scene.instance_count; ++k) {
-            const hsr_instance& i = *HSR_ELEMENT(hsr_instance, scene.instances, k);
-            glm::mat4 m;
-            glm::mat3 r;
-            for (int c = 0; c < 4; ++c)
-                for (int row = 0; row < 4; ++row) m[c][row] = i.transform[4 * c + row];
-            for (int c = 0; c < 3; ++c)
-                for (int row = 0; row < 3; ++row) r[c][row] = i.rotation[3 * c + row];
-            transform.push_back(m);
-            rotation.push_back(r);
-        }
-    }
-};
-
-// Gathers the covered pixels of rows [row_begin, row_end) into fragments: world position and
-// interpolated shading normal from the barycentrics. Returns the fragment count.
+// Gathers the covered pixels of rows [row_begin, row_end) into fragments. Returns the fragment count.
 uint32_t assemble_fragments(const hsr_scene& scene, const Placements& placements, const Frame& frame,
                             uint32_t row_begin, uint32_t row_end, FragmentArrays& out) {
     const bool instanced = !frame.instance.empty();
@@ -90,41 +56,8 @@ uint32_t assemble_fragments(const hsr_scene& scene, const Placements& placements
             const uint32_t pixel = y * w + x;
             const uint32_t t = frame.face[pixel];
             if (t == HSR_NO_FACE) continue;
-            const float b1 = frame.bary[2 * pixel], b2 = frame.bary[2 * pixel + 1];
-            const float b0 = 1.0f - b1 - b2;
-            const uint32_t* tri = scene.indices + 3 * t;
-            const float* p0 = scene.positions + 3 * tri[0];
-            const float* p1 = scene.positions + 3 * tri[1];
-            const float* p2 = scene.positions + 3 * tri[2];
-            const float* n0 = scene.corner_normals + 9 * t;
-            float nx = b0 * n0[0] + b1 * n0[3] + b2 * n0[6];
-            float ny = b0 * n0[1] + b1 * n0[4] + b2 * n0[7];
-            float nz = b0 * n0[2] + b1 * n0[5] + b2 * n0[8];
-            const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
-            if (len > 0.0f) {
-                nx /= len, ny /= len, nz /= len;
-            } else {
-                const float* fn = scene.face_normals + 3 * t;
-                nx = fn[0], ny = fn[1], nz = fn[2];
-            }
-            glm::vec3 position(b0 * p0[0] + b1 * p1[0] + b2 * p2[0], b0 * p0[1] + b1 * p1[1] + b2 * p2[1],
-                               b0 * p0[2] + b1 * p1[2] + b2 * p2[2]);
-            glm::vec3 normal(nx, ny, nz);
-            if (instanced) {
-                const uint32_t k = frame.instance[pixel];
-                position = glm::vec3(placements.transform[k] * glm::vec4(position, 1.0f));
-                normal = placements.rotation[k] * normal;
-                out.instance[n] = k;
-            }
-            out.face[n] = t;
-            out.pixel[n] = pixel;
-            out.bary[2 * n] = b1;
-            out.bary[2 * n + 1] = b2;
-            for (int k = 0; k < 3; ++k) {
-                out.position[3 * n + k] = position[k];
-                out.normal[3 * n + k] = normal[k];
-            }
-            ++n;
+            assemble_fragment(scene, placements, t, instanced ? frame.instance[pixel] : kNotInstanced,
+                              frame.bary[2 * pixel], frame.bary[2 * pixel + 1], pixel, out, n++);
         }
     }
     return n;
@@ -376,9 +309,43 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
     frame.shading_ms = ms_since(start);
 }
 
+void resolve_fragments(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                       Frame& frame, FragmentLists& lists, bool count_depth_tests) {
+    hsr_visibility_buffer target = clear_visibility(scene, camera, remover, frame, count_depth_tests);
+    hsr_counter_sink counters{&frame.counters, &collect_counter};
+    FragmentCollector collector(scene, camera.width, camera.height);
+    const hsr_fragment_sink sink = collector.sink();
+    const auto start = Clock::now();
+    try {
+        remover.render_fragments(scene, camera, target, &counters, sink);
+    } catch (const Error&) {
+        if (!collector.problem().empty())
+            throw Error("hidden-surface plugin '{}' returned {}", remover.plugin().descriptor.name, collector.problem());
+        throw;
+    }
+    frame.visibility_ms = ms_since(start);
+    check_visibility(scene, remover, frame);
+    collector.finish(lists);
+    frame.counters.emplace_back("fragments", lists.size());
+}
+
+bool has_transparency(const hsr_scene& scene) {
+    const sdk::Scene view(scene);
+    return view.has_transparency();
+}
+
 Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                    LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings) {
     Frame frame;
+    if (remover.has_fragments() && !settings.stop_after_step) {
+        FragmentLists lists;
+        resolve_fragments(scene, camera, remover, frame, lists, settings.count_depth_tests);
+        shade_fragments(scene, lighting, context, settings, lists, frame);
+        return frame;
+    }
+    if (has_transparency(scene))
+        throw Error("the scene has objects that are not opaque, but hidden-surface plugin '{}' finds one surface per "
+                    "pixel; transparency needs fragment lists (-a a-buffer)", remover.plugin().descriptor.name);
     auto resolve = [&](const hsr_scene& view) {
         if (settings.stop_after_step)
             resolve_visibility_steps(view, camera, remover, frame, *settings.stop_after_step, settings.count_depth_tests);

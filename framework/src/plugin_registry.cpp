@@ -532,6 +532,23 @@ void HiddenSurfaceRemover::render_steps(const hsr_scene& scene, const hsr_camera
     if (status != HSR_OK) throw_status(plugin_, "render_steps", status, error);
 }
 
+bool HiddenSurfaceRemover::has_fragments() const {
+    return plugin_.descriptor.abi_minor >= 4 && table_.render_fragments != nullptr;
+}
+
+void HiddenSurfaceRemover::render_fragments(const hsr_scene& scene, const hsr_camera& camera,
+                                            hsr_visibility_buffer& target, const hsr_counter_sink* counters,
+                                            const hsr_fragment_sink& fragments) {
+    if (!has_fragments())
+        throw Error("hidden-surface plugin '{}' returns one surface per pixel, not fragment lists",
+                    plugin_.descriptor.name);
+    hsr_error error{};
+    hsr_status status = call_plugin(plugin_, "render_fragments", [&] {
+        return table_.render_fragments(instance_, &scene, &camera, &target, counters, &fragments, &error);
+    });
+    if (status != HSR_OK) throw_status(plugin_, "render_fragments", status, error);
+}
+
 LightingModel::LightingModel(const Plugin& plugin, const std::vector<Setting>& settings) : plugin_(plugin) {
     if (plugin.descriptor.kind != HSR_KIND_LIGHTING_MODEL)
         throw Error("'{}' is a {} plugin, not a lighting model", plugin.descriptor.name,

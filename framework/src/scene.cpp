@@ -22,6 +22,8 @@ hsr_scene SceneData::view() const {
     }
     s.instance_count = static_cast<uint32_t>(instances.size());
     s.instances = instances.empty() ? nullptr : instances.data();
+    s.object_opacity = object_opacity.size() == object_names.size() && !object_opacity.empty() ? object_opacity.data()
+                                                                                               : nullptr;
     return s;
 }
 

@@ -104,6 +104,8 @@ public:
         if (builder_.object_count() == 0) throw Error("{}: the scene has no mesh or polygon", path_text());
         try {
             result_.scene = builder_.build();
+            if (std::any_of(opacity_.begin(), opacity_.end(), [](float a) { return a < 1.0f; }))
+                result_.scene.object_opacity = opacity_;
         } catch (const Error& e) {
             throw Error("{}: {}", path_text(), printable(e.what(), std::string::npos));
         }
@@ -239,7 +241,7 @@ private:
             } catch (const Error& e) {
                 fail(s.line, e.what());
             }
-        } else if (keyword == "name" || keyword == "color" || keyword == "translate" || keyword == "rotate" ||
+        } else if (keyword == "name" || keyword == "color" || keyword == "opacity" || keyword == "translate" || keyword == "rotate" ||
                    keyword == "scale" || keyword == "crease" || keyword == "vertex") {
             property(s);
         } else {
@@ -344,7 +346,8 @@ private:
         std::size_t line = 0;
         std::string path;
         MeshOptions options;
-        bool has_name = false, has_color = false, has_crease = false;
+        bool has_name = false, has_color = false, has_crease = false, has_opacity = false;
+        float opacity = 1.0f;
         std::vector<glm::vec3> vertices;
     };
 
@@ -368,6 +371,12 @@ private:
             if (object_.has_color) fail(s.line, "the object already has a colour");
             object_.has_color = true;
             options.color = color(s, "color <r> <g> <b>  (each in [0, 1])");
+        } else if (keyword == "opacity") {
+            expect_count(s, 2, "opacity <a>  (0 invisible .. 1 opaque)");
+            if (object_.has_opacity) fail(s.line, "the object already has an opacity");
+            object_.has_opacity = true;
+            object_.opacity = number(s, 1, "opacity");
+            if (!(object_.opacity >= 0.0f && object_.opacity <= 1.0f)) fail(s.line, "opacity must be within [0, 1]");
         } else if (keyword == "translate") {
             expect_count(s, 4, "translate <x> <y> <z>");
             options.transform = glm::translate(glm::mat4(1.0f), vector3(s, 1, "offset")) * options.transform;
@@ -426,7 +435,10 @@ private:
                     std::reverse(object.vertices.begin(), object.vertices.end());
                 builder_.add_polygon(object.vertices, object.options.color, object.options.name);
             }
-            if (object.kind != Kind::none) check_triangles();
+            if (object.kind != Kind::none) {
+                opacity_.push_back(object.opacity);
+                check_triangles();
+            }
         } catch (const Error& e) {
             if (std::string_view(e.what()).starts_with(path_text() + ":")) throw;
             fail(object.line, e.what());
@@ -448,6 +460,7 @@ private:
 
     std::filesystem::path file_, folder_;
     SceneBuilder builder_;
+    std::vector<float> opacity_;  // per object added, in order
     uint64_t scene_triangles_ = 0;
     std::map<std::string, std::size_t> mesh_objects_;  // each mesh file read: the object it made
     SceneFile result_;

@@ -96,6 +96,12 @@ void check_clip_planes_known(const Plugin& plugin, const hsr_camera& camera);
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,
                  const FrameSettings& settings, Frame& frame);
 
+// Whether an object of the scene is less than opaque (hsr_scene.object_opacity, ABI 1.4).
+bool has_transparency(const hsr_scene& scene);
+
+// A shaded frame. A remover with fragment lists (ABI 1.4, FragmentLists) gives an anti-aliased
+// picture with transparency; any other one a picture of one surface per pixel, and a scene with
+// transparent objects is an error for it. Rendering step by step uses one surface per pixel.
 Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                    LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings);
 

@@ -104,6 +104,12 @@ public:
     // render() reporting each step to steps, which may stop it; throws hsr::Error when !has_steps().
     void render_steps(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
                       const hsr_counter_sink* counters, const hsr_step_sink& steps);
+    // Whether the plugin returns fragment lists (ABI 1.4 render_fragments).
+    bool has_fragments() const;
+    // render() that also hands each pixel's fragment lists to `fragments`; throws hsr::Error when
+    // !has_fragments().
+    void render_fragments(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
+                          const hsr_counter_sink* counters, const hsr_fragment_sink& fragments);
     const Plugin& plugin() const { return plugin_; }
 
 private:

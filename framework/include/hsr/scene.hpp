@@ -24,6 +24,7 @@ struct SceneData {
     std::vector<int32_t> edge_neighbors; // 3 per triangle, HSR_NO_NEIGHBOR on a boundary
     std::vector<uint32_t> face_object;   // 1 per triangle
     std::vector<std::string> object_names;
+    std::vector<float> object_opacity;   // 1 per object in [0, 1], or empty: everything opaque
     // ABI 1.1 instances; when non-empty, positions and normals are in object space (abi.h).
     std::vector<hsr_instance> instances;
     glm::vec3 bounds_min{0}, bounds_max{0};

@@ -48,7 +48,10 @@
  *        Optional: a plugin without it renders as before, without steps.
  *   1.4  sections: hsr_camera.clip_plane_count and clip_planes, half-spaces that keep part of the
  *        scene. A host hands clip planes only to a plugin of minor 4 or later, which honours them or
- *        refuses the call with HSR_ERROR_UNSUPPORTED.
+ *        refuses the call with HSR_ERROR_UNSUPPORTED. Transparency and anti-aliasing:
+ *        hsr_scene.object_opacity, and IHiddenSurfaceRemover.render_fragments (optional), which
+ *        hands the host every pixel's list of surface fragments with their coverage of the pixel
+ *        (hsr_pixel_fragments, hsr_fragment_sink) for it to shade and composite.
  */
 #ifndef HSR_ABI_H
 #define HSR_ABI_H
@@ -176,6 +179,9 @@ typedef struct hsr_scene {
      * When instance_count == 0 the mesh is in world space and drawn once, as in 1.0. */
     uint32_t instance_count;
     const hsr_instance* instances; /* instance_count elements, stepped by struct_size */
+    /* Since 1.4: object_count opacities in [0, 1] (1: opaque, 0: invisible), or NULL: everything is
+     * opaque. A host hands a scene with an opacity below 1 only to a remover with render_fragments. */
+    const float* object_opacity;
 } hsr_scene;
 
 #define HSR_MAX_CLIP_PLANES 8
@@ -306,6 +312,33 @@ typedef struct hsr_step_sink {
     uint32_t (*step)(void* context, const hsr_step_event* event);
 } hsr_step_sink;
 
+/* Since 1.4: fragment lists, for anti-aliasing and transparency (Carpenter's A-buffer). A fragment
+ * is the part of one triangle inside one pixel, with a mask of the pixel's HSR_COVERAGE_SAMPLES
+ * subsamples it covers: bit (8 * row + column) for the sample at (x + (column + 0.5) / 8,
+ * y + (row + 0.5) / 4), a 4-row by 8-column grid. */
+#define HSR_COVERAGE_SAMPLES 32
+
+/* A batch of fragments, structure of arrays, valid only during the emit call. The fragments of one
+ * pixel are consecutive, in one batch, nearest first; a pixel appears in at most one batch. A
+ * plugin may leave out a fragment that opaque fragments nearer than it cover entirely. */
+typedef struct hsr_pixel_fragments {
+    uint32_t struct_size;
+    uint32_t count;
+    const uint32_t* pixel;    /* count: y * width + x */
+    const uint32_t* face;     /* count: the triangle */
+    const uint32_t* instance; /* count: its instance, or NULL when the scene has none */
+    const float* depth;       /* count: window depth at the centroid of the covered samples */
+    const uint32_t* coverage; /* count: the samples covered (non-zero) */
+    const float* bary;        /* 2 * count: perspective-correct (b1, b2) of the triangle at the
+                                 centroid of the covered samples, where the host shades it */
+} hsr_pixel_fragments;
+
+typedef struct hsr_fragment_sink {
+    void* context;
+    /* Returns HSR_OK, or an error the plugin passes on (then it stops and returns that status). */
+    hsr_status (*emit)(void* context, const hsr_pixel_fragments* batch);
+} hsr_fragment_sink;
+
 typedef struct IHiddenSurfaceRemover {
     uint32_t struct_size;
     /* Makes an instance from validated parameters. On success *instance is set and HSR_OK returned. */
@@ -327,6 +360,12 @@ typedef struct IHiddenSurfaceRemover {
     hsr_status (*render_steps)(void* instance, const hsr_scene* scene, const hsr_camera* camera,
                                hsr_visibility_buffer* target, const hsr_counter_sink* counters,
                                const hsr_step_sink* steps, hsr_error* error);
+    /* Since 1.4, optional (NULL: one surface per pixel, opaque scenes only): render(), which also
+     * hands `fragments` the fragment lists of every pixel a surface touches, in batches. target is
+     * filled as render() fills it. */
+    hsr_status (*render_fragments)(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                                   hsr_visibility_buffer* target, const hsr_counter_sink* counters,
+                                   const hsr_fragment_sink* fragments, hsr_error* error);
 } IHiddenSurfaceRemover;
 
 /* ---------------------------------------------------------------------------------------------- */

@@ -195,6 +195,20 @@ public:
     glm::vec3 bounds_min() const { return {s_->bounds_min[0], s_->bounds_min[1], s_->bounds_min[2]}; }
     glm::vec3 bounds_max() const { return {s_->bounds_max[0], s_->bounds_max[1], s_->bounds_max[2]}; }
 
+    // Opacity of an object (ABI 1.4): 1 (opaque) when the scene gives none or the host predates it.
+    float object_opacity(uint32_t object) const {
+        return s_->struct_size >= offsetof(hsr_scene, object_opacity) + sizeof s_->object_opacity &&
+                       s_->object_opacity != nullptr
+                   ? s_->object_opacity[object]
+                   : 1.0f;
+    }
+    // Whether any object is less than opaque.
+    bool has_transparency() const {
+        for (uint32_t k = 0; k < object_count(); ++k)
+            if (object_opacity(k) < 1.0f) return true;
+        return false;
+    }
+
     // Instances (ABI 1.1); 0 when the scene has none or the host predates them.
     uint32_t instance_count() const {
         return s_->struct_size >= offsetof(hsr_scene, instances) + sizeof s_->instances && s_->instances != nullptr
@@ -300,6 +314,9 @@ public:
     // and the SDK fills IHiddenSurfaceRemover.render_steps with it. The usual shape is one template
     // drawing function, called with NoSteps from render() and with Steps from render_steps(), so that
     // the step code compiles away from render().
+    // A remover that returns fragment lists (ABI 1.4: anti-aliasing, transparency) also declares
+    //   void render_fragments(const Scene&, const hsr_camera&, VisibilityBuffer&, Counters&, FragmentWriter&);
+    // and the SDK fills IHiddenSurfaceRemover.render_fragments with it.
 };
 
 // Thrown by Steps::step() when the host wants no more steps; the SDK turns it into HSR_OK. A remover
@@ -446,6 +463,55 @@ private:
     std::vector<float> points_;
     std::vector<uint32_t> edge_, flags_;
     std::vector<int32_t> qi_;
+    uint64_t emitted_ = 0;
+};
+
+// Hands fragment lists (ABI 1.4, hsr_pixel_fragments) to the host in batches. Add each pixel's
+// fragments one after another, nearest first; a batch ends only between pixels.
+class FragmentWriter {
+public:
+    static constexpr uint32_t kBatch = 8192;
+    FragmentWriter(const hsr_fragment_sink& sink, bool instanced) : sink_(&sink), instanced_(instanced) {}
+    void add(uint32_t pixel, uint32_t face, uint32_t instance, float depth, uint32_t coverage, float b1, float b2) {
+        if (pixel != last_pixel_ && pixel_.size() >= kBatch) flush();
+        last_pixel_ = pixel;
+        pixel_.push_back(pixel);
+        face_.push_back(face);
+        instance_.push_back(instance);
+        depth_.push_back(depth);
+        coverage_.push_back(coverage);
+        bary_.push_back(b1);
+        bary_.push_back(b2);
+        ++emitted_;
+    }
+    void flush() {
+        if (pixel_.empty()) return;
+        hsr_pixel_fragments batch{};
+        batch.struct_size = sizeof batch;
+        batch.count = static_cast<uint32_t>(pixel_.size());
+        batch.pixel = pixel_.data();
+        batch.face = face_.data();
+        batch.instance = instanced_ ? instance_.data() : nullptr;
+        batch.depth = depth_.data();
+        batch.coverage = coverage_.data();
+        batch.bary = bary_.data();
+        const hsr_status status = sink_->emit(sink_->context, &batch);
+        pixel_.clear();
+        face_.clear();
+        instance_.clear();
+        depth_.clear();
+        coverage_.clear();
+        bary_.clear();
+        if (status != HSR_OK) throw std::runtime_error("the host refused a batch of fragments");
+    }
+    uint64_t emitted() const { return emitted_; }
+
+private:
+    const hsr_fragment_sink* sink_;
+    bool instanced_;
+    uint32_t last_pixel_ = 0xFFFFFFFFu;
+    std::vector<uint32_t> pixel_, face_, instance_, coverage_;
+    std::vector<float> depth_, bary_;
     uint64_t emitted_ = 0;
 };
 
@@ -624,6 +690,39 @@ constexpr auto render_steps_entry() {
 }
 
 template <class T>
+concept HasFragments = requires(T& remover, const Scene& scene, const hsr_camera& camera, VisibilityBuffer& target,
+                                Counters& counters, FragmentWriter& fragments) {
+    remover.render_fragments(scene, camera, target, counters, fragments);
+};
+
+template <class T>
+hsr_status render_fragments(void* instance, const hsr_scene* scene, const hsr_camera* camera,
+                            hsr_visibility_buffer* target, const hsr_counter_sink* sink,
+                            const hsr_fragment_sink* fragment_sink, hsr_error* error) {
+    return guarded(error, [&] {
+        if (instance == nullptr || scene == nullptr || camera == nullptr || target == nullptr ||
+            fragment_sink == nullptr || fragment_sink->emit == nullptr)
+            throw InvalidArgument("render_fragments: NULL argument");
+        Scene scene_view(*scene);
+        VisibilityBuffer buffer(*target);
+        Counters counters;
+        FragmentWriter writer(*fragment_sink, scene_view.instance_count() > 0);
+        static_cast<T*>(instance)->render_fragments(scene_view, *camera, buffer, counters, writer);
+        writer.flush();
+        counters.flush(sink);
+    });
+}
+
+template <class T>
+constexpr auto render_fragments_entry() {
+    using Entry = decltype(IHiddenSurfaceRemover::render_fragments);
+    if constexpr (HasFragments<T>)
+        return Entry{&render_fragments<T>};
+    else
+        return Entry{nullptr};
+}
+
+template <class T>
 hsr_status render_lines(void* instance, const hsr_scene* scene, const hsr_camera* camera,
                         const hsr_line_request* request, const hsr_segment_sink* segments,
                         const hsr_trace_sink* trace, const hsr_counter_sink* sink, hsr_error* error) {
@@ -681,7 +780,8 @@ template <class T>
 const void* interface_table() {
     if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_SURFACE_REMOVER) {
         static const IHiddenSurfaceRemover table{sizeof(IHiddenSurfaceRemover), &create<T>, &destroy<T>,
-                                                 &render<T>, &no_extension, render_steps_entry<T>()};
+                                                 &render<T>, &no_extension, render_steps_entry<T>(),
+                                                 render_fragments_entry<T>()};
         return &table;
     } else if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_LINE_REMOVER) {
         static const IHiddenLineRemover table{sizeof(IHiddenLineRemover), &create<T>, &destroy<T>,
