@@ -149,9 +149,12 @@ private:
         // Edge function k at a subsample, relative to its value at the pixel centre: exact integers,
         // since a pixel step is kSubpixelScale grid units and the offsets are multiples of 1/16.
         int64_t at_column[3][kColumns], at_row[3][kRows];
+        int64_t lowest[3], highest[3];  // the extremes over the 32 samples: corner samples
         for (int k = 0; k < 3; ++k) {
             for (int c = 0; c < kColumns; ++c) at_column[k][c] = s.edge_dx[k] / 16 * (2 * c - 7);
             for (int r = 0; r < kRows; ++r) at_row[k][r] = s.edge_dy[k] / 8 * (2 * r - 3);
+            lowest[k] = std::min(at_column[k][0], at_column[k][kColumns - 1]) + std::min(at_row[k][0], at_row[k][kRows - 1]);
+            highest[k] = std::max(at_column[k][0], at_column[k][kColumns - 1]) + std::max(at_row[k][0], at_row[k][kRows - 1]);
         }
         const int32_t x0 = std::max(s.min_x - 1, 0), x1 = std::min(s.max_x + 1, int32_t(width_) - 1);
         const int32_t y0 = std::max(s.min_y - 1, 0), y1 = std::min(s.max_y + 1, int32_t(height_) - 1);
@@ -160,16 +163,21 @@ private:
                 int64_t centre[3];
                 for (int k = 0; k < 3; ++k)
                     centre[k] = s.edge_origin[k] + s.edge_dx[k] * (x - s.min_x) + s.edge_dy[k] * (y - s.min_y);
+                if (centre[0] + highest[0] < 0 || centre[1] + highest[1] < 0 || centre[2] + highest[2] < 0) continue;
                 uint32_t coverage = 0;
                 double sum_x = 0.0, sum_y = 0.0;
-                for (int r = 0; r < kRows; ++r) {
-                    for (int c = 0; c < kColumns; ++c) {
-                        bool inside = true;
-                        for (int k = 0; k < 3 && inside; ++k) inside = centre[k] + at_column[k][c] + at_row[k][r] >= 0;
-                        if (!inside) continue;
-                        coverage |= 1u << (kColumns * r + c);
-                        sum_x += column_offset(c);
-                        sum_y += row_offset(r);
+                if (centre[0] + lowest[0] >= 0 && centre[1] + lowest[1] >= 0 && centre[2] + lowest[2] >= 0) {
+                    coverage = kFullCoverage;  // every sample inside: the centroid is the centre
+                } else {
+                    for (int r = 0; r < kRows; ++r) {
+                        for (int c = 0; c < kColumns; ++c) {
+                            bool inside = true;
+                            for (int k = 0; k < 3 && inside; ++k) inside = centre[k] + at_column[k][c] + at_row[k][r] >= 0;
+                            if (!inside) continue;
+                            coverage |= 1u << (kColumns * r + c);
+                            sum_x += column_offset(c);
+                            sum_y += row_offset(r);
+                        }
                     }
                 }
                 if (coverage == 0) continue;
