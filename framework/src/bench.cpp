@@ -1,6 +1,8 @@
 // hsr bench's measurement (see bench.hpp): scenes, cameras, the timing loop and statistics.
 #include "hsr/bench.hpp"
 
+#include "hsr/fragment_lists.hpp"
+
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
 #include "hsr/scene_file.hpp"
@@ -253,8 +255,13 @@ CallTiming FrameTimer::call() {
     // allocations in between. The counters are this call's alone.
     Frame& frame = frame_;
     frame.counters.clear();
-    resolve_visibility(scene_, camera_, remover_, frame, false);
-    shade_frame(scene_, lighting_, context_, settings_.frame, frame);
+    if (remover_.has_fragments()) {  // the picture such a plugin makes: lists, shaded and composited
+        resolve_fragments(scene_, camera_, remover_, frame, fragments_, false);
+        shade_fragments(scene_, lighting_, context_, settings_.frame, fragments_, frame);
+    } else {
+        resolve_visibility(scene_, camera_, remover_, frame, false);
+        shade_frame(scene_, lighting_, context_, settings_.frame, frame);
+    }
     CallTiming call;
     call.index = calls_made();
     call.warmup = call.index < settings_.warmup;

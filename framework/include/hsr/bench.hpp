@@ -4,6 +4,7 @@
 #pragma once
 
 #include "hsr/camera.hpp"
+#include "hsr/fragment_lists.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
@@ -131,6 +132,7 @@ public:
 private:
     std::optional<SceneData> flat_;
     Frame frame_;
+    FragmentLists fragments_;  // for a remover with fragment lists (ABI 1.4)
     hsr_scene scene_;
     const hsr_camera& camera_;
     HiddenSurfaceRemover& remover_;
