@@ -52,6 +52,7 @@ struct LoadedModel {
     std::vector<hsr::LightSpec> lights;
     std::optional<glm::vec3> background;
     std::optional<std::pair<uint32_t, uint32_t>> pixel_camera_size;  // `camera pixel`: its size
+    std::vector<glm::vec4> clip_planes;                              // `section` and `clip-plane` lines
     fs::file_time_type modified;
     uint64_t bytes = 0;  // the file's
 
@@ -119,6 +120,7 @@ std::shared_ptr<LoadedModel> load_model_entry(const hsr::host::ModelEntry& entry
             loaded->lights = std::move(file.lights);
             loaded->background = file.background;
             if (file.pixel_camera) loaded->pixel_camera_size = std::pair{*file.width, *file.height};
+            loaded->clip_planes = file.clip_planes;
         } else {
             hsr::MeshOptions options;
             options.crease_angle_degrees = 40;
@@ -245,8 +247,10 @@ struct hsr::host::FrameRenderer::State {
         try {
             if (model.pixel_camera_size)
                 return hsr::make_pixel_camera(model.pixel_camera_size->first, model.pixel_camera_size->second,
-                                              model.scene.bounds_min.z, model.scene.bounds_max.z);
-            return hsr::make_camera(model.scene.bounds_min, model.scene.bounds_max, q.view);
+                                              model.scene.bounds_min.z, model.scene.bounds_max.z, model.clip_planes);
+            hsr::CameraSettings view = q.view;
+            view.clip_planes = model.clip_planes;
+            return hsr::make_camera(model.scene.bounds_min, model.scene.bounds_max, view);
         } catch (const hsr::Error& e) {
             throw ViewError(400, q.view.look_at ? "camera.eye" : "camera", e.what());
         }
