@@ -40,6 +40,8 @@ constexpr int kMaxRecursion = 1000;
 // Corners within this many pixels of a clip polygon's edge count as on it when deciding whether two
 // polygons overlap at all (corners shared by neighbouring triangles land on either side by rounding).
 constexpr double kTouch = 1e-7;
+// A piece whose corners all lie within this NDC depth of the clip polygon's plane lies in it.
+constexpr double kCoplanar = 1e-9;
 // A visible fragment is drawn as the pixels of its original triangle whose centres lie inside the
 // fragment widened by this many pixels (well above the 1/512 pixel that snapping moves a corner).
 constexpr double kWidening = 1.0 / 64.0;
@@ -323,11 +325,19 @@ private:
         const Fragment subject = fragments_[q];
         // piece_ is inside the clip polygon: compare it with the clip polygon's plane.
         const glm::dvec4& plane = sources_[clip.source].plane;
-        bool any_behind = false, any_in_front = false;
+        bool any_behind = false, any_in_front = false, coplanar = true;
         for (const ClipVertex& c : piece_) {
             const double d = glm::dot(plane, c.position);
             any_behind |= d > 0.0;
             any_in_front |= d < 0.0;
+            coplanar &= std::abs(d) <= kCoplanar * plane.z * c.position.w;
+        }
+        if (coplanar) {
+            // In the clip polygon's plane: the one the z-buffer draws first stays in front.
+            const Source& a = sources_[subject.source];
+            const Source& b = sources_[clip.source];
+            any_in_front = a.instance < b.instance || (a.instance == b.instance && a.face < b.face);
+            any_behind = false;
         }
         if (!any_in_front) {
             hide(piece_.data(), int(piece_.size()), cut, steps);
