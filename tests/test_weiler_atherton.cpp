@@ -5,6 +5,7 @@
 // each pixel once (but for a widening band, measured); the counters of two hand-made cases counted by
 // hand; steps run to the end equal render; a frame that needs too many fragments is refused.
 #include "hsr/abi.h"
+#include "hsr/image.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
@@ -21,6 +22,7 @@
 #include <numeric>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -372,4 +374,35 @@ TEST_CASE("weiler-atherton: too many fragments are refused in one line", "[weile
     const hsr::SceneData& monkey = model("monkey.obj");
     CHECK_THROWS_WITH(render("weiler-atherton", monkey.view(), orbit(monkey, 0, 0, 1, false, 128), {{"max-fragments", "1000"}}),
                       Catch::Contains("weiler-atherton: clipping makes more than 1000 fragments (parameter max-fragments)"));
+}
+
+// Makes docs/images/weiler-atherton-fragments.png: docs/images/weiler-atherton.png (boxes.scene at
+// 400x400, --zoom 1.6, as `hsr render` draws it) with the outline of every visible fragment drawn over it, taken
+// from the steps. Run with the tag [.picture] after rendering that picture.
+TEST_CASE("weiler-atherton: the picture of the visible fragments", "[.picture]") {
+    const std::filesystem::path images = std::filesystem::path(HSR_SOURCE_DIR) / "docs" / "images";
+    hsr::Image image = hsr::read_png_rgb(images / "weiler-atherton.png");
+    const hsr::SceneData& data = model("boxes.scene");
+    const hsr_camera camera = orbit(data, 35, 25, 1.6f, false, image.width, image.height);
+    const hsr::Frame all = run_steps(data.view(), camera, 0);
+    const uint64_t visible = counter(all, "fragments-visible");
+    auto plot = [&](double x, double y) {
+        const int32_t px = int32_t(std::floor(x)), py = int32_t(std::floor(y));
+        if (px < 0 || py < 0 || px >= int32_t(image.width) || py >= int32_t(image.height)) return;
+        uint8_t* rgb = &image.pixels[3 * (size_t(py) * image.width + px)];
+        rgb[0] = 255;
+        rgb[1] = 240;
+        rgb[2] = 80;
+    };
+    for (uint64_t k = all.steps->taken - visible + 1; k <= all.steps->taken; ++k) {
+        const hsr::Frame step = run_steps(data.view(), camera, k);
+        const std::vector<float>& l = step.steps->last.lines;
+        for (size_t i = 0; i + 3 < l.size(); i += 4) {
+            const double length = std::hypot(l[i + 2] - l[i], l[i + 3] - l[i + 1]);
+            const int n = int(std::ceil(2.0 * length)) + 1;
+            for (int s = 0; s <= n; ++s)
+                plot(l[i] + (l[i + 2] - l[i]) * s / n, l[i + 1] + (l[i + 3] - l[i + 1]) * s / n);
+        }
+    }
+    hsr::write_png(images / "weiler-atherton-fragments.png", image.width, image.height, 3, image.pixels);
 }
