@@ -12,7 +12,8 @@
 // subject by the clip-space planes (a, b, 0, c) of the clip polygon's window-space edges
 // (raster::split_by_plane), so a subject's pieces tile it exactly. The paper's clipper keeps a
 // concave outside remainder (with holes) as one polygon; here it is a set of convex pieces.
-// docs/algorithms/weiler-atherton.md describes the steps, the counters and the parameters.
+// docs/algorithms/weiler-atherton.md describes the steps, the counters and the parameters. The file
+// is over 600 lines because the clipping, the area sort and the drawing share one frame's state.
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 
@@ -71,8 +72,8 @@ public:
         "Weiler-Atherton (1977): polygons clipped against polygons in object space, visible fragments rasterized"};
     static inline const ParamSpec params[] = {
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
-        ParamSpec::integer("max-fragments", "4000000", 1000, 100000000,
-                           "refuse a frame whose clipping makes more fragments than this (memory)"),
+        ParamSpec::integer("max-fragments", "1000000", 1000, 100000000,
+                           "refuse a frame needing more input polygons and fragments than this (about 400 bytes each)"),
     };
 
     explicit WeilerAtherton(const hsr::sdk::Params& p)
@@ -122,6 +123,9 @@ private:
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                      hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+        uint64_t triangles = 0;
+        for (uint32_t k = 0; k < scene.placement_count(); ++k) triangles += scene.placement(k).triangle_count;
+        if (triangles > max_fragments_) refuse();  // before holding any
         geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
         width_ = camera.width;
         height_ = camera.height;
@@ -210,9 +214,7 @@ private:
             f.y1 = std::max(f.y1, float(w.y));
         }
         if (!(std::abs(area) > 2.0 * kSliverArea)) return kNone;
-        if (made && ++stats_.fragments > max_fragments_)
-            throw hsr::sdk::Unsupported("weiler-atherton: clipping makes more than " +
-                                        std::to_string(max_fragments_) + " fragments (parameter max-fragments)");
+        if (made) count_fragment();
         corners_.insert(corners_.end(), polygon, polygon + count);
         fragments_.push_back(f);
         return uint32_t(fragments_.size() - 1);
@@ -382,12 +384,20 @@ private:
         if (count < 3) return;
         if (made) {
             if (!(window_area(polygon, count) > 2.0 * kSliverArea)) return;
-            if (++stats_.fragments > max_fragments_)
-                throw hsr::sdk::Unsupported("weiler-atherton: clipping makes more than " +
-                                            std::to_string(max_fragments_) + " fragments (parameter max-fragments)");
+            count_fragment();
         }
         ++stats_.hidden;
         if constexpr (Steps::enabled) outline(steps, polygon, count, HSR_STEP_REJECTED);
+    }
+
+    // The fragment limit bounds the memory of a frame: input polygons and fragments together.
+    void count_fragment() {
+        if (++stats_.fragments > max_fragments_ - std::min(max_fragments_, stats_.polygons_in)) refuse();
+    }
+
+    [[noreturn]] void refuse() const {
+        throw hsr::sdk::Unsupported("weiler-atherton: the frame needs more than " + std::to_string(max_fragments_) +
+                                    " polygons and fragments (parameter max-fragments)");
     }
 
     double window_area(const ClipVertex* polygon, int count) const {
@@ -558,7 +568,7 @@ private:
             outline(steps, corners_.data() + f.first, int(f.count), HSR_STEP_SUBJECT);
             const Source& s = sources_[f.source];
             const hsr::sdk::Steps::Event event{"clip-polygon", s.face, s.instance, HSR_NO_LEVEL, 0, 0};
-            steps.step(event, "clip polygon of triangle %llu: %llu overlapping, %llu pieces hidden, %llu outside, %llu in front",
+            steps.step(event, "clip polygon of triangle %llu: %llu polygons near it, %llu pieces hidden, %llu outside, %llu in front",
                        (unsigned long long)s.face, (unsigned long long)clipped, (unsigned long long)hidden,
                        (unsigned long long)outside, (unsigned long long)front);
         }
