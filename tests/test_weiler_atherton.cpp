@@ -99,7 +99,8 @@ EdgeCases classify_differences(const hsr_scene& scene, const hsr_camera& camera,
 
 // What the agreement tests found over all their frames (printed by the last test case).
 struct Totals {
-    uint64_t covered = 0, ties = 0, on_edges = 0;
+    uint64_t covered = 0, ties = 0, on_edges = 0, not_bit_identical = 0;
+    double worst_depth_ulps = 0, worst_bary = 0;
 };
 Totals totals;
 
@@ -125,6 +126,13 @@ Picture check_same_picture(const hsr_scene& scene, const hsr_camera& camera, con
     totals.covered += c.covered;
     totals.ties += c.ties;
     totals.on_edges += e.on_edges;
+    totals.worst_depth_ulps = std::max(totals.worst_depth_ulps, c.worst_depth_ulps);
+    totals.worst_bary = std::max(totals.worst_bary, c.worst_bary);
+    for (size_t q = 0; q < p.frame.face.size(); ++q)
+        if (p.frame.face[q] != HSR_NO_FACE && p.frame.face[q] == p.reference.face[q] &&
+            (p.frame.depth[q] != p.reference.depth[q] || p.frame.bary[2 * q] != p.reference.bary[2 * q] ||
+             p.frame.bary[2 * q + 1] != p.reference.bary[2 * q + 1]))
+            ++totals.not_bit_identical;
     return p;
 }
 
@@ -194,7 +202,9 @@ TEST_CASE("weiler-atherton: ties and edge pixels over all agreement views", "[.f
     committed_views();
     monkey_views();
     bunny_views();
-    WARN("covered " << totals.covered << ", ties " << totals.ties << ", centres on edges " << totals.on_edges);
+    WARN("covered " << totals.covered << ", ties " << totals.ties << ", centres on edges " << totals.on_edges
+                    << ", same surface not bit-identical " << totals.not_bit_identical << ", worst depth ulps "
+                    << totals.worst_depth_ulps << ", worst bary " << totals.worst_bary);
 }
 
 TEST_CASE("weiler-atherton: visible fragments cover each pixel once, but for their widened edges", "[weiler-atherton]") {
