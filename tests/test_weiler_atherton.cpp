@@ -21,6 +21,7 @@
 #include <limits>
 #include <numeric>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -195,10 +196,12 @@ TEST_CASE("weiler-atherton: the cube, the boxes and the three polygons match zbu
 
 TEST_CASE("weiler-atherton: the monkey matches zbuffer", "[weiler-atherton]") { monkey_views(); }
 
-TEST_CASE("weiler-atherton: the bunny matches zbuffer", "[weiler-atherton]") { bunny_views(); }
+TEST_CASE("weiler-atherton: the bunny matches zbuffer", "[weiler-atherton][slow]") { bunny_views(); }
 
-// The figures the docs quote: run with the tag [.figures].
-TEST_CASE("weiler-atherton: ties and edge pixels over all agreement views", "[.figures]") {
+// The figures docs/algorithms/weiler-atherton.md quotes, printed when HSR_DOC_FIGURES is set:
+//   HSR_DOC_FIGURES=1 build/tests/test_weiler_atherton "[figures]"
+TEST_CASE("weiler-atherton: ties and edge pixels over all agreement views", "[weiler-atherton][figures]") {
+    if (std::getenv("HSR_DOC_FIGURES") == nullptr) return;
     committed_views();
     monkey_views();
     bunny_views();
@@ -295,28 +298,37 @@ TEST_CASE("weiler-atherton: interpenetrating triangles start a recursive subdivi
     CHECK(counter(all, "steps") == 10);
 }
 
-TEST_CASE("weiler-atherton: clip planes cut polygons before they hide anything, as in zbuffer", "[weiler-atherton]") {
+namespace {
+
+// One and then two clip planes through the model: the same picture as zbuffer's with the same planes.
+void check_clip_planes(const char* file) {
     test_models::require_fetched();
-    for (const char* file : {"monkey.obj", "bunny.obj"}) {
-        INFO(file);
-        const hsr::SceneData& data = model(file);
-        const glm::vec3 centre = 0.5f * (data.bounds_min + data.bounds_max);
-        hsr_camera camera = orbit(data, 30, 20, 1, false, 192);
-        // Keep x <= centre.x (a section through the middle), then also y >= centre.y - 0.1 * height.
-        camera.clip_plane_count = 1;
-        const float one[4] = {-1.0f, 0.0f, 0.0f, centre.x};
-        std::copy(one, one + 4, camera.clip_planes[0]);
-        const Picture cut_once = check_same_picture(data.view(), camera);
-        camera.clip_plane_count = 2;
-        const float two[4] = {0.0f, 1.0f, 0.0f, -(centre.y - 0.1f * (data.bounds_max.y - data.bounds_min.y))};
-        std::copy(two, two + 4, camera.clip_planes[1]);
-        const Picture cut_twice = check_same_picture(data.view(), camera);
-        // The cuts show the inside of the shell, which the uncut model hides.
-        hsr_camera uncut = camera;
-        uncut.clip_plane_count = 0;
-        CHECK(covered(cut_twice.frame) < covered(render("weiler-atherton", data.view(), uncut)));
-        CHECK(covered(cut_twice.frame) < covered(cut_once.frame));
-    }
+    const hsr::SceneData& data = model(file);
+    const glm::vec3 centre = 0.5f * (data.bounds_min + data.bounds_max);
+    hsr_camera camera = orbit(data, 30, 20, 1, false, 192);
+    // Keep x <= centre.x (a section through the middle), then also y >= centre.y - 0.1 * height.
+    camera.clip_plane_count = 1;
+    const float one[4] = {-1.0f, 0.0f, 0.0f, centre.x};
+    std::copy(one, one + 4, camera.clip_planes[0]);
+    const Picture cut_once = check_same_picture(data.view(), camera);
+    camera.clip_plane_count = 2;
+    const float two[4] = {0.0f, 1.0f, 0.0f, -(centre.y - 0.1f * (data.bounds_max.y - data.bounds_min.y))};
+    std::copy(two, two + 4, camera.clip_planes[1]);
+    const Picture cut_twice = check_same_picture(data.view(), camera);
+    hsr_camera uncut = camera;
+    uncut.clip_plane_count = 0;
+    CHECK(covered(cut_twice.frame) < covered(render("weiler-atherton", data.view(), uncut)));
+    CHECK(covered(cut_twice.frame) < covered(cut_once.frame));
+}
+
+}  // namespace
+
+TEST_CASE("weiler-atherton: clip planes cut the monkey before it hides anything, as in zbuffer", "[weiler-atherton]") {
+    check_clip_planes("monkey.obj");
+}
+
+TEST_CASE("weiler-atherton: clip planes cut the bunny before it hides anything, as in zbuffer", "[weiler-atherton][slow]") {
+    check_clip_planes("bunny.obj");
 }
 
 namespace {
@@ -336,7 +348,7 @@ hsr::Frame run_steps(const hsr_scene& scene, const hsr_camera& camera, uint64_t 
 
 }  // namespace
 
-TEST_CASE("weiler-atherton: steps to the end equal render; the fragments come after the clip polygons", "[weiler-atherton]") {
+TEST_CASE("weiler-atherton: steps to the end equal render, fragments after clip polygons", "[weiler-atherton]") {
     test_models::require_fetched();
     for (const char* file : {"boxes.scene", "monkey.obj"}) {
         INFO(file);
@@ -393,10 +405,11 @@ TEST_CASE("weiler-atherton: too many fragments are refused in one line", "[weile
                       Catch::Contains(refusal));
 }
 
-// Makes docs/images/weiler-atherton-fragments.png: docs/images/weiler-atherton.png (boxes.scene at
-// 400x400, --zoom 1.6, as `hsr render` draws it) with the outline of every visible fragment drawn over it, taken
-// from the steps. Run with the tag [.picture] after rendering that picture.
-TEST_CASE("weiler-atherton: the picture of the visible fragments", "[.picture]") {
+// Writes docs/images/weiler-atherton-fragments.png when HSR_DOC_FIGURES is set: the picture
+// docs/images/weiler-atherton.png (boxes.scene at 400x400, --zoom 1.6, as `hsr render` draws it) with
+// the outline of every visible fragment, taken from the steps, drawn over it.
+TEST_CASE("weiler-atherton: the picture of the visible fragments", "[weiler-atherton][figures]") {
+    if (std::getenv("HSR_DOC_FIGURES") == nullptr) return;
     const std::filesystem::path images = std::filesystem::path(HSR_SOURCE_DIR) / "docs" / "images";
     hsr::Image image = hsr::read_png_rgb(images / "weiler-atherton.png");
     const hsr::SceneData& data = model("boxes.scene");

@@ -135,6 +135,7 @@ private:
         corners_.clear();
         fragments_.clear();
         visible_.clear();
+        clip_stack_.clear();  // a frame stopped part way may have left it
         try {
             gather(scene);
             sort_areas(steps);
