@@ -5,7 +5,8 @@
 // outside it; inside pieces behind the clip polygon are hidden and deleted; inside pieces in front of
 // it somewhere start a recursive subdivision within the clip polygon's area; the outside pieces go on
 // to the next clip polygon. The surviving fragments are the visible areas, disjoint on screen; they
-// are rasterized at the end, each pixel written once.
+// are drawn at the end, each as its original triangle's pixels inside it (widened by 1/64 pixel to
+// close the cracks that snapping opens along cuts), so each pixel is written once but along cuts.
 //
 // The polygons are the triangles clipped to near/far and the camera's clip planes
 // (GeometryStage::clipped_polygon), in clip space. Clipping against a convex clip polygon splits the
@@ -33,7 +34,7 @@ using hsr::sdk::ParamSpec;
 using raster::ClipVertex;
 
 // Pieces with less window-space area than this (pixels squared) are slivers left by rounding along
-// edges that two polygons share; they hold no pixel centre and are dropped.
+// edges that two polygons share; they are dropped (the widening at drawing covers what they hold).
 constexpr double kSliverArea = 1e-9;
 // Recursive subdivisions nested deeper than this are refused (a stack of polygons each in front of
 // the last; real scenes nest a few levels).
