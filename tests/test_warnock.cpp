@@ -170,6 +170,7 @@ TEST_CASE("warnock: three triangles, windows counted by hand", "[warnock]") {
         }
     }
     CHECK(tests == 16 + 16 + 12 + 3 * 4 + 3);
+    CHECK(counter(frame, "pixels-depth-tested") == tests);
     check_same_frame(data.view(), camera);
 }
 
@@ -217,6 +218,9 @@ TEST_CASE("warnock: steps run to the end are the render, a stop leaves the windo
         CHECK(same_bytes(full.bary, plain.bary));
         CHECK(same_bytes(full.instance, plain.instance));
         CHECK(same_bytes(full.depth_tests, plain.depth_tests));
+        uint64_t tests = 0;
+        for (const uint32_t t : plain.depth_tests) tests += t;
+        CHECK(counter(plain, "pixels-depth-tested") == tests);
         const uint64_t taken = full.steps->taken;
         // One step per window decided.
         CHECK(taken == counter(plain, "windows-empty") + counter(plain, "windows-one-polygon") +

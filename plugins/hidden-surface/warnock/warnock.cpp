@@ -58,6 +58,7 @@ struct WindowStats {
     uint64_t classifications = 0;
     uint64_t depth_comparisons = 0;
     uint64_t pixels_written = 0;
+    uint64_t pixel_work = 0;  // what the per-pixel depth-test counts add up to
     uint64_t deepest_level = 0;
 
     void report(hsr::sdk::Counters& counters) const {
@@ -69,6 +70,7 @@ struct WindowStats {
         counters.set("polygon-window-classifications", classifications);
         counters.set("pixel-depth-comparisons", depth_comparisons);
         counters.set("pixels-written", pixels_written);
+        counters.set("pixels-depth-tested", pixel_work);
         counters.set("quadtree-depth", deepest_level);
     }
 };
@@ -181,8 +183,11 @@ private:
                       float& surrounder_far) {
         out.clear();
         stats_.classifications += parent.size();
-        if (w.one_pixel() && buffers_.tests != nullptr)
-            buffers_.tests[size_t(w.y0) * buffers_.stride + size_t(w.x0)] += uint32_t(parent.size());
+        if (w.one_pixel()) {
+            stats_.pixel_work += parent.size();
+            if (buffers_.tests != nullptr)
+                buffers_.tests[size_t(w.y0) * buffers_.stride + size_t(w.x0)] += uint32_t(parent.size());
+        }
         uint32_t surrounder = kNone;
         for (const uint32_t k : parent) {
             const raster::TriangleSetup& s = polygons_[k].setup;
@@ -222,6 +227,7 @@ private:
         buffers_.bary[2 * q + 1] = b.y;
         if (buffers_.tests != nullptr) ++buffers_.tests[q];
         ++stats_.pixels_written;
+        ++stats_.pixel_work;
     }
 
     // Draws polygon p at its covered pixel centres in w (every one of them when kAllCovered).
@@ -270,6 +276,7 @@ private:
                 }
             }
             stats_.depth_comparisons += list.size();
+            stats_.pixel_work += list.size() - 1;  // and 1 for the write
             if (buffers_.tests != nullptr)
                 buffers_.tests[size_t(w.y0) * buffers_.stride + size_t(w.x0)] += uint32_t(list.size()) - 1;
             write(*nearest, w.x0, w.y0, w.x0 - nearest->setup.min_x, w.y0 - nearest->setup.min_y);
