@@ -260,7 +260,8 @@ private:
             const Polygon& p = polygons_[list[0]];
             const uint64_t written = draw<false>(p, w);
             window_step(steps, w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
-                        "one polygon (face %u): %llu pixels drawn", p.face, (unsigned long long)written);
+                        "one polygon (face %u): %llu pixel%s drawn", p.face, (unsigned long long)written,
+                        written == 1 ? "" : "s");
             return;
         }
         if (w.one_pixel()) {
@@ -289,8 +290,8 @@ private:
             const Polygon& p = polygons_[surrounder];
             const uint64_t written = draw<true>(p, w);
             window_step(steps, w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
-                        "face %u surrounds the window in front of %llu others: %llu pixels filled", p.face,
-                        count - 1, (unsigned long long)written);
+                        "face %u surrounds the window in front of %llu other%s: %llu pixels filled", p.face,
+                        count - 1, count == 2 ? "" : "s", (unsigned long long)written);
             return;
         }
         ++stats_.subdivided;
