@@ -93,7 +93,7 @@ inline Real enter_box(const Ray<Real>& ray, const float* lo, const float* hi, Re
         Real t0 = (Real(lo[a]) - ray.origin[a]) * ray.inverse[a];
         Real t1 = (Real(hi[a]) - ray.origin[a]) * ray.inverse[a];
         if (t0 > t1) std::swap(t0, t1);
-        t1 += std::abs(t1) * widening;
+        t1 *= t1 > Real(0) ? Real(1) + widening : Real(1) - widening;  // infinities stay
         t_min = t0 > t_min ? t0 : t_min;
         t_max = t1 < t_max ? t1 : t_max;
     }
