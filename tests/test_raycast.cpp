@@ -159,10 +159,11 @@ RaycastComparison check_raycast(const hsr_scene& scene, const hsr_camera& camera
                       << ", ties " << r.c.ties << ", at edges " << r.on_edges << ", at cuts " << r.at_cuts);
     CHECK(r.c.covered > 0);
     CHECK(r.unexplained == 0);
-    // Pixel centres within 1/128 pixel of an edge, and ties: a small share of the picture (the
-    // deep scene's distant monkeys have many edges per pixel; boxes.scene has coplanar faces).
+    // Pixel centres within 1/128 pixel of an edge, and ties (mostly the same: a shared edge, where
+    // both triangles have the same depth): a small share of the picture (the deep scene's distant
+    // monkeys have many edges per pixel).
     CHECK(double(r.on_edges) < 0.02 * double(r.c.covered));
-    CHECK(double(r.c.ties) < 0.02 * double(r.c.covered));
+    CHECK(double(r.c.ties) < 0.005 * double(r.c.covered));
     CHECK(double(r.at_cuts) < 0.002 * double(r.c.covered));
     if (std::getenv("HSR_RAYCAST_SUMMARY"))
         std::printf("%ux%u %s: covered %llu, same %llu, ties %llu, at edges %llu, at cuts %llu, depth ulps %.2f, "

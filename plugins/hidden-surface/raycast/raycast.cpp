@@ -12,7 +12,10 @@
 // the watertight ray/triangle test (ray_triangle.hpp, Woop, Benthin & Wald 2013). The nearest hit
 // whose window depth (from view_projection, in double) lies in [0, 1] and which every camera clip
 // plane keeps is the pixel's; hits that fail either are passed over, so the search goes on to
-// farther ones. Exact ties go to the lower instance, then the lower face, whatever the traversal order.
+// farther ones. "Nearest" is judged in the float depth the buffer stores, and hits at the same float
+// depth go to the lower instance, then the lower face (as the z-buffer keeps the surface it draws
+// first), whatever the traversal order: after each hit the search goes on to the ray parameter
+// where the depth passes the next float.
 //
 // The hit test runs in double (the default: the reference other algorithms are judged by) or float.
 // The image is cut into tiles, cast by `threads` threads; each pixel's answer depends on nothing else,
@@ -78,15 +81,18 @@ struct RayStats {
     }
 };
 
-// The nearest acceptable hit so far of one ray.
+// The nearest acceptable hit so far of one ray, and how far the search must still look.
 struct Nearest {
-    double t;
-    double b1 = 0.0, b2 = 0.0, depth = 0.0;
+    double t_limit;                 // no hit beyond this ray parameter can replace this one
+    glm::dvec4 clip_origin{0.0};    // the ray in clip space: clip_origin + t * clip_step
+    glm::dvec4 clip_step{0.0};
+    double b1 = 0.0, b2 = 0.0;
+    float depth = 0.0f;             // window depth, rounded to what the buffer stores
     uint32_t face = HSR_NO_FACE, instance = 0;
 };
 
 // Hits a little outside t in [0, 1] (rounding at the near and far planes) are still looked at; the
-// window depth, from view_projection, decides.
+// window depth, from view_projection, decides. The same relative slack widens the search limit.
 constexpr double kTSlack = 1e-6;
 
 class Raycast final : public hsr::sdk::HiddenSurfaceRemover {
@@ -345,14 +351,15 @@ private:
         const glm::dvec3 direction = glm::dvec3(far_h) / far_h.w - origin;
         const size_t p = size_t(y) * width_ + x;
         ++stats.rays;
-        Nearest hit{1.0 + kTSlack};
+        Nearest hit{1.0 + kTSlack, view_projection_ * glm::dvec4(origin, 1.0),
+                    view_projection_ * glm::dvec4(direction, 0.0)};
         uint64_t tests = 0;
         if (std::isfinite(origin.x + origin.y + origin.z + direction.x + direction.y + direction.z) && !placed_.empty())
             tests = cast<Real>(origin, direction, hit, stats);
         if (tests_ != nullptr) tests_[p] = uint32_t(std::min<uint64_t>(tests, UINT32_MAX));
         if (hit.face == HSR_NO_FACE) return;
         ++stats.hits;
-        depth_[p] = float(hit.depth);
+        depth_[p] = hit.depth;
         face_[p] = hit.face;
         bary_[2 * p] = float(hit.b1);
         bary_[2 * p + 1] = float(hit.b2);
@@ -371,11 +378,11 @@ private:
         };
         Entry stack[kStackSize];
         int size = 0;
-        if (enter_box(ray, top_nodes_[0].box.lo, top_nodes_[0].box.hi, -kTSlack, hit.t) <= hit.t)
+        if (enter_box(ray, top_nodes_[0].box.lo, top_nodes_[0].box.hi, -kTSlack, hit.t_limit) <= hit.t_limit)
             stack[size++] = {0, 0.0};
         while (size > 0) {
             const Entry e = stack[--size];
-            if (e.t > hit.t) continue;
+            if (e.t > hit.t_limit) continue;
             const Node& node = top_nodes_[e.node];
             ++stats.nodes_visited;
             if (node.is_leaf()) {
@@ -383,7 +390,7 @@ private:
                     tests += cast_object<Real>(k, origin, direction, hit, stats);
                 continue;
             }
-            push_children(ray, top_nodes_, node, hit.t, stack, size);
+            push_children(ray, top_nodes_, node, hit.t_limit, stack, size);
         }
         return tests;
     }
@@ -431,11 +438,11 @@ private:
         stack[size++] = {o.root, -kTSlack};
         while (size > 0) {
             const Entry e = stack[--size];
-            if (e.t > hit.t) continue;
+            if (e.t > hit.t_limit) continue;
             const Node& node = nodes_[e.node];
             ++stats.nodes_visited;
             if (!node.is_leaf()) {
-                push_children(ray, nodes_, node, hit.t, stack, size);
+                push_children(ray, nodes_, node, hit.t_limit, stack, size);
                 continue;
             }
             for (uint32_t i = node.first; i < node.first + node.count; ++i) {
@@ -443,37 +450,51 @@ private:
                 ++tests;
                 TriangleHit h;
                 if (!intersect(ray, tri.corner[0], tri.corner[1], tri.corner[2], h)) continue;
-                if (h.t < -kTSlack || h.t > hit.t) continue;
-                if (h.t == hit.t && (o.instance > hit.instance || (o.instance == hit.instance && tri.face > hit.face)))
-                    continue;
+                if (h.t < -kTSlack || h.t > hit.t_limit) continue;
                 if (cull_backfaces_ && h.front == o.mirrored) continue;
-                accept(k, tri, h, hit);
+                consider(k, tri, h, hit);
             }
         }
         stats.triangle_tests += tests;
         return tests;
     }
 
-    // Makes h the nearest hit when its point lies in the view volume and on the kept side of every
-    // clip plane.
-    void accept(uint32_t k, const Triangle& tri, const TriangleHit& h, Nearest& hit) const {
+    // Makes h the nearest hit when its point lies in the view volume, on the kept side of every
+    // clip plane, and nearer than the nearest so far in the depth the buffer stores; at the same
+    // stored depth the lower instance, then the lower face wins (the surface the z-buffer draws
+    // first, and keeps on an equal depth).
+    void consider(uint32_t k, const Triangle& tri, const TriangleHit& h, Nearest& hit) const {
         glm::dvec3 corner[3];
         for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2]);
         const glm::dvec3 point = corner[0] + h.b1 * (corner[1] - corner[0]) + h.b2 * (corner[2] - corner[0]);
         const glm::dvec4 clip = clip_from_object_[k] * glm::dvec4(point, 1.0);
-        const double depth = (clip.z / clip.w + 1.0) * 0.5;
-        if (!(depth >= 0.0 && depth <= 1.0)) return;
+        const double exact_depth = (clip.z / clip.w + 1.0) * 0.5;
+        if (!(exact_depth >= 0.0 && exact_depth <= 1.0)) return;
+        const float depth = float(exact_depth);
+        const PlacedObject& o = placed_[k];
+        if (hit.face != HSR_NO_FACE &&
+            (depth > hit.depth || (depth == hit.depth && (o.instance > hit.instance ||
+                                                          (o.instance == hit.instance && tri.face > hit.face)))))
+            return;
         if (planes_.count > 0) {
-            const PlacedObject& o = placed_[k];
             const glm::dvec3 world = o.identity ? point : glm::dvec3(o.world_from_object * glm::dvec4(point, 1.0));
             if (!planes_.keeps(world)) return;
         }
-        hit.t = h.t;
         hit.b1 = h.b1;
         hit.b2 = h.b2;
         hit.depth = depth;
         hit.face = tri.face;
-        hit.instance = placed_[k].instance;
+        hit.instance = o.instance;
+        hit.t_limit = std::max(h.t, ray_parameter_at(hit, std::nextafter(depth, 2.0f)));
+        hit.t_limit += kTSlack * std::abs(hit.t_limit);
+    }
+
+    // Where the ray reaches window depth `depth` (+infinity when it never does): depth is
+    // (z / w + 1) / 2 of the clip-space ray, solved for t.
+    static double ray_parameter_at(const Nearest& ray, double depth) {
+        const double k = 2.0 * depth - 1.0;
+        const double t = (k * ray.clip_origin.w - ray.clip_origin.z) / (ray.clip_step.z - k * ray.clip_step.w);
+        return t >= 0.0 ? t : std::numeric_limits<double>::infinity();
     }
 
     // ------------------------------------------------------------------------------------------ //
