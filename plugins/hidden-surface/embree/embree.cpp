@@ -1,0 +1,404 @@
+// embree: the ray caster of raycast.cpp (Appel 1968: one ray per pixel centre, nearest hit) with
+// Intel's Embree 3 as its ray-tracing kernel (Wald, Woop, Benthin, Johnson & Ernst, "Embree: A
+// Kernel Framework for Efficient CPU Ray Tracing", ACM TOG 33(4), SIGGRAPH 2014): a third-party
+// library as a hidden-surface plugin.
+//
+// Each distinct triangle range of the scene becomes an Embree scene of one triangle geometry (object
+// space, built once per scene, robust mode: edges are not crossed by rays slipping between
+// triangles), and each placement an instance of it in a top-level scene, rebuilt when only the
+// instances change. Rays are made as raycast makes them (pixel centre, near to far plane, the
+// inverse of view_projection in double), cast in float by rtcIntersect1 over tiles on `threads`
+// threads. An intersection filter passes over hits outside the view volume (window depth, from
+// view_projection in double, outside [0, 1]), cut away by a camera clip plane, or, with
+// cull-backfaces, facing away, so Embree goes on to farther ones. Depth is computed in double from
+// the hit's barycentrics; ties go to whichever hit Embree finds first. docs/algorithms/embree.md.
+#include "../raycast/scene_key.hpp"
+
+#include "hsr/raster.hpp"
+#include "hsr/sdk.hpp"
+
+#include <embree3/rtcore.h>
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+namespace embree_plugin {
+
+using hsr::sdk::ParamSpec;
+using raycast::InstanceKey;
+using raycast::SceneKey;
+
+class Embree;
+
+// What the intersection filter of one object's geometry needs.
+struct ObjectFilter {
+    const Embree* plugin = nullptr;
+    uint32_t first_triangle = 0;
+};
+
+struct TileStats {
+    uint64_t rays = 0, hits = 0;
+};
+
+class Embree final : public hsr::sdk::HiddenSurfaceRemover {
+public:
+    static constexpr hsr::sdk::PluginInfo info{
+        "embree", "1.0.0", "ray casting with Intel Embree 3 (Wald et al. 2014) as the ray-tracing kernel"};
+    static inline const ParamSpec params[] = {
+        ParamSpec::integer("threads", "0", 0, 1024, "threads casting rays (0 = one per core)"),
+        ParamSpec::integer("tile-size", "16", 1, 4096, "side in pixels of the square tiles the threads take"),
+        ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+    };
+
+    explicit Embree(const hsr::sdk::Params& p)
+        : threads_(uint32_t(p.integer("threads"))),
+          tile_size_(uint32_t(p.integer("tile-size"))),
+          cull_backfaces_(p.boolean("cull-backfaces")) {
+        device_ = rtcNewDevice("threads=1");
+        if (device_ == nullptr) throw hsr::sdk::Unsupported("embree: rtcNewDevice failed");
+    }
+    ~Embree() override {
+        release_scenes();
+        rtcReleaseDevice(device_);
+    }
+    Embree(const Embree&) = delete;
+    Embree& operator=(const Embree&) = delete;
+
+    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                hsr::sdk::Counters& counters) override {
+        hsr::sdk::NoSteps no_steps;
+        render_with(scene, camera, target, counters, no_steps);
+    }
+
+    // One step per tile, tiles in rows from the top left, all cast on the calling thread.
+    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
+        render_with(scene, camera, target, counters, steps);
+    }
+
+    // The intersection filter: passes over hits outside the view volume, cut away, or facing away.
+    static void filter(const RTCFilterFunctionNArguments* args) {
+        const auto* object = static_cast<const ObjectFilter*>(args->geometryUserPtr);
+        for (unsigned i = 0; i < args->N; ++i) {
+            if (args->valid[i] == 0) continue;
+            const uint32_t face = object->first_triangle + RTCHitN_primID(args->hit, args->N, i);
+            const uint32_t placement = RTCHitN_instID(args->hit, args->N, i, 0);
+            const glm::dvec3 direction(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                                       RTCRayN_dir_z(args->ray, args->N, i));
+            if (!object->plugin->keeps(face, placement, RTCHitN_u(args->hit, args->N, i),
+                                       RTCHitN_v(args->hit, args->N, i), direction))
+                args->valid[i] = 0;
+        }
+    }
+
+private:
+    struct Placed {
+        uint32_t instance = 0;
+        uint32_t first_triangle = 0;
+        bool identity = true;
+        bool mirrored = false;
+        glm::dmat4 world_from_object{1.0};
+        glm::dmat4 clip_from_object{1.0};  // per frame
+    };
+
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
+        hsr::raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+        const auto build_start = std::chrono::steady_clock::now();
+        const bool built = prepare(scene);
+        const auto build_us = std::chrono::duration_cast<std::chrono::microseconds>(
+                                  std::chrono::steady_clock::now() - build_start)
+                                  .count();
+        counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(build_us)) : 0);
+
+        begin_frame(scene, camera, target);
+        TileStats total;
+        auto report = [&] {
+            counters.set("rays", total.rays);
+            counters.set("hits", total.hits);
+        };
+        if constexpr (Steps::enabled) {
+            try {
+                for (uint32_t k = 0; k < tile_count(); ++k) {
+                    TileStats tile;
+                    cast_tile(k, tile);
+                    total.rays += tile.rays;
+                    total.hits += tile.hits;
+                    uint32_t x0, y0, x1, y1;
+                    tile_rect(k, x0, y0, x1, y1);
+                    steps.box(float(x0), float(y0), float(x1), float(y1), HSR_STEP_SUBJECT);
+                    steps.step({"tile", HSR_NO_FACE, 0, HSR_NO_LEVEL, tile.hits, 0}, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits",
+                               k, x0, y0, x1 - 1, y1 - 1, (unsigned long long)tile.rays, (unsigned long long)tile.hits);
+                }
+            } catch (const hsr::sdk::StepLimitReached&) {
+                report();
+                throw;
+            }
+        } else {
+            cast_all(total);
+        }
+        report();
+    }
+
+    // ------------------------------------------------------------------------------------------ //
+    // Build (once per scene; only the top level again when only the placements changed)
+
+    void release_scenes() {
+        if (top_ != nullptr) rtcReleaseScene(top_);
+        top_ = nullptr;
+        for (RTCScene s : objects_) rtcReleaseScene(s);
+        objects_.clear();
+        object_filters_.clear();
+        object_of_range_.clear();
+    }
+
+    void check_device(const char* what) const {
+        const RTCError error = rtcGetDeviceError(device_);
+        if (error != RTC_ERROR_NONE)
+            throw hsr::sdk::Unsupported(std::string("embree: ") + what + " failed (Embree error " +
+                                        std::to_string(int(error)) + ")");
+    }
+
+    bool prepare(const hsr::sdk::Scene& scene) {
+        const SceneKey skey = raycast::scene_key(scene);
+        const InstanceKey ikey = raycast::instance_key(scene);
+        if (has_built_ && skey == scene_key_ && ikey == instance_key_) return false;
+        const bool same_geometry = has_built_ && skey == scene_key_;
+        has_built_ = false;
+        if (!same_geometry) {
+            release_scenes();
+        } else if (top_ != nullptr) {
+            rtcReleaseScene(top_);
+            top_ = nullptr;
+        }
+        top_ = rtcNewScene(device_);
+        rtcSetSceneFlags(top_, RTC_SCENE_FLAG_ROBUST);
+        placed_.assign(scene.placement_count(), Placed{});
+        for (uint32_t k = 0; k < scene.placement_count(); ++k) {
+            const hsr::sdk::Placement p = scene.placement(k);
+            const std::array<uint32_t, 4> range{p.first_triangle, p.triangle_count, p.first_vertex, p.vertex_count};
+            auto found = object_of_range_.find(range);
+            if (found == object_of_range_.end()) found = object_of_range_.emplace(range, build_object(scene, p)).first;
+            Placed& placed = placed_[k];
+            placed.instance = p.instance;
+            placed.first_triangle = p.first_triangle;
+            placed.identity = p.identity;
+            placed.world_from_object = p.identity ? glm::dmat4(1.0) : glm::dmat4(p.transform);
+            placed.mirrored = glm::determinant(placed.world_from_object) < 0.0;
+            RTCGeometry instance = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(instance, objects_[found->second]);
+            const glm::mat4 m = p.identity ? glm::mat4(1.0f) : p.transform;
+            rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &m[0][0]);
+            rtcCommitGeometry(instance);
+            rtcAttachGeometryByID(top_, instance, k);
+            rtcReleaseGeometry(instance);
+        }
+        rtcCommitScene(top_);
+        check_device("building the scene");
+        scene_key_ = skey;
+        instance_key_ = ikey;
+        has_built_ = true;
+        return true;
+    }
+
+    // One object's triangles as an Embree scene of one geometry, in object space.
+    uint32_t build_object(const hsr::sdk::Scene& scene, const hsr::sdk::Placement& p) {
+        RTCScene object = rtcNewScene(device_);
+        rtcSetSceneFlags(object, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(object, RTC_BUILD_QUALITY_HIGH);
+        objects_.push_back(object);
+        if (p.triangle_count > 0) add_geometry(scene, p, object);
+        rtcCommitScene(object);
+        return uint32_t(objects_.size() - 1);
+    }
+
+    void add_geometry(const hsr::sdk::Scene& scene, const hsr::sdk::Placement& p, RTCScene object) {
+        RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), p.vertex_count));
+        auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+            geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), p.triangle_count));
+        if (vertices == nullptr || indices == nullptr) {
+            rtcReleaseGeometry(geometry);
+            check_device("allocating geometry");
+            throw hsr::sdk::Unsupported("embree: could not allocate the geometry");
+        }
+        const float* positions = scene.raw().positions;
+        std::copy(positions + 3 * size_t(p.first_vertex), positions + 3 * (size_t(p.first_vertex) + p.vertex_count),
+                  vertices);
+        for (uint32_t t = 0; t < p.triangle_count; ++t)
+            for (int c = 0; c < 3; ++c) indices[3 * t + c] = scene.index(p.first_triangle + t, c) - p.first_vertex;
+        object_filters_.push_back(std::make_unique<ObjectFilter>(ObjectFilter{this, p.first_triangle}));
+        rtcSetGeometryUserData(geometry, object_filters_.back().get());
+        rtcSetGeometryIntersectFilterFunction(geometry, &Embree::filter);
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(object, geometry);
+        rtcReleaseGeometry(geometry);
+    }
+
+    // ------------------------------------------------------------------------------------------ //
+    // Per frame
+
+    void begin_frame(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target) {
+        scene_ = &scene;
+        width_ = camera.width;
+        height_ = camera.height;
+        view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
+        window_to_world_ = glm::inverse(view_projection_);
+        planes_ = hsr::sdk::ClipPlanes(camera);
+        for (Placed& p : placed_) p.clip_from_object = view_projection_ * p.world_from_object;
+        depth_ = target.depth();
+        face_ = target.face();
+        bary_ = target.bary();
+        instance_ = target.instance();
+        tests_ = target.depth_tests();
+    }
+
+    // The filter's test of a hit: in the view volume, kept by every clip plane, and (with
+    // cull-backfaces) facing the ray, whose direction here is in object space.
+    bool keeps(uint32_t face, uint32_t placement, float u, float v, const glm::dvec3& direction) const {
+        const Placed& p = placed_[placement];
+        glm::dvec3 corner[3];
+        for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(scene_->corner_position(face, c));
+        if (cull_backfaces_) {
+            const bool front = glm::dot(glm::cross(corner[1] - corner[0], corner[2] - corner[0]), direction) < 0.0;
+            if (front == p.mirrored) return false;
+        }
+        const glm::dvec3 point = corner[0] + double(u) * (corner[1] - corner[0]) + double(v) * (corner[2] - corner[0]);
+        const glm::dvec4 clip = p.clip_from_object * glm::dvec4(point, 1.0);
+        const double depth = (clip.z / clip.w + 1.0) * 0.5;
+        if (!(depth >= 0.0 && depth <= 1.0)) return false;
+        if (planes_.count > 0) {
+            const glm::dvec3 world = p.identity ? point : glm::dvec3(p.world_from_object * glm::dvec4(point, 1.0));
+            if (!planes_.keeps(world)) return false;
+        }
+        return true;
+    }
+
+    uint32_t tiles_across() const { return (width_ + tile_size_ - 1) / tile_size_; }
+    uint32_t tile_count() const { return tiles_across() * ((height_ + tile_size_ - 1) / tile_size_); }
+
+    void tile_rect(uint32_t k, uint32_t& x0, uint32_t& y0, uint32_t& x1, uint32_t& y1) const {
+        x0 = (k % tiles_across()) * tile_size_;
+        y0 = (k / tiles_across()) * tile_size_;
+        x1 = std::min(x0 + tile_size_, width_);
+        y1 = std::min(y0 + tile_size_, height_);
+    }
+
+    void cast_all(TileStats& total) {
+        const uint32_t tiles = tile_count();
+        uint32_t threads = threads_ != 0 ? threads_ : std::max(1u, std::thread::hardware_concurrency());
+        threads = std::min(threads, tiles);
+        std::atomic<uint32_t> next{0};
+        std::vector<TileStats> stats(threads);
+        auto work = [&](TileStats& s) {
+            for (uint32_t k = next.fetch_add(1); k < tiles; k = next.fetch_add(1)) cast_tile(k, s);
+        };
+        std::vector<std::thread> pool;
+        try {
+            for (uint32_t k = 1; k < threads; ++k) pool.emplace_back(work, std::ref(stats[k]));
+        } catch (const std::system_error&) {
+            // Fewer threads than asked for: those started and this one cast every tile all the same.
+        }
+        work(stats[0]);
+        for (std::thread& t : pool) t.join();
+        for (const TileStats& s : stats) {
+            total.rays += s.rays;
+            total.hits += s.hits;
+        }
+    }
+
+    void cast_tile(uint32_t k, TileStats& stats) const {
+        uint32_t x0, y0, x1, y1;
+        tile_rect(k, x0, y0, x1, y1);
+        RTCIntersectContext context;
+        for (uint32_t y = y0; y < y1; ++y)
+            for (uint32_t x = x0; x < x1; ++x) {
+                ++stats.rays;
+                const size_t p = size_t(y) * width_ + x;
+                if (tests_ != nullptr) tests_[p] = 0;
+                const double ndc_x = 2.0 * (x + 0.5) / width_ - 1.0;
+                const double ndc_y = 1.0 - 2.0 * (y + 0.5) / height_;
+                const glm::dvec4 near_h = window_to_world_ * glm::dvec4(ndc_x, ndc_y, -1.0, 1.0);
+                const glm::dvec4 far_h = window_to_world_ * glm::dvec4(ndc_x, ndc_y, 1.0, 1.0);
+                const glm::dvec3 origin = glm::dvec3(near_h) / near_h.w;
+                const glm::dvec3 direction = glm::dvec3(far_h) / far_h.w - origin;
+                if (!std::isfinite(origin.x + origin.y + origin.z + direction.x + direction.y + direction.z)) continue;
+                RTCRayHit rh{};
+                rh.ray.org_x = float(origin.x);
+                rh.ray.org_y = float(origin.y);
+                rh.ray.org_z = float(origin.z);
+                rh.ray.dir_x = float(direction.x);
+                rh.ray.dir_y = float(direction.y);
+                rh.ray.dir_z = float(direction.z);
+                rh.ray.tnear = 0.0f;
+                rh.ray.tfar = 1.0f + 1e-6f;
+                rh.ray.mask = 0xFFFFFFFFu;
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcInitIntersectContext(&context);
+                rtcIntersect1(top_, &context, &rh);
+                if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                const uint32_t placement = rh.hit.instID[0];
+                const Placed& placed = placed_[placement];
+                const uint32_t face = placed.first_triangle + rh.hit.primID;
+                glm::dvec3 corner[3];
+                for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(scene_->corner_position(face, c));
+                const glm::dvec3 point =
+                    corner[0] + double(rh.hit.u) * (corner[1] - corner[0]) + double(rh.hit.v) * (corner[2] - corner[0]);
+                const glm::dvec4 clip = placed.clip_from_object * glm::dvec4(point, 1.0);
+                ++stats.hits;
+                depth_[p] = float((clip.z / clip.w + 1.0) * 0.5);
+                face_[p] = face;
+                bary_[2 * p] = rh.hit.u;
+                bary_[2 * p + 1] = rh.hit.v;
+                if (instance_ != nullptr) instance_[p] = placed.instance;
+            }
+    }
+
+    // Parameters
+    uint32_t threads_;
+    uint32_t tile_size_;
+    bool cull_backfaces_;
+
+    RTCDevice device_ = nullptr;
+
+    // Built once per scene
+    bool has_built_ = false;
+    SceneKey scene_key_;
+    InstanceKey instance_key_;
+    std::vector<RTCScene> objects_;
+    std::vector<std::unique_ptr<ObjectFilter>> object_filters_;
+    std::map<std::array<uint32_t, 4>, uint32_t> object_of_range_;
+    RTCScene top_ = nullptr;
+    std::vector<Placed> placed_;
+
+    // Per frame
+    const hsr::sdk::Scene* scene_ = nullptr;
+    uint32_t width_ = 0, height_ = 0;
+    glm::dmat4 view_projection_{1.0}, window_to_world_{1.0};
+    hsr::sdk::ClipPlanes planes_{hsr_camera{}};
+    float* depth_ = nullptr;
+    uint32_t* face_ = nullptr;
+    float* bary_ = nullptr;
+    uint32_t* instance_ = nullptr;
+    uint32_t* tests_ = nullptr;
+};
+
+}  // namespace embree_plugin
+
+HSR_EXPORT_PLUGIN(embree_plugin::Embree)
