@@ -12,7 +12,7 @@
 // view_projection in double, outside [0, 1]), cut away by a camera clip plane, or, with
 // cull-backfaces, facing away, so Embree goes on to farther ones. Depth is computed in double from
 // the hit's barycentrics; ties go to whichever hit Embree finds first. docs/algorithms/embree.md.
-#include "../raycast/scene_key.hpp"
+#include "hsr/scene_key.hpp"
 
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
@@ -38,8 +38,8 @@
 namespace embree_plugin {
 
 using hsr::sdk::ParamSpec;
-using raycast::InstanceKey;
-using raycast::SceneKey;
+using hsr::sdk::InstanceKey;
+using hsr::sdk::SceneKey;
 
 class Embree;
 
@@ -174,8 +174,8 @@ private:
     }
 
     bool prepare(const hsr::sdk::Scene& scene) {
-        const SceneKey skey = raycast::scene_key(scene);
-        const InstanceKey ikey = raycast::instance_key(scene);
+        const SceneKey skey = hsr::sdk::scene_key(scene);
+        const InstanceKey ikey = hsr::sdk::instance_key(scene);
         if (has_built_ && skey == scene_key_ && ikey == instance_key_) return false;
         const bool same_geometry = has_built_ && skey == scene_key_;
         has_built_ = false;

@@ -16,12 +16,12 @@
 // z-buffer draws first, so the picture is the zbuffer plugin's, pixel for pixel.
 //
 // Where a triangle goes and how the octree is laid out: octree.hpp; how a built scene is recognised
-// again: scene_key.hpp. What it costs and when it pays: docs/algorithms/octree-zbuffer.md. This
+// again: hsr/scene_key.hpp. What it costs and when it pays: docs/algorithms/octree-zbuffer.md. This
 // file is over 800 lines: the front-to-back traversal and its three levels of rejection (node box,
 // triangle, tile) are one pass over shared per-frame state, read best in one place, and so are its
 // steps (render_steps, at the end of the class), which describe that pass as it goes.
 #include "octree.hpp"
-#include "scene_key.hpp"
+#include "hsr/scene_key.hpp"
 
 #include "hsr/bounds.hpp"
 #include "hsr/raster.hpp"
@@ -181,8 +181,8 @@ private:
 
     // Builds what is missing for this scene; true when anything was built.
     bool prepare(const hsr::sdk::Scene& scene) {
-        const SceneKey skey = scene_key(scene);
-        const InstanceKey ikey = instance_key(scene);
+        const hsr::sdk::SceneKey skey = hsr::sdk::scene_key(scene);
+        const hsr::sdk::InstanceKey ikey = hsr::sdk::instance_key(scene);
         if (has_built_ && skey == scene_key_ && ikey == instance_key_) return false;
         const bool same_geometry = has_built_ && skey == scene_key_;
         has_built_ = false;  // until everything below is done (it may throw bad_alloc)
@@ -797,8 +797,8 @@ private:
 
     // Built once per scene
     bool has_built_ = false;
-    SceneKey scene_key_;
-    InstanceKey instance_key_;
+    hsr::sdk::SceneKey scene_key_;
+    hsr::sdk::InstanceKey instance_key_;
     OctreeForest forest_;
     std::map<std::array<uint32_t, 4>, uint32_t> object_of_range_;
     std::vector<uint32_t> placement_object_;  // per placement: index into forest_.objects

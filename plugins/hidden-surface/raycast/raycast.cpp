@@ -22,7 +22,7 @@
 // so any number of threads gives the same buffers. docs/algorithms/raycast.md describes the steps.
 #include "bvh.hpp"
 #include "ray_triangle.hpp"
-#include "scene_key.hpp"
+#include "hsr/scene_key.hpp"
 
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
@@ -172,8 +172,8 @@ private:
     // Build (once per scene; only the top level again when only the placements changed)
 
     bool prepare(const hsr::sdk::Scene& scene) {
-        const SceneKey skey = scene_key(scene);
-        const InstanceKey ikey = instance_key(scene);
+        const hsr::sdk::SceneKey skey = hsr::sdk::scene_key(scene);
+        const hsr::sdk::InstanceKey ikey = hsr::sdk::instance_key(scene);
         if (has_built_ && skey == scene_key_ && ikey == instance_key_) return false;
         const bool same_geometry = has_built_ && skey == scene_key_;
         has_built_ = false;  // until everything below is done (it may throw bad_alloc)
@@ -520,8 +520,8 @@ private:
 
     // Built once per scene
     bool has_built_ = false;
-    SceneKey scene_key_;
-    InstanceKey instance_key_;
+    hsr::sdk::SceneKey scene_key_;
+    hsr::sdk::InstanceKey instance_key_;
     std::vector<Node> nodes_;           // every object's hierarchy
     std::vector<Triangle> triangles_;   // in leaf order
     std::vector<ObjectBvh> objects_;

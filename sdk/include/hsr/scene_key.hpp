@@ -1,7 +1,7 @@
-// octree-zbuffer's memory of the scene it built for: cheap keys (addresses, sizes, sampled hashes
-// of the geometry, a hash of every instance's ranges and transform) that tell whether the octrees
-// and the instance hierarchy can be reused for the next frame, or only the latter must be rebuilt.
-// Included by octree_zbuffer.cpp only.
+// hsr scene keys: a plugin's memory of the scene it built an acceleration structure for (an octree,
+// a BVH, a BSP tree). Cheap keys (addresses, sizes, sampled hashes of the geometry, a hash of every
+// instance's ranges and transform) tell whether the structure can be reused for the next frame, or
+// only the part over the placements must be rebuilt. Header-only, part of hsr::sdk.
 #pragma once
 
 #include "hsr/abi.h"
@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <cstring>
 
-namespace octree_zbuffer {
+namespace hsr::sdk {
 
 inline uint64_t mix(uint64_t h, uint64_t v) {
     h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
@@ -85,4 +85,4 @@ inline SceneKey scene_key(const hsr::sdk::Scene& scene) {
     return key;
 }
 
-}  // namespace octree_zbuffer
+}  // namespace hsr::sdk
