@@ -33,6 +33,8 @@ using painter::ClipVertex;
 using painter::Polygon;
 
 constexpr uint32_t kNone = ~0u;
+// Pieces with more corners than this skip the separating-axis shortcut of test 6.
+constexpr uint32_t kMaxCorners = 32;
 
 // What the sort did, reported as counters.
 struct SortStats {
@@ -169,8 +171,8 @@ private:
                     ++stats_.triangles_skipped;
                     continue;
                 }
-                reserve(painter::PolygonStore::pieces_for(count));
-                if (!add_polygon(polygon, count, like, false)) ++stats_.triangles_skipped;
+                reserve(1);
+                if (!add_polygon(polygon, count, like)) ++stats_.triangles_skipped;
             }
         }
         stats_.polygons_sorted = store_.polygons.size() - stats_.polygons_dropped;
@@ -179,15 +181,12 @@ private:
     // Stores a polygon (or a piece) and marks it done at once when it covers no pixel centre of the
     // image, which saves sorting the many triangles of a fine mesh that fall between pixel centres.
     // False when it could not be stored (a corner that does not project).
-    bool add_polygon(const ClipVertex* corners, int count, const Polygon& like, bool piece) {
-        const size_t first = store_.polygons.size();
-        if (!store_.add(geometry_.viewport(), corners, count, like, piece)) return false;
-        for (size_t k = first; k < store_.polygons.size(); ++k) {
-            Polygon& p = store_.polygons[k];
-            if (!covers_pixels(p)) {
-                p.done = true;
-                ++stats_.polygons_dropped;
-            }
+    bool add_polygon(const ClipVertex* corners, int count, const Polygon& like, const painter::Cut* cut = nullptr) {
+        if (!store_.add(geometry_.viewport(), corners, count, like, cut)) return false;
+        Polygon& p = store_.polygons.back();
+        if (!covers_pixels(p)) {
+            p.done = true;
+            ++stats_.polygons_dropped;
         }
         return true;
     }
@@ -196,12 +195,75 @@ private:
         const painter::Extent& e = p.extent;
         if (e.x1 < -1.0 || e.y1 < -1.0 || e.x0 > width_ + 1.0 || e.y0 > height_ + 1.0) return false;
         if (e.x1 - e.x0 > 4.0 || e.y1 - e.y0 > 4.0) return true;  // small ones are rasterized to see
-        uint64_t covered = 0;
-        geometry_.rasterize_polygon(store_.corners_of(p), int(p.count), [&](const raster::TriangleSetup& s) {
-            raster::for_each_covered_pixel(s, [&](int32_t, int32_t, double, double) { ++covered; });
+        bool covered = false;
+        for_each_pixel(p, whole_image(), [&](const raster::TriangleSetup&, int32_t, int32_t, double, double) {
+            covered = true;
         });
-        return covered > 0;
+        return covered;
     }
+
+    // A rectangle of pixels, inclusive.
+    struct PixelRect {
+        int32_t x0, y0, x1, y1;
+    };
+    PixelRect whole_image() const { return {0, 0, int32_t(width_) - 1, int32_t(height_) - 1}; }
+
+    // Calls visit(setup, x, y, i, j) for every pixel centre of polygon p inside `rect`: the pixels
+    // its root polygon covers (GeometryStage::rasterize_polygon) that its cuts keep.
+    template <class Visit>
+    void for_each_pixel(const Polygon& p, const PixelRect& rect, Visit&& visit) const {
+        const Polygon& root = store_.polygons[p.root];
+        const painter::Cut* cuts = store_.cuts_of(p);
+        const uint32_t cut_count = p.cut_count;
+        const double to_ndc_x = 2.0 / width_, to_ndc_y = 2.0 / height_;
+        geometry_.rasterize_polygon(store_.corners_of(root), int(root.count), [&](const raster::TriangleSetup& s) {
+            const int32_t x0 = std::max(rect.x0, s.min_x), y0 = std::max(rect.y0, s.min_y);
+            const int32_t x1 = std::min(rect.x1, s.max_x), y1 = std::min(rect.y1, s.max_y);
+            if (x0 > x1 || y0 > y1) return;
+            raster::for_each_covered_pixel_in(s, x0, y0, x1, y1, [&](int32_t x, int32_t y, double i, double j) {
+                if (cut_count != 0) {
+                    // The triangle's point at this pixel centre, in NDC.
+                    const glm::dvec4 point((x + 0.5) * to_ndc_x - 1.0, 1.0 - (y + 0.5) * to_ndc_y,
+                                           2.0 * s.depth.at(i, j) - 1.0, 1.0);
+                    for (uint32_t k = 0; k < cut_count; ++k) {
+                        const double side = glm::dot(cuts[k].plane, point);
+                        if (cuts[k].strict ? !(side > 0.0) : !(side >= 0.0)) return;
+                    }
+                }
+                visit(s, x, y, i, j);
+            });
+        });
+    }
+
+    // Test 6 made exact: no pixel centre of the image belongs to both polygons. Separated
+    // projections (the separating-axis test over their corners) answer first.
+    bool pixels_disjoint(const Polygon& p, const Polygon& q) {
+        glm::dvec2 wp[kMaxCorners], wq[kMaxCorners];
+        if (p.count <= kMaxCorners && q.count <= kMaxCorners) {
+            for (uint32_t k = 0; k < p.count; ++k) wp[k] = window_xy(store_.corners_of(p)[k]);
+            for (uint32_t k = 0; k < q.count; ++k) wq[k] = window_xy(store_.corners_of(q)[k]);
+            if (painter::projections_disjoint(wp, p.count, wq, q.count)) return true;
+        }
+        const painter::Extent &a = p.extent, &b = q.extent;
+        const PixelRect image = whole_image();
+        const PixelRect rect{std::max(image.x0, int32_t(std::floor(std::max(a.x0, b.x0))) - 1),
+                             std::max(image.y0, int32_t(std::floor(std::max(a.y0, b.y0))) - 1),
+                             std::min(image.x1, int32_t(std::ceil(std::min(a.x1, b.x1))) + 1),
+                             std::min(image.y1, int32_t(std::ceil(std::min(a.y1, b.y1))) + 1)};
+        if (rect.x0 > rect.x1 || rect.y0 > rect.y1) return true;
+        const size_t columns = size_t(rect.x1 - rect.x0 + 1);
+        mask_.assign(columns * size_t(rect.y1 - rect.y0 + 1), 0);
+        for_each_pixel(p, rect, [&](const raster::TriangleSetup&, int32_t x, int32_t y, double, double) {
+            mask_[size_t(y - rect.y0) * columns + size_t(x - rect.x0)] = 1;
+        });
+        bool shared = false;
+        for_each_pixel(q, rect, [&](const raster::TriangleSetup&, int32_t x, int32_t y, double, double) {
+            shared = shared || mask_[size_t(y - rect.y0) * columns + size_t(x - rect.x0)] != 0;
+        });
+        return !shared;
+    }
+
+    glm::dvec2 window_xy(const ClipVertex& c) const { return glm::dvec2(geometry_.viewport().project(c.position)); }
 
     template <bool kCountPaints, class Steps>
     void paint_all(hsr::sdk::VisibilityBuffer& target, Steps& steps) {
@@ -302,10 +364,7 @@ private:
         if (passes(2, a.y1 + m < b.y0 || b.y1 + m < a.y0)) return true;
         if (passes(3, painter::sides_of(q.plane, store_.corners_of(p), p.count).all_far)) return true;
         if (passes(4, painter::sides_of(p.plane, store_.corners_of(q), q.count).all_near)) return true;
-        glm::dvec2 wp[raster::kMaxPieceVertices], wq[raster::kMaxPieceVertices];
-        store_.window_corners(geometry_.viewport(), p, wp);
-        store_.window_corners(geometry_.viewport(), q, wq);
-        return passes(5, painter::projections_disjoint(wp, p.count, wq, q.count));
+        return passes(5, pixels_disjoint(p, q));
     }
 
     // Takes a polygon out of the line (waiting or moved) for good.
@@ -379,12 +438,14 @@ private:
             return;
         }
         const Polygon original = store_.polygons[c.cut];  // add() may move the store
-        ClipVertex corners[raster::kMaxPieceVertices];
-        std::copy_n(store_.corners_of(original), original.count, corners);
-        ClipVertex front[raster::kMaxPieceVertices + 2], back[raster::kMaxPieceVertices + 2];
+        const size_t n = original.count;
+        split_corners_.assign(store_.corners_of(original), store_.corners_of(original) + n);
+        split_front_.resize(n + 2);
+        split_back_.resize(n + 2);
         int front_count = 0, back_count = 0;
-        raster::split_by_plane(corners, int(original.count), c.plane, front, front_count, back, back_count);
-        reserve(painter::PolygonStore::pieces_for(front_count) + painter::PolygonStore::pieces_for(back_count));
+        raster::split_by_plane(split_corners_.data(), int(n), c.plane, split_front_.data(), front_count,
+                               split_back_.data(), back_count);
+        reserve(2);
         remove(c.cut);
         for (const uint32_t k : moved_) {
             store_.polygons[k].marked = false;
@@ -392,8 +453,9 @@ private:
         }
         moved_.clear();
         const uint32_t first_piece = uint32_t(store_.polygons.size());
-        add_polygon(front, front_count, original, true);
-        add_polygon(back, back_count, original, true);
+        const painter::Cut front_cut{c.plane, false}, back_cut{-c.plane, true};
+        add_polygon(split_front_.data(), front_count, original, &front_cut);
+        add_polygon(split_back_.data(), back_count, original, &back_cut);
         const uint32_t end = uint32_t(store_.polygons.size());
         for (uint32_t k = first_piece; k < end; ++k) enter(k);
         ++stats_.splits;
@@ -427,13 +489,14 @@ private:
     template <class Steps>
     void outline(uint32_t id, hsr_step_role role, Steps& steps) const {
         const Polygon& p = store_.polygons[id];
-        glm::dvec2 w[raster::kMaxPieceVertices];
-        store_.window_corners(geometry_.viewport(), p, w);
+        const ClipVertex* c = store_.corners_of(p);
         const double reach_x = 4.0 * width_, reach_y = 4.0 * height_;
-        for (uint32_t k = 0; k < p.count; ++k)
-            if (!(std::abs(w[k].x) <= reach_x && std::abs(w[k].y) <= reach_y)) return;
         for (uint32_t k = 0; k < p.count; ++k) {
-            const glm::dvec2 a = w[k], b = w[k + 1 == p.count ? 0 : k + 1];
+            const glm::dvec2 w = window_xy(c[k]);
+            if (!(std::abs(w.x) <= reach_x && std::abs(w.y) <= reach_y)) return;
+        }
+        for (uint32_t k = 0; k < p.count; ++k) {
+            const glm::dvec2 a = window_xy(c[k]), b = window_xy(c[k + 1 == p.count ? 0 : k + 1]);
             steps.line(float(a.x), float(a.y), float(b.x), float(b.y), role);
         }
     }
@@ -445,25 +508,23 @@ private:
         const Polygon& p = store_.polygons[id];
         const uint32_t face = p.face, instance = p.instance;
         uint64_t written = 0;
-        geometry_.rasterize_polygon(store_.corners_of(p), int(p.count), [&](const raster::TriangleSetup& s) {
-            raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) {
-                const size_t q = size_t(y) * b.stride + size_t(x);
-                b.depth[q] = raster::depth_at(s, i, j);
-                b.face[q] = face;
-                if (b.instance != nullptr) b.instance[q] = instance;
-                const glm::vec2 bary = raster::barycentrics_at(s, i, j);
-                b.bary[2 * q] = bary.x;
-                b.bary[2 * q + 1] = bary.y;
-                if constexpr (kCountPaints) ++b.tests[q];
-                ++written;
-            });
+        for_each_pixel(p, whole_image(), [&](const raster::TriangleSetup& s, int32_t x, int32_t y, double i, double j) {
+            const size_t q = size_t(y) * b.stride + size_t(x);
+            b.depth[q] = raster::depth_at(s, i, j);
+            b.face[q] = face;
+            if (b.instance != nullptr) b.instance[q] = instance;
+            const glm::vec2 bary = raster::barycentrics_at(s, i, j);
+            b.bary[2 * q] = bary.x;
+            b.bary[2 * q + 1] = bary.y;
+            if constexpr (kCountPaints) ++b.tests[q];
+            ++written;
         });
         ++stats_.polygons_painted;
         stats_.pixels_painted += written;
         if constexpr (Steps::enabled) {
             outline(id, HSR_STEP_SUBJECT, steps);
             steps.step(hsr::sdk::Steps::Event{"polygon", face, instance, HSR_NO_LEVEL, written, 0},
-                       "%s %u painted: %llu pixel%s", p.piece ? "piece of triangle" : "triangle", unsigned(face),
+                       "%s %u painted: %llu pixel%s", p.cut_count != 0 ? "piece of triangle" : "triangle", unsigned(face),
                        (unsigned long long)written, written == 1 ? "" : "s");
         }
     }
@@ -482,6 +543,8 @@ private:
     painter::BinGrid bins_;
     std::vector<uint32_t> seen_;  // per polygon, the last find_blocker query that looked at it
     uint32_t query_ = 0;
+    std::vector<uint8_t> mask_;  // pixels_disjoint's scratch
+    std::vector<ClipVertex> split_corners_, split_front_, split_back_;
 };
 
 }  // namespace

@@ -33,18 +33,31 @@ struct Extent {
     double x0, x1, y0, y1, z0, z1;
 };
 
+// A half-space a piece of a triangle keeps, from a clip-space plane: at a pixel centre of the
+// triangle, the point of the triangle there (window x, y and depth, as NDC) is kept where
+// dot(plane, point) >= 0, or > 0 when strict. The two pieces of a split get the plane with opposite
+// signs, one of them strict, so each pixel centre of the triangle goes to exactly one of them.
+struct Cut {
+    glm::dvec4 plane;
+    bool strict;
+};
+
 struct Polygon {
     uint32_t first = 0;  // its corners are corners[first, first + count) of the PolygonStore
     uint32_t count = 0;
     uint32_t face = 0;  // the triangle it is (a piece of)
     uint32_t instance = 0;
+    // Pixels: those of polygon `root` (the triangle's clipped polygon, rasterized) that all the
+    // cuts cuts[first_cut, first_cut + cut_count) keep. Corners and extents serve the tests.
+    uint32_t root = 0;
+    uint32_t first_cut = 0;
+    uint32_t cut_count = 0;
     // The plane of the triangle in clip space, oriented so that points nearer the viewer are on its
     // positive side, scaled to |(x, y, z)| = 1.
     glm::dvec4 plane{0.0};
     Extent extent{};
     bool marked = false;  // moved ahead of another polygon and not yet painted
     bool done = false;    // painted, dropped or split
-    bool piece = false;   // made by a split
 };
 
 // Where a polygon's corners lie against a plane (as Polygon::plane): all on the near side or on the
@@ -110,64 +123,50 @@ inline bool projections_disjoint(const glm::dvec2* a, uint32_t na, const glm::dv
     return any_edge_separates(a, na) || any_edge_separates(b, nb);
 }
 
-// The polygons of a frame and their corners, kept between frames.
+// The polygons of a frame, their corners and cuts, kept between frames.
 class PolygonStore {
 public:
     std::vector<Polygon> polygons;
     std::vector<ClipVertex> corners;
+    std::vector<Cut> cuts;
 
     void clear() {
         polygons.clear();
         corners.clear();
+        cuts.clear();
     }
     const ClipVertex* corners_of(const Polygon& p) const { return corners.data() + p.first; }
+    const Cut* cuts_of(const Polygon& p) const { return cuts.data() + p.first_cut; }
 
-    // Window x, y of a polygon's corners (w > 0 for every stored corner).
+    // Adds a triangle's clipped polygon (3..kMaxPieceVertices corners) with the face, instance
+    // and plane of `like`, or, with a cut, a convex piece of any size of polygon `like` that keeps
+    // its cuts and this one. False when a corner cannot be projected (w <= 0 or not finite):
+    // nothing is added.
     template <class ViewportT>
-    uint32_t window_corners(const ViewportT& viewport, const Polygon& p,
-                            glm::dvec2 (&out)[hsr::raster::kMaxPieceVertices]) const {
-        for (uint32_t k = 0; k < p.count; ++k) out[k] = glm::dvec2(viewport.project(corners[p.first + k].position));
-        return p.count;
-    }
-
-    // How many polygons adding a polygon of `count` corners makes (more than kMaxPieceVertices
-    // corners are stored as two pieces).
-    static uint32_t pieces_for(int count) { return count > hsr::raster::kMaxPieceVertices ? 2 : 1; }
-
-    // Adds a convex polygon of 3..2*kMaxPieceVertices-2 corners with the face, instance and plane of
-    // `like`; one with more corners than the rasterizer takes is cut along a diagonal into two (the
-    // cut runs between shared corners, so the pixel centres on it are drawn once). False when a
-    // corner cannot be projected (w <= 0 or not finite): nothing is added.
-    template <class ViewportT>
-    bool add(const ViewportT& viewport, const ClipVertex* in, int count, const Polygon& like, bool piece) {
+    bool add(const ViewportT& viewport, const ClipVertex* in, int count, const Polygon& like,
+             const Cut* cut = nullptr) {
         for (int k = 0; k < count; ++k) {
             const glm::dvec4& c = in[k].position;
             if (!(c.w > 0.0) || !std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) ||
                 !std::isfinite(c.w))
                 return false;
         }
-        if (count > hsr::raster::kMaxPieceVertices) {
-            const int half = count / 2;
-            ClipVertex second[hsr::raster::kMaxPieceVertices];
-            int n = 0;
-            for (int k = half; k < count; ++k) second[n++] = in[k];
-            second[n++] = in[0];
-            append(viewport, in, half + 1, like, piece);
-            append(viewport, second, n, like, piece);
-            return true;
-        }
-        append(viewport, in, count, like, piece);
-        return true;
-    }
-
-private:
-    template <class ViewportT>
-    void append(const ViewportT& viewport, const ClipVertex* in, int count, const Polygon& like, bool piece) {
         Polygon p = like;
         p.first = uint32_t(corners.size());
         p.count = uint32_t(count);
         p.marked = false;
-        p.piece = piece;
+        p.done = false;
+        if (cut == nullptr) {
+            p.root = uint32_t(polygons.size());
+            p.first_cut = uint32_t(cuts.size());
+            p.cut_count = 0;
+        } else {
+            const uint32_t from = like.first_cut;
+            p.first_cut = uint32_t(cuts.size());
+            p.cut_count = like.cut_count + 1;
+            for (uint32_t k = 0; k < like.cut_count; ++k) cuts.push_back(cuts[from + k]);
+            cuts.push_back(*cut);
+        }
         Extent& e = p.extent;
         e = {INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY};
         for (int k = 0; k < count; ++k) {
@@ -181,6 +180,7 @@ private:
             e.z1 = std::max(e.z1, w.z);
         }
         polygons.push_back(p);
+        return true;
     }
 };
 
