@@ -132,12 +132,22 @@ hsr::SceneData two_triangles(std::initializer_list<glm::vec3> p, std::initialize
     return builder.build();
 }
 
-const char* const kRun[6] = {"test-1-depth-run",        "test-2-x-run",
-                             "test-3-y-run",            "test-4-p-behind-q-plane-run",
-                             "test-5-q-before-p-plane-run", "test-6-projections-run"};
-const char* const kPassed[6] = {"test-1-depth-passed",        "test-2-x-passed",
-                                "test-3-y-passed",            "test-4-p-behind-q-plane-passed",
-                                "test-5-q-before-p-plane-passed", "test-6-projections-passed"};
+const char* const kRun[6] = {
+    "test-1-depth-run",
+    "test-2-x-run",
+    "test-3-y-run",
+    "test-4-p-behind-q-plane-run",
+    "test-5-q-before-p-plane-run",
+    "test-6-projections-run",
+};
+const char* const kPassed[6] = {
+    "test-1-depth-passed",
+    "test-2-x-passed",
+    "test-3-y-passed",
+    "test-4-p-behind-q-plane-passed",
+    "test-5-q-before-p-plane-passed",
+    "test-6-projections-passed",
+};
 
 }  // namespace
 
@@ -295,7 +305,7 @@ TEST_CASE("painter: clip planes cut the polygons before they are sorted", "[pain
     }
 }
 
-TEST_CASE("painter: steps run to the end give the render; each step is a paint, move or split", "[painter]") {
+TEST_CASE("painter: steps run to the end give the render, each step a paint, move or split", "[painter]") {
     const hsr::SceneData& boxes = model("boxes.scene");
     const hsr::SceneFile three = hsr::load_scene_file(test_models::path("three-polygons.scene"));
     const hsr_camera three_camera =
@@ -358,7 +368,7 @@ TEST_CASE("painter: more polygons than max-polygons is refused with one line", "
     }
 }
 
-TEST_CASE("painter: projections that touch count as overlapping; planes through shared corners", "[painter]") {
+TEST_CASE("painter: projections that touch overlap, planes through shared corners", "[painter]") {
     using painter::projections_disjoint;
     const glm::dvec2 a[] = {{0, 0}, {4, 0}, {0, 4}};
     const glm::dvec2 touching[] = {{4, 0}, {4, 4}, {0, 4}};  // shares the hypotenuse

@@ -4,14 +4,15 @@
 // their farthest depth; before the farthest is painted, it is tested against every polygon whose
 // depth extent overlaps its own (depth, x and y extents, P behind Q's plane, Q in front of P's
 // plane, projections disjoint); a polygon it may hide is moved ahead of it, and when a moved polygon
-// would have to move again (a cycle, or polygons that pierce one another) one of the two is split
-// by the other's plane. mode=naive paints in the order of a single depth key and shows why the tests
-// are needed.
+// would have to move again (a cycle, or polygons that pierce one another) a polygon of the cycle is
+// split by another's plane, or along another's outline. mode=naive paints in the order of a single
+// depth key and shows why the tests are needed.
 //
 // Each triangle's polygon is the part left after near/far and the camera's clip planes
-// (GeometryStage::clipped_polygon); pieces are painted with GeometryStage::rasterize_polygon, so
-// coverage, depth and barycentrics come from the SDK's triangle setups. docs/algorithms/painter.md
-// describes the steps and counters.
+// (GeometryStage::clipped_polygon). A piece of a split is painted as its triangle's polygon
+// (GeometryStage::rasterize_polygon) at the pixel centres its cut planes keep, so coverage, depth
+// and barycentrics are the zbuffer's. Candidates for the tests come from screen-space bins.
+// docs/algorithms/painter.md describes the steps and counters.
 #include "polygons.hpp"
 
 #include "hsr/raster.hpp"
@@ -20,7 +21,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <numeric>
 #include <set>
 #include <string>
 #include <vector>
@@ -45,9 +45,9 @@ struct SortStats {
     uint64_t pixels_painted = 0;
     uint64_t reorderings = 0;
     uint64_t splits = 0;
-    uint64_t unresolved = 0;  // cycles no split could break: the head painted as it was
+    uint64_t unresolved = 0;        // cycles no cut could break: the head painted as it was
     uint64_t polygons_dropped = 0;  // polygons and pieces that cover no pixel centre
-    uint64_t run[6] = {};     // the six tests, in order
+    uint64_t run[6] = {};           // the six tests, in order
     uint64_t passed[6] = {};
 };
 
@@ -128,13 +128,22 @@ private:
         counters.set("reorderings", s.reorderings);
         counters.set("splits", s.splits);
         counters.set("cycles-unresolved", s.unresolved);
-        static constexpr const char* kRun[6] = {"test-1-depth-run",        "test-2-x-run",
-                                                "test-3-y-run",            "test-4-p-behind-q-plane-run",
-                                                "test-5-q-before-p-plane-run", "test-6-projections-run"};
+        static constexpr const char* kRun[6] = {
+            "test-1-depth-run",
+            "test-2-x-run",
+            "test-3-y-run",
+            "test-4-p-behind-q-plane-run",
+            "test-5-q-before-p-plane-run",
+            "test-6-projections-run",
+        };
         static constexpr const char* kPassed[6] = {
-            "test-1-depth-passed",        "test-2-x-passed",
-            "test-3-y-passed",            "test-4-p-behind-q-plane-passed",
-            "test-5-q-before-p-plane-passed", "test-6-projections-passed"};
+            "test-1-depth-passed",
+            "test-2-x-passed",
+            "test-3-y-passed",
+            "test-4-p-behind-q-plane-passed",
+            "test-5-q-before-p-plane-passed",
+            "test-6-projections-passed",
+        };
         for (int k = 0; k < 6; ++k) {
             counters.set(kRun[k], s.run[k]);
             counters.set(kPassed[k], s.passed[k]);
@@ -388,7 +397,7 @@ private:
 
     // A cut that makes progress on a cycle (see split()): polygon `cut` by `plane`, the plane of
     // polygon `by` or, when by == kNone, the plane through the eye and an edge of `by_edge_of`.
-    struct Cut {
+    struct CycleCut {
         uint32_t cut = kNone;
         glm::dvec4 plane{0.0};
         uint32_t by = kNone;
@@ -396,7 +405,7 @@ private:
     };
 
     // Polygon x may hide polygon y: cut one by the other's plane where that plane crosses it.
-    Cut plane_cut(uint32_t x, uint32_t y) const {
+    CycleCut plane_cut(uint32_t x, uint32_t y) const {
         if (crosses(store_.polygons[y].plane, x)) return {x, store_.polygons[y].plane, y};
         if (crosses(store_.polygons[x].plane, y)) return {y, store_.polygons[x].plane, x};
         return {};
@@ -404,7 +413,7 @@ private:
 
     // The plane through the eye and an edge of polygon `outline` (in NDC, the line through two of
     // its corners) that crosses polygon `cut`: the piece beyond it no longer overlaps `outline`.
-    Cut edge_cut(uint32_t cut, uint32_t outline) const {
+    CycleCut edge_cut(uint32_t cut, uint32_t outline) const {
         const Polygon& o = store_.polygons[outline];
         const ClipVertex* c = store_.corners_of(o);
         for (uint32_t k = 0; k < o.count; ++k) {
@@ -426,7 +435,7 @@ private:
     // undone: what was moved goes back in line, its order to be found again.
     template <bool kCountPaints, class Steps>
     void split(uint32_t head, uint32_t blocker, const raster::PixelBuffers& buffers, Steps& steps) {
-        Cut c = plane_cut(head, blocker);
+        CycleCut c = plane_cut(head, blocker);
         const size_t first = size_t(std::find(moved_.begin(), moved_.end(), blocker) - moved_.begin());
         for (size_t k = first; c.cut == kNone && k + 1 < moved_.size(); ++k) c = plane_cut(moved_[k], moved_[k + 1]);
         if (c.cut == kNone) c = edge_cut(head, blocker);
