@@ -1,0 +1,561 @@
+// painter: the painter's algorithm, polygons painted back to front over one another with no depth
+// test. mode=newell is the depth sort of M. E. Newell, R. G. Newell and T. L. Sancha, "A solution to
+// the hidden surface problem", Proc. ACM Annual Conference 1972, pp. 443-450: polygons sorted by
+// their farthest depth; before the farthest is painted, it is tested against every polygon whose
+// depth extent overlaps its own (depth, x and y extents, P behind Q's plane, Q in front of P's
+// plane, projections disjoint); a polygon it may hide is moved ahead of it, and when a moved polygon
+// would have to move again (a cycle, or polygons that pierce one another) a polygon of the cycle is
+// split by another's plane, or along another's outline. mode=naive paints in the order of a single
+// depth key and shows why the tests are needed.
+//
+// Each triangle's polygon is the part left after near/far and the camera's clip planes
+// (GeometryStage::clipped_polygon). A piece of a split is painted as its triangle's polygon
+// (GeometryStage::rasterize_polygon) at the pixel centres its cut planes keep, so coverage, depth
+// and barycentrics are the zbuffer's. Candidates for the tests come from screen-space bins.
+// docs/algorithms/painter.md describes the steps and counters.
+#include "polygons.hpp"
+
+#include "hsr/raster.hpp"
+#include "hsr/sdk.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace raster = hsr::raster;
+using hsr::sdk::ParamSpec;
+using painter::ClipVertex;
+using painter::Polygon;
+
+constexpr uint32_t kNone = ~0u;
+// Pieces with more corners than this skip the separating-axis shortcut of test 6.
+constexpr uint32_t kMaxCorners = 32;
+
+// What the sort did, reported as counters.
+struct SortStats {
+    uint64_t triangles_in = 0;
+    uint64_t triangles_skipped = 0;  // culled, outside, cut away, seen edge-on
+    uint64_t polygons_sorted = 0;    // polygons from triangles, before any split
+    uint64_t polygons_painted = 0;
+    uint64_t pixels_painted = 0;
+    uint64_t reorderings = 0;
+    uint64_t splits = 0;
+    uint64_t unresolved = 0;        // cycles no cut could break: the head painted as it was
+    uint64_t polygons_dropped = 0;  // polygons and pieces that cover no pixel centre
+    uint64_t run[6] = {};           // the six tests, in order
+    uint64_t passed[6] = {};
+};
+
+class Painter final : public hsr::sdk::HiddenSurfaceRemover {
+public:
+    static constexpr hsr::sdk::PluginInfo info{
+        "painter", "1.0.0", "depth sort (Newell, Newell & Sancha 1972): painted back to front, cycles split"};
+    static inline const ParamSpec params[] = {
+        ParamSpec::choice("mode", "newell", "newell|naive",
+                          "newell: the tests, reordering and splitting; naive: paint in sort order only"),
+        ParamSpec::choice("naive-key", "farthest", "farthest|mid",
+                          "the depth a polygon is sorted by in naive mode: its farthest point or mid-depth"),
+        ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+        ParamSpec::integer("max-polygons", "1000000", 1, 100000000,
+                           "refuse a frame that needs more polygons than this, counting split pieces"),
+    };
+
+    explicit Painter(const hsr::sdk::Params& p)
+        : newell_(p.choice("mode") == 0), key_mid_(p.choice("naive-key") == 1),
+          cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}
+
+    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                hsr::sdk::Counters& counters) override {
+        hsr::sdk::NoSteps no_steps;
+        render_with(scene, camera, target, counters, no_steps);
+    }
+
+    // One step per polygon painted, per reordering and per split, in the order they happen.
+    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
+        render_with(scene, camera, target, counters, steps);
+    }
+
+private:
+    // Sort order: farther key first, then lower polygon index (scene order).
+    struct Key {
+        double depth;
+        uint32_t id;
+    };
+    struct FartherFirst {
+        bool operator()(const Key& a, const Key& b) const {
+            return a.depth > b.depth || (a.depth == b.depth && a.id < b.id);
+        }
+    };
+
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
+        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+        geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
+        width_ = camera.width;
+        height_ = camera.height;
+        stats_ = SortStats{};
+        auto finish = [&] { report(counters); };
+        try {
+            collect(scene);
+            if (target.depth_tests() == nullptr)
+                paint_all<false>(target, steps);
+            else
+                paint_all<true>(target, steps);
+        } catch (const hsr::sdk::StepLimitReached&) {
+            finish();
+            throw;
+        }
+        finish();
+    }
+
+    void report(hsr::sdk::Counters& counters) const {
+        const SortStats& s = stats_;
+        counters.set("triangles-in", s.triangles_in);
+        counters.set("triangles-skipped", s.triangles_skipped);
+        counters.set("polygons-sorted", s.polygons_sorted);
+        counters.set("polygons-without-pixels", s.polygons_dropped);
+        counters.set("polygons-made", store_.polygons.size());
+        counters.set("polygons-painted", s.polygons_painted);
+        counters.set("pixels-painted", s.pixels_painted);
+        if (!newell_) return;
+        counters.set("reorderings", s.reorderings);
+        counters.set("splits", s.splits);
+        counters.set("cycles-unresolved", s.unresolved);
+        static constexpr const char* kRun[6] = {
+            "test-1-depth-run",
+            "test-2-x-run",
+            "test-3-y-run",
+            "test-4-p-behind-q-plane-run",
+            "test-5-q-before-p-plane-run",
+            "test-6-projections-run",
+        };
+        static constexpr const char* kPassed[6] = {
+            "test-1-depth-passed",
+            "test-2-x-passed",
+            "test-3-y-passed",
+            "test-4-p-behind-q-plane-passed",
+            "test-5-q-before-p-plane-passed",
+            "test-6-projections-passed",
+        };
+        for (int k = 0; k < 6; ++k) {
+            counters.set(kRun[k], s.run[k]);
+            counters.set(kPassed[k], s.passed[k]);
+        }
+    }
+
+    // The refusal when the polygons would pass max-polygons.
+    void reserve(uint64_t more) const {
+        if (store_.polygons.size() + more > max_polygons_)
+            throw hsr::sdk::Unsupported("painter: the frame needs more than max-polygons=" +
+                                        std::to_string(max_polygons_) + " polygons (counting split pieces)");
+    }
+
+    // Every triangle of every placement as its clipped polygon, with its plane and extents.
+    void collect(const hsr::sdk::Scene& scene) {
+        store_.clear();
+        const uint32_t* indices = scene.raw().indices;
+        ClipVertex polygon[raster::kMaxClipVertices];
+        for (uint32_t k = 0; k < scene.placement_count(); ++k) {
+            const hsr::sdk::Placement placement = scene.placement(k);
+            geometry_.place(placement);
+            const uint32_t end = placement.first_triangle + placement.triangle_count;
+            for (uint32_t t = placement.first_triangle; t < end; ++t) {
+                ++stats_.triangles_in;
+                const int count = geometry_.clipped_polygon(t, polygon);
+                Polygon like;
+                like.face = t;
+                like.instance = placement.instance;
+                if (count >= 3)
+                    like.plane = painter::oriented_plane(geometry_.clip_vertex(indices[3 * size_t(t)]),
+                                                         geometry_.clip_vertex(indices[3 * size_t(t) + 1]),
+                                                         geometry_.clip_vertex(indices[3 * size_t(t) + 2]));
+                if (count < 3 || like.plane == glm::dvec4(0.0)) {
+                    ++stats_.triangles_skipped;
+                    continue;
+                }
+                reserve(1);
+                if (!add_polygon(polygon, count, like)) ++stats_.triangles_skipped;
+            }
+        }
+        stats_.polygons_sorted = store_.polygons.size() - stats_.polygons_dropped;
+    }
+
+    // Stores a polygon (or a piece) and marks it done at once when it covers no pixel centre of the
+    // image, which saves sorting the many triangles of a fine mesh that fall between pixel centres.
+    // False when it could not be stored (a corner that does not project).
+    bool add_polygon(const ClipVertex* corners, int count, const Polygon& like, const painter::Cut* cut = nullptr) {
+        if (!store_.add(geometry_.viewport(), corners, count, like, cut)) return false;
+        Polygon& p = store_.polygons.back();
+        if (!covers_pixels(p)) {
+            p.done = true;
+            ++stats_.polygons_dropped;
+        }
+        return true;
+    }
+
+    bool covers_pixels(const Polygon& p) const {
+        const painter::Extent& e = p.extent;
+        if (e.x1 < -1.0 || e.y1 < -1.0 || e.x0 > width_ + 1.0 || e.y0 > height_ + 1.0) return false;
+        if (e.x1 - e.x0 > 4.0 || e.y1 - e.y0 > 4.0) return true;  // small ones are rasterized to see
+        bool covered = false;
+        for_each_pixel(p, whole_image(), [&](const raster::TriangleSetup&, int32_t, int32_t, double, double) {
+            covered = true;
+        });
+        return covered;
+    }
+
+    // A rectangle of pixels, inclusive.
+    struct PixelRect {
+        int32_t x0, y0, x1, y1;
+    };
+    PixelRect whole_image() const { return {0, 0, int32_t(width_) - 1, int32_t(height_) - 1}; }
+
+    // Calls visit(setup, x, y, i, j) for every pixel centre of polygon p inside `rect`: the pixels
+    // its root polygon covers (GeometryStage::rasterize_polygon) that its cuts keep.
+    template <class Visit>
+    void for_each_pixel(const Polygon& p, const PixelRect& rect, Visit&& visit) const {
+        const Polygon& root = store_.polygons[p.root];
+        const painter::Cut* cuts = store_.cuts_of(p);
+        const uint32_t cut_count = p.cut_count;
+        const double to_ndc_x = 2.0 / width_, to_ndc_y = 2.0 / height_;
+        geometry_.rasterize_polygon(store_.corners_of(root), int(root.count), [&](const raster::TriangleSetup& s) {
+            const int32_t x0 = std::max(rect.x0, s.min_x), y0 = std::max(rect.y0, s.min_y);
+            const int32_t x1 = std::min(rect.x1, s.max_x), y1 = std::min(rect.y1, s.max_y);
+            if (x0 > x1 || y0 > y1) return;
+            raster::for_each_covered_pixel_in(s, x0, y0, x1, y1, [&](int32_t x, int32_t y, double i, double j) {
+                if (cut_count != 0) {
+                    // The triangle's point at this pixel centre, in NDC.
+                    const glm::dvec4 point((x + 0.5) * to_ndc_x - 1.0, 1.0 - (y + 0.5) * to_ndc_y,
+                                           2.0 * s.depth.at(i, j) - 1.0, 1.0);
+                    for (uint32_t k = 0; k < cut_count; ++k) {
+                        const double side = glm::dot(cuts[k].plane, point);
+                        if (cuts[k].strict ? !(side > 0.0) : !(side >= 0.0)) return;
+                    }
+                }
+                visit(s, x, y, i, j);
+            });
+        });
+    }
+
+    // Test 6 made exact: no pixel centre of the image belongs to both polygons. Separated
+    // projections (the separating-axis test over their corners) answer first.
+    bool pixels_disjoint(const Polygon& p, const Polygon& q) {
+        glm::dvec2 wp[kMaxCorners], wq[kMaxCorners];
+        if (p.count <= kMaxCorners && q.count <= kMaxCorners) {
+            for (uint32_t k = 0; k < p.count; ++k) wp[k] = window_xy(store_.corners_of(p)[k]);
+            for (uint32_t k = 0; k < q.count; ++k) wq[k] = window_xy(store_.corners_of(q)[k]);
+            if (painter::projections_disjoint(wp, p.count, wq, q.count)) return true;
+        }
+        const painter::Extent &a = p.extent, &b = q.extent;
+        const PixelRect image = whole_image();
+        const PixelRect rect{std::max(image.x0, int32_t(std::floor(std::max(a.x0, b.x0))) - 1),
+                             std::max(image.y0, int32_t(std::floor(std::max(a.y0, b.y0))) - 1),
+                             std::min(image.x1, int32_t(std::ceil(std::min(a.x1, b.x1))) + 1),
+                             std::min(image.y1, int32_t(std::ceil(std::min(a.y1, b.y1))) + 1)};
+        if (rect.x0 > rect.x1 || rect.y0 > rect.y1) return true;
+        const size_t columns = size_t(rect.x1 - rect.x0 + 1);
+        mask_.assign(columns * size_t(rect.y1 - rect.y0 + 1), 0);
+        for_each_pixel(p, rect, [&](const raster::TriangleSetup&, int32_t x, int32_t y, double, double) {
+            mask_[size_t(y - rect.y0) * columns + size_t(x - rect.x0)] = 1;
+        });
+        bool shared = false;
+        for_each_pixel(q, rect, [&](const raster::TriangleSetup&, int32_t x, int32_t y, double, double) {
+            shared = shared || mask_[size_t(y - rect.y0) * columns + size_t(x - rect.x0)] != 0;
+        });
+        return !shared;
+    }
+
+    glm::dvec2 window_xy(const ClipVertex& c) const { return glm::dvec2(geometry_.viewport().project(c.position)); }
+
+    template <bool kCountPaints, class Steps>
+    void paint_all(hsr::sdk::VisibilityBuffer& target, Steps& steps) {
+        const raster::PixelBuffers buffers(target);
+        if (!newell_) {
+            std::vector<Key> order;
+            for (uint32_t k = 0; k < store_.polygons.size(); ++k) {
+                const painter::Extent& e = store_.polygons[k].extent;
+                if (!store_.polygons[k].done) order.push_back({key_mid_ ? 0.5 * (e.z0 + e.z1) : e.z1, k});
+            }
+            std::sort(order.begin(), order.end(), FartherFirst{});
+            for (const Key& key : order) paint<kCountPaints>(key.id, buffers, steps);
+            return;
+        }
+        depth_sort<kCountPaints>(buffers, steps);
+    }
+
+    // Newell, Newell & Sancha: `waiting` holds the polygons not yet painted nor moved, farthest
+    // first; `moved` the chain of polygons moved ahead of the one below them, the last one first in
+    // line. The head (the last moved one, else the farthest waiting one) is painted once it can hide
+    // none of the others.
+    template <bool kCountPaints, class Steps>
+    void depth_sort(const raster::PixelBuffers& buffers, Steps& steps) {
+        waiting_.clear();
+        moved_.clear();
+        bins_.reset(width_, height_);
+        for (uint32_t k = 0; k < store_.polygons.size(); ++k) enter(k);
+        while (true) {
+            uint32_t head;
+            if (!moved_.empty())
+                head = moved_.back();
+            else if (!waiting_.empty())
+                head = waiting_.begin()->id;
+            else
+                break;
+            const uint32_t blocker = find_blocker(head);
+            if (blocker == kNone) {
+                remove(head);
+                paint<kCountPaints>(head, buffers, steps);
+            } else if (!store_.polygons[blocker].marked) {
+                waiting_.erase({store_.polygons[blocker].extent.z1, blocker});
+                store_.polygons[blocker].marked = true;
+                moved_.push_back(blocker);
+                ++stats_.reorderings;
+                if constexpr (Steps::enabled) reorder_step(head, blocker, steps);
+            } else {
+                split<kCountPaints>(head, blocker, buffers, steps);
+            }
+        }
+    }
+
+    // Puts polygon `id` in line (unless it is done): in the waiting order and in the bins.
+    void enter(uint32_t id) {
+        const Polygon& p = store_.polygons[id];
+        if (p.done) return;
+        waiting_.insert({p.extent.z1, id});
+        bins_.add(id, p.extent);
+    }
+
+    // The first polygon the head may hide (all six tests failed), or kNone. The candidates come
+    // from the bins the head's extent touches (the others pass tests 2 or 3 without being looked
+    // at), each once.
+    uint32_t find_blocker(uint32_t head) {
+        if (seen_.size() < store_.polygons.size()) seen_.resize(store_.polygons.size(), 0);
+        if (++query_ == 0) {  // the stamps wrapped around
+            std::fill(seen_.begin(), seen_.end(), 0);
+            query_ = 1;
+        }
+        seen_[head] = query_;
+        const Polygon& p = store_.polygons[head];
+        uint32_t blocker = kNone;
+        bins_.for_each_near(p.extent, store_.polygons, [&](uint32_t id) {
+            if (seen_[id] == query_) return false;
+            seen_[id] = query_;
+            const Polygon& q = store_.polygons[id];
+            ++stats_.run[0];
+            if (q.extent.z1 <= p.extent.z0) {  // Q is nearer than all of P
+                ++stats_.passed[0];
+                return false;
+            }
+            if (may_paint_before(p, q)) return false;
+            blocker = id;
+            return true;
+        });
+        return blocker;
+    }
+
+    // Tests 2 to 6 for P and Q, whose depth extents overlap: true when P cannot hide Q.
+    bool may_paint_before(const Polygon& p, const Polygon& q) {
+        constexpr double m = painter::kOverlapMargin;
+        const painter::Extent &a = p.extent, &b = q.extent;
+        auto passes = [&](int test, bool result) {
+            ++stats_.run[test];
+            if (result) ++stats_.passed[test];
+            return result;
+        };
+        if (passes(1, a.x1 + m < b.x0 || b.x1 + m < a.x0)) return true;
+        if (passes(2, a.y1 + m < b.y0 || b.y1 + m < a.y0)) return true;
+        if (passes(3, painter::sides_of(q.plane, store_.corners_of(p), p.count).all_far)) return true;
+        if (passes(4, painter::sides_of(p.plane, store_.corners_of(q), q.count).all_near)) return true;
+        return passes(5, pixels_disjoint(p, q));
+    }
+
+    // Takes a polygon out of the line (waiting or moved) for good.
+    void remove(uint32_t id) {
+        Polygon& p = store_.polygons[id];
+        p.done = true;
+        if (p.marked) {
+            moved_.erase(std::find(moved_.begin(), moved_.end(), id));
+            p.marked = false;
+        } else {
+            waiting_.erase({p.extent.z1, id});
+        }
+    }
+
+    // True when the plane (oriented or not) has corners of polygon `id` strictly on both sides.
+    bool crosses(const glm::dvec4& plane, uint32_t id) const {
+        const Polygon& p = store_.polygons[id];
+        const painter::Sides s = painter::sides_of(plane, store_.corners_of(p), p.count);
+        return !s.all_near && !s.all_far;
+    }
+
+    // A cut that makes progress on a cycle (see split()): polygon `cut` by `plane`, the plane of
+    // polygon `by` or, when by == kNone, the plane through the eye and an edge of `by_edge_of`.
+    struct CycleCut {
+        uint32_t cut = kNone;
+        glm::dvec4 plane{0.0};
+        uint32_t by = kNone;
+        uint32_t by_edge_of = kNone;
+    };
+
+    // Polygon x may hide polygon y: cut one by the other's plane where that plane crosses it.
+    CycleCut plane_cut(uint32_t x, uint32_t y) const {
+        if (crosses(store_.polygons[y].plane, x)) return {x, store_.polygons[y].plane, y};
+        if (crosses(store_.polygons[x].plane, y)) return {y, store_.polygons[x].plane, x};
+        return {};
+    }
+
+    // The plane through the eye and an edge of polygon `outline` (in NDC, the line through two of
+    // its corners) that crosses polygon `cut`: the piece beyond it no longer overlaps `outline`.
+    CycleCut edge_cut(uint32_t cut, uint32_t outline) const {
+        const Polygon& o = store_.polygons[outline];
+        const ClipVertex* c = store_.corners_of(o);
+        for (uint32_t k = 0; k < o.count; ++k) {
+            const glm::dvec4 &a4 = c[k].position, &b4 = c[k + 1 == o.count ? 0 : k + 1].position;
+            const glm::dvec2 a(a4.x / a4.w, a4.y / a4.w), b(b4.x / b4.w, b4.y / b4.w);
+            const glm::dvec2 normal(a.y - b.y, b.x - a.x);
+            const glm::dvec4 plane(normal.x, normal.y, 0.0, -glm::dot(normal, a));
+            if (crosses(plane, cut)) return {cut, plane, kNone, outline};
+        }
+        return {};
+    }
+
+    // A cycle: the head may hide `blocker`, which is in the chain of moved polygons below it, so
+    // each polygon of the chain from the blocker up may hide the next and the head may hide the
+    // blocker. Split the first pair of the cycle (the head and the blocker first) where one
+    // polygon's plane crosses the other; in a cycle of polygons that do not cross one another's
+    // planes, which is a true cyclic overlap, cut the head along the blocker's outline (or the
+    // blocker along the head's). The pieces wait in line by their farthest depth, and the chain is
+    // undone: what was moved goes back in line, its order to be found again.
+    template <bool kCountPaints, class Steps>
+    void split(uint32_t head, uint32_t blocker, const raster::PixelBuffers& buffers, Steps& steps) {
+        CycleCut c = plane_cut(head, blocker);
+        const size_t first = size_t(std::find(moved_.begin(), moved_.end(), blocker) - moved_.begin());
+        for (size_t k = first; c.cut == kNone && k + 1 < moved_.size(); ++k) c = plane_cut(moved_[k], moved_[k + 1]);
+        if (c.cut == kNone) c = edge_cut(head, blocker);
+        if (c.cut == kNone) c = edge_cut(blocker, head);
+        if (c.cut == kNone) {  // nothing left to cut (not seen): paint the head as it is
+            ++stats_.unresolved;
+            remove(head);
+            paint<kCountPaints>(head, buffers, steps);
+            return;
+        }
+        const Polygon original = store_.polygons[c.cut];  // add() may move the store
+        const size_t n = original.count;
+        split_corners_.assign(store_.corners_of(original), store_.corners_of(original) + n);
+        split_front_.resize(n + 2);
+        split_back_.resize(n + 2);
+        int front_count = 0, back_count = 0;
+        raster::split_by_plane(split_corners_.data(), int(n), c.plane, split_front_.data(), front_count,
+                               split_back_.data(), back_count);
+        reserve(2);
+        remove(c.cut);
+        for (const uint32_t k : moved_) {
+            store_.polygons[k].marked = false;
+            waiting_.insert({store_.polygons[k].extent.z1, k});
+        }
+        moved_.clear();
+        const uint32_t first_piece = uint32_t(store_.polygons.size());
+        const painter::Cut front_cut{c.plane, false}, back_cut{-c.plane, true};
+        add_polygon(split_front_.data(), front_count, original, &front_cut);
+        add_polygon(split_back_.data(), back_count, original, &back_cut);
+        const uint32_t end = uint32_t(store_.polygons.size());
+        for (uint32_t k = first_piece; k < end; ++k) enter(k);
+        ++stats_.splits;
+        if constexpr (Steps::enabled) {
+            for (uint32_t k = first_piece; k < end; ++k) outline(k, HSR_STEP_SUBJECT, steps);
+            const hsr::sdk::Steps::Event event{"split", original.face, original.instance};
+            if (c.by != kNone) {
+                outline(c.by, HSR_STEP_CONTEXT, steps);
+                steps.step(event, "cycle: triangle %u split by the plane of triangle %u", unsigned(original.face),
+                           unsigned(store_.polygons[c.by].face));
+            } else {
+                outline(c.by_edge_of, HSR_STEP_CONTEXT, steps);
+                steps.step(event, "cyclic overlap: triangle %u cut along the outline of triangle %u",
+                           unsigned(original.face), unsigned(store_.polygons[c.by_edge_of].face));
+            }
+        }
+    }
+
+    template <class Steps>
+    void reorder_step(uint32_t head, uint32_t blocker, Steps& steps) {
+        const Polygon& q = store_.polygons[blocker];
+        outline(head, HSR_STEP_CONTEXT, steps);
+        outline(blocker, HSR_STEP_SUBJECT, steps);
+        steps.step(hsr::sdk::Steps::Event{"reorder", q.face, q.instance},
+                   "triangle %u may hide triangle %u (all six tests failed): %u moves ahead",
+                   unsigned(store_.polygons[head].face), unsigned(q.face), unsigned(q.face));
+    }
+
+    // Lines of a step: the outline of polygon `id` in window coordinates, unless it reaches far off
+    // the image.
+    template <class Steps>
+    void outline(uint32_t id, hsr_step_role role, Steps& steps) const {
+        const Polygon& p = store_.polygons[id];
+        const ClipVertex* c = store_.corners_of(p);
+        const double reach_x = 4.0 * width_, reach_y = 4.0 * height_;
+        for (uint32_t k = 0; k < p.count; ++k) {
+            const glm::dvec2 w = window_xy(c[k]);
+            if (!(std::abs(w.x) <= reach_x && std::abs(w.y) <= reach_y)) return;
+        }
+        for (uint32_t k = 0; k < p.count; ++k) {
+            const glm::dvec2 a = window_xy(c[k]), b = window_xy(c[k + 1 == p.count ? 0 : k + 1]);
+            steps.line(float(a.x), float(a.y), float(b.x), float(b.y), role);
+        }
+    }
+
+    // Paints polygon `id` over whatever is there: face, instance, depth and barycentrics at every
+    // pixel centre it covers.
+    template <bool kCountPaints, class Steps>
+    void paint(uint32_t id, const raster::PixelBuffers& b, Steps& steps) {
+        const Polygon& p = store_.polygons[id];
+        const uint32_t face = p.face, instance = p.instance;
+        uint64_t written = 0;
+        for_each_pixel(p, whole_image(), [&](const raster::TriangleSetup& s, int32_t x, int32_t y, double i, double j) {
+            const size_t q = size_t(y) * b.stride + size_t(x);
+            b.depth[q] = raster::depth_at(s, i, j);
+            b.face[q] = face;
+            if (b.instance != nullptr) b.instance[q] = instance;
+            const glm::vec2 bary = raster::barycentrics_at(s, i, j);
+            b.bary[2 * q] = bary.x;
+            b.bary[2 * q + 1] = bary.y;
+            if constexpr (kCountPaints) ++b.tests[q];
+            ++written;
+        });
+        ++stats_.polygons_painted;
+        stats_.pixels_painted += written;
+        if constexpr (Steps::enabled) {
+            outline(id, HSR_STEP_SUBJECT, steps);
+            steps.step(hsr::sdk::Steps::Event{"polygon", face, instance, HSR_NO_LEVEL, written, 0},
+                       "%s %u painted: %llu pixel%s", p.cut_count != 0 ? "piece of triangle" : "triangle", unsigned(face),
+                       (unsigned long long)written, written == 1 ? "" : "s");
+        }
+    }
+
+    bool newell_;
+    bool key_mid_;
+    bool cull_backfaces_;
+    uint64_t max_polygons_;
+    uint32_t width_ = 0;
+    uint32_t height_ = 0;
+    SortStats stats_;
+    raster::GeometryStage geometry_;  // these keep their buffers between frames
+    painter::PolygonStore store_;
+    std::set<Key, FartherFirst> waiting_;
+    std::vector<uint32_t> moved_;
+    painter::BinGrid bins_;
+    std::vector<uint32_t> seen_;  // per polygon, the last find_blocker query that looked at it
+    uint32_t query_ = 0;
+    std::vector<uint8_t> mask_;  // pixels_disjoint's scratch
+    std::vector<ClipVertex> split_corners_, split_front_, split_back_;
+};
+
+}  // namespace
+
+HSR_EXPORT_PLUGIN(Painter)

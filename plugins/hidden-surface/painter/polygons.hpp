@@ -1,0 +1,245 @@
+// painter: the polygons a depth sort works on and the geometric tests of Newell, Newell & Sancha,
+// "A solution to the hidden surface problem", Proc. ACM Annual Conference 1972, pp. 443-450:
+// window-space extents, the side of a polygon's plane another polygon lies on, and whether two
+// projections overlap. Polygons are convex pieces of the scene's triangles in clip space, their
+// corners carrying the original triangle's barycentrics (hsr/triangle_setup.hpp, ClipVertex).
+// Header-only so that tests/test_painter.cpp can check the tests directly.
+#pragma once
+
+#include "hsr/triangle_setup.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace painter {
+
+using hsr::raster::ClipVertex;
+
+// Projections closer than this (window pixels) count as overlapping: snapping the corners to the
+// rasterizer's 1/256-pixel grid moves each by up to 1/512 pixel, and polygons that merely touch can
+// share a pixel centre on the touching line.
+inline constexpr double kOverlapMargin = 1.0 / 64.0;
+// A corner this close to a plane, relative to the size of the terms of the plane equation, lies in
+// it: corners shared by two triangles of a mesh, or made by splitting, are not moved off their
+// plane by rounding.
+inline constexpr double kPlaneTolerance = 1e-10;
+
+// Window-space bounds of a polygon: x and y in pixels (y down), depth in [0, 1] (larger is farther).
+struct Extent {
+    double x0, x1, y0, y1, z0, z1;
+};
+
+// A half-space a piece of a triangle keeps, from a clip-space plane: at a pixel centre of the
+// triangle, the point of the triangle there (window x, y and depth, as NDC) is kept where
+// dot(plane, point) >= 0, or > 0 when strict. The two pieces of a split get the plane with opposite
+// signs, one of them strict, so each pixel centre of the triangle goes to exactly one of them.
+struct Cut {
+    glm::dvec4 plane;
+    bool strict;
+};
+
+struct Polygon {
+    uint32_t first = 0;  // its corners are corners[first, first + count) of the PolygonStore
+    uint32_t count = 0;
+    uint32_t face = 0;  // the triangle it is (a piece of)
+    uint32_t instance = 0;
+    // Pixels: those of polygon `root` (the triangle's clipped polygon, rasterized) that all the
+    // cuts cuts[first_cut, first_cut + cut_count) keep. Corners and extents serve the tests.
+    uint32_t root = 0;
+    uint32_t first_cut = 0;
+    uint32_t cut_count = 0;
+    // The plane of the triangle in clip space, oriented so that points nearer the viewer are on its
+    // positive side, scaled to |(x, y, z)| = 1.
+    glm::dvec4 plane{0.0};
+    Extent extent{};
+    bool marked = false;  // moved ahead of another polygon and not yet painted
+    bool done = false;    // painted, dropped or split
+};
+
+// Where a polygon's corners lie against a plane (as Polygon::plane): all on the near side or on the
+// plane, all on the far side or on it. Both for a polygon in the plane; neither when it crosses it.
+struct Sides {
+    bool all_near = true;
+    bool all_far = true;
+};
+
+inline Sides sides_of(const glm::dvec4& plane, const ClipVertex* corners, uint32_t count) {
+    Sides s;
+    for (uint32_t k = 0; k < count; ++k) {
+        const glm::dvec4& c = corners[k].position;
+        const double d = glm::dot(plane, c);
+        const double size = std::abs(plane.x * c.x) + std::abs(plane.y * c.y) + std::abs(plane.z * c.z) +
+                            std::abs(plane.w * c.w);
+        const double tolerance = kPlaneTolerance * size;
+        if (d < -tolerance) s.all_near = false;
+        if (d > tolerance) s.all_far = false;
+    }
+    return s;
+}
+
+// The plane of the triangle with clip-space corners a, b, c, oriented and scaled as
+// Polygon::plane; zero when the triangle is seen edge-on (its plane contains the view direction) or
+// degenerate. In NDC the plane reads x*p.x + y*p.y + z*p.z + p.w = 0 (clip space divided by w > 0
+// keeps the sign), and the viewer looks toward +z, so the near side is where p.z < 0 points.
+inline glm::dvec4 oriented_plane(const glm::dvec4& a, const glm::dvec4& b, const glm::dvec4& c) {
+    glm::dvec4 p = hsr::raster::plane_through(a, b, c);
+    const double length = glm::length(glm::dvec3(p));
+    if (!(length > 0.0) || !std::isfinite(length) || p.z == 0.0) return glm::dvec4(0.0);
+    p /= length;
+    return p.z > 0.0 ? -p : p;
+}
+
+// True when the convex polygons a and b (window x, y) have a separating line with a gap wider than
+// kOverlapMargin: the separating-axis test over the edge normals of both.
+inline bool projections_disjoint(const glm::dvec2* a, uint32_t na, const glm::dvec2* b, uint32_t nb) {
+    auto separated_along = [&](glm::dvec2 axis) {
+        const double length = glm::length(axis);
+        if (!(length > 0.0)) return false;
+        axis /= length;
+        double a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
+        for (uint32_t k = 0; k < na; ++k) {
+            const double t = glm::dot(axis, a[k]);
+            a0 = std::min(a0, t);
+            a1 = std::max(a1, t);
+        }
+        for (uint32_t k = 0; k < nb; ++k) {
+            const double t = glm::dot(axis, b[k]);
+            b0 = std::min(b0, t);
+            b1 = std::max(b1, t);
+        }
+        return a1 + kOverlapMargin < b0 || b1 + kOverlapMargin < a0;
+    };
+    auto any_edge_separates = [&](const glm::dvec2* p, uint32_t n) {
+        for (uint32_t k = 0; k < n; ++k) {
+            const glm::dvec2 edge = p[k + 1 == n ? 0 : k + 1] - p[k];
+            if (separated_along({-edge.y, edge.x})) return true;
+        }
+        return false;
+    };
+    return any_edge_separates(a, na) || any_edge_separates(b, nb);
+}
+
+// The polygons of a frame, their corners and cuts, kept between frames.
+class PolygonStore {
+public:
+    std::vector<Polygon> polygons;
+    std::vector<ClipVertex> corners;
+    std::vector<Cut> cuts;
+
+    void clear() {
+        polygons.clear();
+        corners.clear();
+        cuts.clear();
+    }
+    const ClipVertex* corners_of(const Polygon& p) const { return corners.data() + p.first; }
+    const Cut* cuts_of(const Polygon& p) const { return cuts.data() + p.first_cut; }
+
+    // Adds a triangle's clipped polygon (3..kMaxPieceVertices corners) with the face, instance
+    // and plane of `like`, or, with a cut, a convex piece of any size of polygon `like` that keeps
+    // its cuts and this one. False when a corner cannot be projected (w <= 0 or not finite):
+    // nothing is added.
+    template <class ViewportT>
+    bool add(const ViewportT& viewport, const ClipVertex* in, int count, const Polygon& like,
+             const Cut* cut = nullptr) {
+        for (int k = 0; k < count; ++k) {
+            const glm::dvec4& c = in[k].position;
+            if (!(c.w > 0.0) || !std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) ||
+                !std::isfinite(c.w))
+                return false;
+        }
+        Polygon p = like;
+        p.first = uint32_t(corners.size());
+        p.count = uint32_t(count);
+        p.marked = false;
+        p.done = false;
+        if (cut == nullptr) {
+            p.root = uint32_t(polygons.size());
+            p.first_cut = uint32_t(cuts.size());
+            p.cut_count = 0;
+        } else {
+            const uint32_t from = like.first_cut;
+            p.first_cut = uint32_t(cuts.size());
+            p.cut_count = like.cut_count + 1;
+            for (uint32_t k = 0; k < like.cut_count; ++k) cuts.push_back(cuts[from + k]);
+            cuts.push_back(*cut);
+        }
+        Extent& e = p.extent;
+        e = {INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY};
+        for (int k = 0; k < count; ++k) {
+            corners.push_back(in[k]);
+            const glm::dvec3 w = viewport.project(in[k].position);
+            e.x0 = std::min(e.x0, w.x);
+            e.x1 = std::max(e.x1, w.x);
+            e.y0 = std::min(e.y0, w.y);
+            e.y1 = std::max(e.y1, w.y);
+            e.z0 = std::min(e.z0, w.z);
+            e.z1 = std::max(e.z1, w.z);
+        }
+        polygons.push_back(p);
+        return true;
+    }
+};
+
+// Screen-space bins of polygon ids, so that the polygons whose window extents may overlap a
+// polygon's are found without looking at all of them. A polygon is listed in every bin its x, y
+// extent (widened by kOverlapMargin, held to the image) touches; done polygons are dropped from a
+// bin when it is next read.
+class BinGrid {
+public:
+    void reset(uint32_t width, uint32_t height) {
+        // Bins of 8 pixels, or fewer bins for very large images.
+        size_ = std::max(8.0, std::ceil(std::max(width, height) / 256.0));
+        columns_ = int(std::ceil(width / size_));
+        rows_ = int(std::ceil(height / size_));
+        bins_.resize(size_t(columns_) * rows_);
+        for (auto& bin : bins_) bin.clear();
+    }
+
+    struct Range {
+        int c0, c1, r0, r1;
+    };
+    Range range(const Extent& e) const {
+        auto column = [&](double x) { return std::clamp(int(std::floor(x / size_)), 0, columns_ - 1); };
+        auto row = [&](double y) { return std::clamp(int(std::floor(y / size_)), 0, rows_ - 1); };
+        return {column(e.x0 - kOverlapMargin), column(e.x1 + kOverlapMargin), row(e.y0 - kOverlapMargin),
+                row(e.y1 + kOverlapMargin)};
+    }
+
+    void add(uint32_t id, const Extent& e) {
+        const Range r = range(e);
+        for (int y = r.r0; y <= r.r1; ++y)
+            for (int x = r.c0; x <= r.c1; ++x) bins_[size_t(y) * columns_ + x].push_back(id);
+    }
+
+    // Calls visit(id) for each polygon not done in the bins of `e`; a polygon may come more than once.
+    template <class Visit>
+    void for_each_near(const Extent& e, const std::vector<Polygon>& polygons, Visit&& visit) {
+        const Range r = range(e);
+        for (int y = r.r0; y <= r.r1; ++y)
+            for (int x = r.c0; x <= r.c1; ++x) {
+                std::vector<uint32_t>& bin = bins_[size_t(y) * columns_ + x];
+                for (size_t k = 0; k < bin.size();) {
+                    const uint32_t id = bin[k];
+                    if (polygons[id].done) {
+                        bin[k] = bin.back();
+                        bin.pop_back();
+                        continue;
+                    }
+                    ++k;
+                    if (visit(id)) return;
+                }
+            }
+    }
+
+private:
+    double size_ = 8.0;
+    int columns_ = 0;
+    int rows_ = 0;
+    std::vector<std::vector<uint32_t>> bins_;
+};
+
+}  // namespace painter
