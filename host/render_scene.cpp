@@ -1,5 +1,5 @@
-// hsr render's scene and camera, from a mesh, a .scene file, a formula or a height map, optionally
-// repeated into a deep scene (render.hpp).
+// hsr render's scene and camera, from a mesh, a .scene file, a formula, a height map or random
+// triangles, optionally repeated into a deep scene (render.hpp).
 #include "commands.hpp"
 #include "render.hpp"
 
@@ -8,6 +8,7 @@
 #include "hsr/instancing.hpp"
 #include "hsr/limits.hpp"
 #include "hsr/pipeline.hpp"
+#include "hsr/random_triangles.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_builder.hpp"
 #include "hsr/scene_file.hpp"
@@ -80,7 +81,9 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         if (!o.up.empty()) look_at.up = parse_vector_option(o.up, "up");
         view.look_at = look_at;
     }
-    if (!o.surface.empty()) {
+    if (o.was_given("random-triangles")) {
+        loaded.scene = hsr::make_random_triangles(uint64_t(o.random_triangles), parse_seed(o.seed));
+    } else if (!o.surface.empty()) {
         const hsr::SurfaceRange range = o.range.empty() ? hsr::SurfaceRange{} : hsr::parse_surface_range(o.range);
         loaded.scene = hsr::make_formula_surface(o.surface, range,
                                                  o.color.empty() ? glm::vec3(0.8f) : parse_color_option(o.color, "color"));
@@ -94,6 +97,7 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         loaded.scene = std::move(file.scene);
         loaded.lights = std::move(file.lights);
         loaded.background = file.background;
+        loaded.samples = file.samples;
         pixel_camera = file.pixel_camera;
         apply_scene_file_view(file, o, view);
     } else {
