@@ -67,31 +67,43 @@ public:
         if (batch.count == 0) return;
         if (batch.face == nullptr || batch.color == nullptr)
             throw hsr::sdk::InvalidArgument("fragment batch: face or color array is NULL");
+        // One loop per mode, so that the mode is not decided per fragment.
+        switch (by_) {
+        case ColorBy::kGiven:
+            fill(batch, [&](uint32_t f, uint32_t) { return hsr::shading::clamp01(scene_->face_color(f)); });
+            break;
+        case ColorBy::kFace:
+            fill(batch, [&](uint32_t f, uint32_t) { return palette_color(face_palette_[f]); });
+            break;
+        case ColorBy::kObject: {
+            const uint64_t objects = std::max(1u, scene_->object_count());
+            const bool instanced = batch.instance != nullptr && scene_->instance_count() > 0;
+            fill(batch, [&](uint32_t f, uint32_t i) {
+                const uint64_t copy = instanced ? batch.instance[i] : 0;
+                return palette_color(uint32_t((copy * objects + scene_->face_object(f)) % kelly_palette.size()));
+            });
+            break;
+        }
+        }
+    }
+
+private:
+    // Writes color_of(face, fragment index) for every fragment of the batch.
+    template <class ColorOf>
+    void fill(hsr_fragment_batch& batch, ColorOf color_of) const {
         const uint32_t triangles = scene_->triangle_count();
-        const uint32_t objects = std::max(1u, scene_->object_count());
-        const bool instanced = batch.instance != nullptr && scene_->instance_count() > 0;
         for (uint32_t i = 0; i < batch.count; ++i) {
             const uint32_t f = batch.face[i];
             if (f >= triangles)
                 throw hsr::sdk::InvalidArgument("fragment batch: face index " + std::to_string(f) +
                                                 " out of range (" + std::to_string(triangles) + " triangles)");
-            glm::vec3 c;
-            switch (by_) {
-            case ColorBy::kGiven: c = hsr::shading::clamp01(scene_->face_color(f)); break;
-            case ColorBy::kFace: c = palette_color(face_palette_[f]); break;
-            case ColorBy::kObject: {
-                const uint64_t copy = instanced ? batch.instance[i] : 0;
-                c = palette_color(uint32_t((copy * objects + scene_->face_object(f)) % kelly_palette.size()));
-                break;
-            }
-            }
+            const glm::vec3 c = color_of(f, i);
             batch.color[3 * size_t{i}] = c.x;
             batch.color[3 * size_t{i} + 1] = c.y;
             batch.color[3 * size_t{i} + 2] = c.z;
         }
     }
 
-private:
     // Greedy colouring in face order: each face takes the first palette entry, counting on from its
     // own index, that no already coloured edge neighbour has. A triangle has at most three
     // neighbours, so one of the 20 is always free.
