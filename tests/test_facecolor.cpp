@@ -1,6 +1,7 @@
 // facecolor's palettes (by=face, by=object) through the real ABI: faces that share an edge differ,
 // objects differ, and by=given is the scene's own colours.
 #include "hsr/abi.h"
+#include "hsr/instancing.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_builder.hpp"
@@ -111,6 +112,18 @@ TEST_CASE("facecolor by=object: the boxes differ from each other, each box in on
     CHECK(*per_object[0].begin() != *per_object[2].begin());
     // None of them is the scene's own colour: the palette replaces it.
     CHECK(colors[0] != glm::vec3(scene.face_colors[0], scene.face_colors[1], scene.face_colors[2]));
+}
+
+TEST_CASE("facecolor by=object: each placed copy of an object in its own colour", "[facecolor]") {
+    const hsr::SceneData grid = hsr::make_instance_grid(model("cube.obj"), {3, 1, 1, 0.5f, 0.0f});
+    REQUIRE(grid.instances.size() == 3);
+    std::set<std::tuple<float, float, float>> copies;
+    for (uint32_t k = 0; k < 3; ++k) {
+        const std::vector<glm::vec3> colors = colors_by("object", grid, k);
+        for (const glm::vec3& c : colors) CHECK(c == colors[0]);
+        copies.insert({colors[0].r, colors[0].g, colors[0].b});
+    }
+    CHECK(copies.size() == 3);
 }
 
 TEST_CASE("facecolor by=given, and no parameter, is the scene's own colour", "[facecolor]") {
