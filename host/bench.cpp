@@ -197,8 +197,9 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
          "one more, with parameters: NAME[:key=value,...] (repeatable)")
         ("models", po::value(&models_list),
          "comma-separated: cube, monkey, bunny, NAME-loop (Loop-subdivided), deep-N[:NAME] (N layers of "
-         "NAME, default monkey), random-N[:SEED] (N random triangles, seed 1 unless given), or file paths (default: cube,monkey,bunny,bunny-loop,deep-3,deep-24,deep-63, "
-         "the deep ones at depth complexity 4.7, 20.3, 49.8)")
+         "NAME, default monkey), random-N[:SEED] (N random triangles, seed 1 unless given), or file paths "
+         "(default: cube,monkey,bunny,bunny-loop,deep-3,deep-24,deep-63, the deep ones at depth complexity "
+         "4.7, 20.3, 49.8)")
         ("sizes", po::value(&sizes_list)->default_value("1024"), "image sizes, comma-separated: 512,1024 or 800x600")
         ("repetitions,r", po::value(&repetitions)->default_value(5), "timed runs of each measurement")
         ("warmup,w", po::value(&warmup)->default_value(1), "untimed runs first (caches, acceleration structures)")
@@ -308,9 +309,8 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
 
             // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
             // algorithm makes all its calls in a row, warm-up first, as an application rendering frame
-            // after frame would, with the processor caches its own.
-            // A plugin that refuses the scene (an error from any of its calls) is shown as n/a with
-            // its reason; the others are still timed.
+            // after frame would, with the processor caches its own. A plugin that refuses the scene (an
+            // error from any of its calls) is shown as n/a with its reason; the others are still timed.
             std::vector<hsr::bench::Timing> timings;
             std::vector<std::string> refusals(algorithms.size());
             ++scene_index;

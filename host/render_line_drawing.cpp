@@ -1,10 +1,10 @@
-// hsr render with a hidden-line plugin: the visible edges drawn as SVG or PNG, optionally the
+// hsr render with a hidden-line plugin: the visible edges drawn as SVG or PNG in the line style of
+// --line-color, --line-width and --hidden (docs/line-drawings.md), optionally the
 // algorithm's steps as a JSON-lines trace, and with --stats its counters (render.hpp). The trace
 // streams into a temporary file during the render; both files are replaced together, once the
 // drawing is written too (hsr/atomic_file.hpp).
-#include "render.hpp"
-
 #include "commands.hpp"
+#include "render.hpp"
 
 #include "hsr/atomic_file.hpp"
 #include "hsr/error.hpp"

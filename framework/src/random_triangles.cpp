@@ -60,7 +60,7 @@ SceneData make_random_triangles(uint64_t count, uint64_t seed) {
         glm::dvec3 centre;
         for (int k = 0; k < 3; ++k) centre[k] = random.between(-extent + radius, extent - radius);
         glm::dvec3 corner[3];
-        for (;;) {  // redraw corners that make a sliver: smallest height under a tenth of the size
+        for (;;) {  // redraw a sliver: smallest height under a tenth of the longest side, or a tiny one
             for (glm::dvec3& c : corner)
                 for (int k = 0; k < 3; ++k) c[k] = centre[k] + radius * random.between(-1.0, 1.0);
             const double area2 = glm::length(glm::cross(corner[1] - corner[0], corner[2] - corner[0]));
