@@ -290,14 +290,6 @@ glm::vec3 hsr::host::parse_color_option(const std::string& text, const char* opt
     }
 }
 
-uint64_t hsr::host::parse_seed(const std::string& text) {
-    uint64_t seed = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size())
-        throw UsageError("--seed '{}': expected a whole number from 0 to 18446744073709551615", hsr::printable(text));
-    return seed;
-}
-
 glm::vec3 hsr::host::parse_vector_option(const std::string& text, const char* option) {
     glm::vec3 v{};
     std::size_t start = 0;

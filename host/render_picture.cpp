@@ -119,7 +119,7 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     const hsr_scene scene_view = scene.scene.view();
     const hsr_shading_context context = hsr::make_shading_context(scene.camera, lights);
     hsr::Frame frame =
-        hsr::render_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
+        hsr::render_supersampled_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
 
     std::optional<hsr::DepthComplexity> depth_complexity;
     if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())

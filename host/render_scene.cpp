@@ -14,6 +14,7 @@
 #include "hsr/scene_file.hpp"
 #include "hsr/surface.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -61,6 +62,14 @@ void apply_scene_file_view(const hsr::SceneFile& file, const RenderOptions& o, h
 }
 
 }  // namespace
+
+uint64_t hsr::host::parse_seed(const std::string& text) {
+    uint64_t seed = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size())
+        throw UsageError("--seed '{}': expected a whole number from 0 to 18446744073709551615", hsr::printable(text));
+    return seed;
+}
 
 hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
     RenderScene loaded;

@@ -64,7 +64,7 @@ hsr::Frame render(const hsr::SceneData& scene, const std::string& algorithm, uin
     settings.background = glm::vec3(0.0f);
     settings.samples = samples;
     settings.threads = 1;
-    return hsr::render_frame(view, camera, remover, shading, hsr::make_shading_context(camera, lights), settings);
+    return hsr::render_supersampled_frame(view, camera, remover, shading, hsr::make_shading_context(camera, lights), settings);
 }
 
 uint8_t red_at(const hsr::Frame& frame, uint32_t x, uint32_t y) { return frame.rgb[3 * (size_t(y) * frame.width + x)]; }
@@ -157,11 +157,11 @@ TEST_CASE("supersampling: steps and depth-test counts need one sample", "[sample
     hsr::FrameSettings settings;
     settings.samples = 4;
     settings.count_depth_tests = true;
-    CHECK_THROWS_WITH(hsr::render_frame(view, camera, remover, shading, hsr::make_shading_context(camera, {}), settings),
+    CHECK_THROWS_WITH(hsr::render_supersampled_frame(view, camera, remover, shading, hsr::make_shading_context(camera, {}), settings),
                       Catch::Contains("1 sample"));
     settings.count_depth_tests = false;
     settings.stop_after_step = 1;
-    CHECK_THROWS_WITH(hsr::render_frame(view, camera, remover, shading, hsr::make_shading_context(camera, {}), settings),
+    CHECK_THROWS_WITH(hsr::render_supersampled_frame(view, camera, remover, shading, hsr::make_shading_context(camera, {}), settings),
                       Catch::Contains("1 sample"));
 }
 

@@ -370,12 +370,9 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
     frame.shading_ms = ms_since(start);
 }
 
-namespace {
-
-// One visibility pass and its shading into frame.
-void render_one_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                      LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings,
-                      Frame& frame) {
+Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                   LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings) {
+    Frame frame;
     auto resolve = [&](const hsr_scene& view) {
         if (settings.stop_after_step)
             resolve_visibility_steps(view, camera, remover, frame, *settings.stop_after_step, settings.count_depth_tests);
@@ -389,13 +386,12 @@ void render_one_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSu
         const hsr_scene flat_view = flat.view();
         resolve(flat_view);
         shade_frame(flat_view, lighting, context, settings, frame);
-        return;
+        return frame;
     }
     resolve(scene);
     shade_frame(scene, lighting, context, settings, frame);
+    return frame;
 }
-
-}  // namespace
 
 bool is_sample_count(uint32_t samples) {
     return samples == 1 || samples == 2 || samples == 4 || samples == 8 || samples == 16;
@@ -438,21 +434,17 @@ hsr_camera offset_camera(const hsr_camera& camera, glm::vec2 offset) {
     return shifted;
 }
 
-Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                   LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings) {
-    Frame frame;
-    if (settings.samples <= 1) {
-        render_one_frame(scene, camera, remover, lighting, context, settings, frame);
-        return frame;
-    }
+Frame render_supersampled_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                               LightingModel& lighting, const hsr_shading_context& context,
+                               const FrameSettings& settings) {
+    if (settings.samples <= 1) return render_frame(scene, camera, remover, lighting, context, settings);
     const std::vector<glm::vec2> offsets = sample_offsets(settings.samples);
     if (settings.stop_after_step) throw Error("steps are of one visibility pass: render them with 1 sample");
     if (settings.count_depth_tests) throw Error("depth-test counts are of one visibility pass: count them with 1 sample");
+    Frame frame;
     std::vector<uint32_t> sum;
-    Frame sample;
     for (std::size_t k = 0; k < offsets.size(); ++k) {
-        sample.counters.clear();
-        render_one_frame(scene, offset_camera(camera, offsets[k]), remover, lighting, context, settings, sample);
+        Frame sample = render_frame(scene, offset_camera(camera, offsets[k]), remover, lighting, context, settings);
         if (k == 0) sum.assign(sample.rgb.size(), 0);
         for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += sample.rgb[i];
         for (const auto& [name, value] : sample.counters) collect_counter(&frame.counters, name.c_str(), value);
@@ -461,10 +453,10 @@ Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfa
         if (k == 0) {
             frame.width = sample.width;
             frame.height = sample.height;
-            frame.depth = sample.depth;
-            frame.face = sample.face;
-            frame.bary = sample.bary;
-            frame.instance = sample.instance;
+            frame.depth = std::move(sample.depth);
+            frame.face = std::move(sample.face);
+            frame.bary = std::move(sample.bary);
+            frame.instance = std::move(sample.instance);
         }
     }
     const uint32_t n = uint32_t(offsets.size());

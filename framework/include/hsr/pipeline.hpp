@@ -27,8 +27,8 @@ struct FrameSettings {
     // Render step by step (ABI 1.3): stop after this step (1-based; 0 runs every step). Empty: no
     // steps, render() as usual.
     std::optional<uint64_t> stop_after_step;
-    // Supersampling: visibility and shading once per sample position of sample_offsets(samples),
-    // the colours averaged into each pixel. 1 renders the pixel centres only.
+    // Supersampling (render_supersampled_frame; render_frame renders the pixel centres only):
+    // visibility and shading once per position of sample_offsets(samples), the colours averaged.
     uint32_t samples = 1;
 };
 
@@ -105,12 +105,17 @@ bool needs_flat_scene(const Plugin& plugin, const hsr_scene& scene);
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,
                  const FrameSettings& settings, Frame& frame);
 
-// Visibility, then shading. With settings.samples > 1, once per sample: rgb is the mean of the
-// samples' colours, the counters and times are their sums, and depth, face, bary and instance are
-// the first sample's (at an offset from the pixel centres). Steps and depth-test counts are of one
-// sample only: asked for with samples > 1, they are an hsr::Error.
 Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                    LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings);
+
+// render_frame() once per sample of settings.samples, each with the camera offset to the sample
+// (offset_camera), for any remover: rgb is the mean of the samples' colours, the counters and times
+// are their sums, and depth, face, bary and instance are the first sample's (at an offset from the
+// pixel centres). With 1 sample it is render_frame(). Steps and depth-test counts are of one pass:
+// asked for with more samples, they are an hsr::Error.
+Frame render_supersampled_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                                LightingModel& lighting, const hsr_shading_context& context,
+                                const FrameSettings& settings);
 
 // Depth complexity: how many triangles cover each pixel centre (all of them, front- and
 // back-facing, before any depth test), counted with the same rasterization rules as the z-buffer
