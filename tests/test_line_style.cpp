@@ -17,16 +17,17 @@ namespace {
 using cli::require_one_line_error;
 using cli::run_hsr;
 
-// A square [16, 48]^2 facing a 64x64 pixel camera: its four edges are boundaries (the outline).
-fs::path square_scene() {
-    return cli::write_file("line-style-square.scene",
+// A square [16, 48]^2 facing a 64x64 pixel camera: its four edges are boundaries (the outline). A
+// file per tag: ctest runs the test cases in parallel.
+fs::path square_scene(const std::string& tag) {
+    return cli::write_file(tag + ".scene",
                            "camera pixel\nsize 64 64\npolygon\n  color 0.5 0.5 0.5\n"
                            "  vertex 16 16 0\n  vertex 48 16 0\n  vertex 48 48 0\n  vertex 16 48 0\n");
 }
 
 hsr::Image draw(const std::string& options, const std::string& tag) {
     const fs::path png = cli::scratch_dir() / (tag + ".png");
-    const cli::Run r = run_hsr("render " + square_scene().string() + " -a appel " + options + " -o " + png.string(), tag);
+    const cli::Run r = run_hsr("render " + square_scene(tag).string() + " -a appel " + options + " -o " + png.string(), tag);
     INFO("stderr: " << r.err);
     REQUIRE(r.status == 0);
     return hsr::read_png_rgb(png);
