@@ -197,8 +197,9 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
          "one more, with parameters: NAME[:key=value,...] (repeatable)")
         ("models", po::value(&models_list),
          "comma-separated: cube, monkey, bunny, NAME-loop (Loop-subdivided), deep-N[:NAME] (N layers of "
-         "NAME, default monkey), or file paths (default: cube,monkey,bunny,bunny-loop,deep-3,deep-24,deep-63, "
-         "the deep ones at depth complexity 4.7, 20.3, 49.8)")
+         "NAME, default monkey), random-N[:SEED] (N random triangles, seed 1 unless given), or file paths "
+         "(default: cube,monkey,bunny,bunny-loop,deep-3,deep-24,deep-63, the deep ones at depth complexity "
+         "4.7, 20.3, 49.8)")
         ("sizes", po::value(&sizes_list)->default_value("1024"), "image sizes, comma-separated: 512,1024 or 800x600")
         ("repetitions,r", po::value(&repetitions)->default_value(5), "timed runs of each measurement")
         ("warmup,w", po::value(&warmup)->default_value(1), "untimed runs first (caches, acceleration structures)")
@@ -308,28 +309,56 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
 
             // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
             // algorithm makes all its calls in a row, warm-up first, as an application rendering frame
-            // after frame would, with the processor caches its own.
+            // after frame would, with the processor caches its own. A plugin that refuses the scene (an
+            // error from any of its calls) is shown as n/a with its reason; the others are still timed.
             std::vector<hsr::bench::Timing> timings;
+            std::vector<std::string> refusals(algorithms.size());
             ++scene_index;
             for (std::size_t a = 0; a < algorithms.size(); ++a) {
-                hsr::HiddenSurfaceRemover remover(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms[a].name),
-                                                  algorithms[a].settings);
-                hsr::bench::FrameTimer timer(view, camera, remover, lighting, context, timing_settings);
                 const unsigned calls = timing_settings.warmup + timing_settings.repetitions;
-                for (unsigned i = 0; i < calls; ++i) {
-                    const bool warm = i < timing_settings.warmup;
-                    progress.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index, scenes, name, width,
-                                              height, labels[a], warm ? "warm-up" : "run",
-                                              warm ? i + 1 : i + 1 - timing_settings.warmup,
-                                              warm ? timing_settings.warmup : timing_settings.repetitions));
-                    timer.call();
-                    progress.advance();
+                unsigned made = 0;
+                timings.emplace_back();
+                try {
+                    hsr::HiddenSurfaceRemover remover(
+                        registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms[a].name), algorithms[a].settings);
+                    hsr::bench::FrameTimer timer(view, camera, remover, lighting, context, timing_settings);
+                    for (; made < calls; ++made) {
+                        const bool warm = made < timing_settings.warmup;
+                        progress.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index, scenes, name, width,
+                                                  height, labels[a], warm ? "warm-up" : "run",
+                                                  warm ? made + 1 : made + 1 - timing_settings.warmup,
+                                                  warm ? timing_settings.warmup : timing_settings.repetitions));
+                        timer.call();
+                        progress.advance();
+                    }
+                    timings.back() = timer.timing();
+                } catch (const hsr::Error& e) {
+                    refusals[a] = e.what();
+                    for (; made < calls; ++made) progress.advance();
                 }
-                timings.push_back(timer.timing());
             }
 
             for (std::size_t a = 0; a < algorithms.size(); ++a) {
                 ++row;
+                if (!refusals[a].empty()) {
+                    hsr::bench::Result result;
+                    result.algorithm = labels[a];
+                    result.model = name;
+                    result.width = width;
+                    result.height = height;
+                    result.faces = hsr::drawn_triangle_count(view);
+                    result.stored_faces = view.triangle_count;
+                    result.instances = view.instance_count;
+                    if (depth_complexity) {
+                        result.depth_complexity = depth_complexity->mean_over_covered();
+                        result.depth_complexity_max = depth_complexity->max;
+                    }
+                    result.refused = refusals[a];
+                    progress.row(fmt::format("[{}/{}] {} on {} {}x{}: n/a: {}", row, rows, labels[a], name, width,
+                                             height, result.refused));
+                    results.push_back(std::move(result));
+                    continue;
+                }
                 hsr::bench::Result result = hsr::bench::make_result(labels[a], name, view, camera, timings[a],
                                                                     timing_settings.warmup, depth_complexity);
                 result.layers = model.scene.layers;
@@ -349,9 +378,13 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::cout.flush();
     // Written only once the results are ready, and replaced together once all are written: neither a
     // run nor a writer that fails leaves an existing file changed.
+    // The CSV and the plot hold what was measured; the table also shows what was refused.
+    std::vector<hsr::bench::Result> measured;
+    for (const hsr::bench::Result& r : results)
+        if (r.refused.empty()) measured.push_back(r);
     hsr::AtomicFileSet files;
-    if (given("csv")) hsr::bench::write_csv(files.add(csv_path).stream(), results);
-    const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(results);
+    if (given("csv")) hsr::bench::write_csv(files.add(csv_path).stream(), measured);
+    const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(measured);
     using hsr::bench::PlotFormat;
     if (given("svg")) write_plot(files.add(svg_path).stream(), plots, PlotFormat::svg);
     if (given("png")) write_plot(files.add(png_path).stream(), plots, PlotFormat::png);

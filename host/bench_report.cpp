@@ -130,6 +130,7 @@ std::string format_table(const std::vector<Result>& results) {
                 {""});
         separator();
         add_row("", [](const Result& r) {
+            if (!r.refused.empty()) return std::string("n/a");
             return fmt::format("{} [{}-{}]", format_ms(r.visibility.median), format_ms(r.visibility.min),
                                format_ms(r.visibility.max));
         }, algorithms);
@@ -141,9 +142,10 @@ std::string format_table(const std::vector<Result>& results) {
             add_row("", [](const Result& r) { return r.build_ms > 0 ? format_ms(r.build_ms) : "-"; }, builders);
         }
         heading("shading, ms (median)");
-        add_row("", [](const Result& r) { return format_ms(r.shading.median); }, algorithms);
+        add_row("", [](const Result& r) { return r.refused.empty() ? format_ms(r.shading.median) : "n/a"; },
+                algorithms);
         heading("total = visibility + shading, ms (median)");
-        add_row("", [](const Result& r) { return format_ms(r.total.median); }, algorithms);
+        add_row("", [](const Result& r) { return r.refused.empty() ? format_ms(r.total.median) : "n/a"; }, algorithms);
 
         std::vector<std::size_t> width(models.size() + 1, 0);
         for (const auto& row : rows)
@@ -168,6 +170,9 @@ std::string format_table(const std::vector<Result>& results) {
             while (!line.empty() && line.back() == ' ') line.pop_back();
             out += line + "\n";
         }
+        for (const Result& r : results)
+            if (!r.refused.empty() && r.width == size.first && r.height == size.second)
+                out += fmt::format("n/a: {} on {}: {}\n", r.algorithm, r.model, r.refused);
         out += "\n";
     }
     return out;

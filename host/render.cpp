@@ -71,6 +71,15 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "opacity of the model, 0 (invisible) to 1 (opaque; the default); a .scene file gives each object an "
          "`opacity` line. Needs an algorithm that returns fragment lists (a-buffer)")
         ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
+        ("samples", po::value(&o.samples)->default_value(1),
+         "hidden-surface plugins: anti-aliasing by supersampling, 1, 2, 4, 8 or 16 samples per pixel "
+         "(4: rotated grid); docs/antialiasing.md")
+        ("line-color", po::value(&o.line_color),
+         "hidden-line plugins: line colour r/g/b or #rrggbb (default: dark on a light background, light on a "
+         "dark one); hidden lines are drawn halfway to the background")
+        ("line-width", po::value(&o.line_width)->default_value(1.0, "1"),
+         fmt::format("hidden-line plugins: line width in pixels, above 0 and at most {} (the outline is drawn "
+                     "twice as wide)", hsr::host::max_line_width).c_str())
         ("crease-angle", po::value(&o.crease_angle)->default_value(40),
          "degrees: shading normals are not smoothed across edges sharper than this (and, for "
          "hidden-line plugins, such edges are creases)")
@@ -100,6 +109,10 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "with --surface: X0:X1,Y0:Y1[,CxR] (default -1:1,-1:1,64x64), e.g. -3:3,-3:3,80x80")
         ("heightmap", po::value(&o.heightmap),
          "instead of MODEL: a surface from a greyscale PNG, one grid sample per pixel")
+        ("random-triangles", po::value(&o.random_triangles),
+         "instead of MODEL: N random planar triangles, each in its own colour, of mixed sizes, overlapping "
+         "and interpenetrating (the textbook's exercise); the same --seed gives the same scene")
+        ("seed", po::value(&o.seed)->default_value("1"), "with --random-triangles: the random seed (a whole number)")
         ("heightmap-height", po::value(&o.heightmap_height)->default_value(0.0, "auto"),
          "with --heightmap: the height of a white pixel (pixels are 1 apart); auto = a fifth of the larger side")
         ("step", po::value(&o.step),
@@ -144,9 +157,18 @@ void print_render_help(const std::vector<std::string>& plugin_dirs) {
 // What can be checked without plugins or files: one source of the scene, the options that go with
 // another, numbers in range, the background colour.
 void check_render_options(const RenderOptions& o) {
-    const int sources = int(!o.model.empty()) + int(!o.surface.empty()) + int(!o.heightmap.empty());
-    if (sources == 0) throw UsageError("render: no model given (or --surface FORMULA, or --heightmap FILE.png)");
-    if (sources > 1) throw UsageError("render: give one of MODEL, --surface and --heightmap");
+    const int sources = int(!o.model.empty()) + int(!o.surface.empty()) + int(!o.heightmap.empty()) +
+                        int(o.was_given("random-triangles"));
+    if (sources == 0)
+        throw UsageError("render: no model given (or --surface FORMULA, --heightmap FILE.png or --random-triangles N)");
+    if (sources > 1) throw UsageError("render: give one of MODEL, --surface, --heightmap and --random-triangles");
+    if (o.was_given("seed") && !o.was_given("random-triangles")) throw UsageError("--seed goes with --random-triangles");
+    if (o.was_given("random-triangles")) {
+        if (o.random_triangles < 1) throw UsageError("--random-triangles {}: the count must be at least 1", o.random_triangles);
+        hsr::host::parse_seed(o.seed);  // parsed again where it is used
+        if (o.was_given("color"))
+            throw UsageError("--color: random triangles have a colour each (facecolor or any lighting shows them)");
+    }
     if (!o.range.empty() && o.surface.empty()) throw UsageError("--range goes with --surface");
     if (o.was_given("heightmap-height") && o.heightmap.empty())
         throw UsageError("--heightmap-height goes with --heightmap");
@@ -180,6 +202,8 @@ void check_render_options(const RenderOptions& o) {
             if (!text->empty()) hsr::host::parse_vector_option(*text, option);  // parsed again where it is used
     }
     hsr::host::parse_color_option(o.background, "background");  // parsed again where it is used
+    if (!hsr::is_sample_count(o.samples < 0 || o.samples > 16 ? 0u : uint32_t(o.samples)))
+        throw UsageError("--samples {}: expected 1, 2, 4, 8 or 16", o.samples);
     if (o.repeat.empty())
         for (const char* option : {"repeat-gap", "repeat-jitter"})
             if (o.was_given(option)) throw UsageError("--{} goes with --repeat", option);
@@ -194,22 +218,18 @@ struct RenderPlugins {
 
 hsr::host::LineDrawingPlugin make_line_drawing_plugin(const RenderOptions& o, const hsr::PluginRegistry& registry,
                                                       const hsr::PluginSpec& algorithm) {
-    for (const char* option : {"lighting", "depth-out", "overdraw-out", "depth-tests-out", "threads", "step"})
+    for (const char* option : {"lighting", "light", "color", "samples", "depth-out", "overdraw-out", "depth-tests-out",
+                               "threads", "step"})
         if (o.was_given(option))
             throw UsageError("--{} is for hidden-surface plugins; '{}' draws lines", option, algorithm.name);
     hsr::host::LineDrawingPlugin plugin;
+    plugin.style = hsr::host::make_line_style(o);
     if (o.edges == "features")
         plugin.settings.edges = hsr::EdgeSelection::kFeatures;
     else if (o.edges == "all")
         plugin.settings.edges = hsr::EdgeSelection::kAll;
     else
         throw UsageError("--edges '{}': expected 'all' or 'features'", hsr::printable(o.edges));
-    if (o.hidden_lines == "hidden")
-        plugin.style.hidden = hsr::HiddenLines::kHidden;
-    else if (o.hidden_lines == "dashed")
-        plugin.style.hidden = hsr::HiddenLines::kDashed;
-    else
-        throw UsageError("--hidden '{}': expected 'dashed' or 'hidden'", hsr::printable(o.hidden_lines));
     plugin.settings.want_hidden = plugin.style.hidden == hsr::HiddenLines::kDashed;
     plugin.settings.crease_angle_degrees = o.crease_angle;
     plugin.remover = std::make_unique<hsr::HiddenLineRemover>(
@@ -219,7 +239,7 @@ hsr::host::LineDrawingPlugin make_line_drawing_plugin(const RenderOptions& o, co
 
 hsr::host::PicturePlugins make_picture_plugins(const RenderOptions& o, const hsr::PluginRegistry& registry,
                                                const hsr::PluginSpec& algorithm) {
-    for (const char* option : {"edges", "hidden", "trace"})
+    for (const char* option : {"edges", "hidden", "trace", "line-color", "line-width"})
         if (o.was_given(option))
             throw UsageError("--{} is for hidden-line plugins (appel, roberts, ...); '{}' removes hidden surfaces",
                              option, algorithm.name);
@@ -233,6 +253,7 @@ hsr::host::PicturePlugins make_picture_plugins(const RenderOptions& o, const hsr
         throw hsr::Error("--step: plugin '{}' cannot show its steps ({})", algorithm.name,
                          plugins.remover->plugin().descriptor.abi_minor < 3 ? "it is built against an ABI before 1.3"
                                                                             : "it has no render_steps");
+    hsr::host::picture_samples(o, nullptr);
     if (!o.depth_tests_out.empty() && plugins.remover->plugin().descriptor.abi_minor < 1)
         throw hsr::Error("--depth-tests-out: plugin '{}' does not report per-pixel depth tests (ABI 1.0)",
                          algorithm.name);
@@ -329,6 +350,7 @@ void hsr::host::add_clip_plane_options(const RenderOptions& o, std::vector<glm::
 }
 
 fs::path hsr::host::model_path(const RenderOptions& o) {
+    if (o.was_given("random-triangles")) return "random-triangles";
     return fs::path(!o.model.empty() ? o.model : !o.heightmap.empty() ? o.heightmap : "surface");
 }
 

@@ -26,6 +26,7 @@ constexpr const char* default_algorithm = "zbuffer";
 constexpr const char* default_lighting = "blinn-phong";
 constexpr const char* default_light = "dir:-0.5,0.6,1";
 constexpr const char* default_background = "0.15/0.15/0.17";
+constexpr double max_line_width = 64.0;  // --line-width, pixels
 
 // The options of hsr render as the command line gave them, not yet checked.
 struct RenderOptions {
@@ -39,6 +40,9 @@ struct RenderOptions {
     std::vector<std::string> limits;  // NAME=N (limits.hpp)
     std::string background = default_background;
     std::string color;
+    std::string line_color;     // hidden-line plugins; empty: contrasting with the background
+    double line_width = 1.0;    // hidden-line plugins: pixels
+    int64_t samples = 1;        // supersampling (signed, so that a negative number is refused)
     std::string depth_out;
     std::string overdraw_out;
     std::string depth_tests_out;
@@ -47,6 +51,8 @@ struct RenderOptions {
     std::string hidden_lines = "hidden";
     std::string trace;
     std::string surface, range, heightmap;
+    int64_t random_triangles = 0;  // --random-triangles N; signed, so that a negative count is refused
+    std::string seed = "1";        // --seed S
     double heightmap_height = 0.0;
     float repeat_gap = 0.25f, repeat_jitter = 0.0f;
     float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40, fov = 35;
@@ -68,6 +74,8 @@ struct RenderOptions {
 
 // A colour option's value, "r/g/b" or "#rrggbb"; a mistake is a UsageError naming the option.
 glm::vec3 parse_color_option(const std::string& text, const char* option);
+// --seed's value: a whole number from 0 to 2^64 - 1; a mistake is a UsageError.
+uint64_t parse_seed(const std::string& text);
 // A point or vector option's value, "x,y,z" of finite numbers; a mistake is a UsageError naming
 // the option.
 glm::vec3 parse_vector_option(const std::string& text, const char* option);
@@ -76,8 +84,8 @@ glm::vec4 parse_plane_option(const std::string& text, const char* option);
 // The sections and clip planes the command line asks for, after those of a .scene file (`file`).
 void add_clip_plane_options(const RenderOptions& options, std::vector<glm::vec4>& planes);
 
-// The file the scene comes from: MODEL, or --heightmap's PNG, or "surface" for --surface. Its stem
-// names the default output.
+// The file the scene comes from: MODEL, or --heightmap's PNG, or "surface" for --surface, or
+// "random-triangles" for --random-triangles. Its stem names the default output.
 std::filesystem::path model_path(const RenderOptions& options);
 
 // The scene to render and its camera, with what a .scene file asks for besides its meshes.
@@ -86,6 +94,7 @@ struct RenderScene {
     hsr_camera camera{};
     std::vector<hsr::LightSpec> lights;   // a .scene file's lights
     std::optional<glm::vec3> background;  // a .scene file's background
+    std::optional<uint32_t> samples;      // a .scene file's samples
 };
 
 // Builds the scene (mesh, .scene file, --surface or --heightmap, then --repeat), prints its warnings
@@ -98,6 +107,10 @@ struct PicturePlugins {
     std::unique_ptr<hsr::LightingModel> lighting;
 };
 
+// Samples per pixel: --samples, else the .scene file's, else 1. Throws a UsageError for an option
+// that shows one visibility pass (--depth-out, --depth-tests-out, --step) with more than 1.
+uint32_t picture_samples(const RenderOptions& options, const RenderScene* scene);
+
 // Renders the picture and writes it to output, with the depth and heat maps the options ask for.
 void render_picture(const RenderOptions& options, const RenderScene& scene, PicturePlugins& plugins,
                     const std::filesystem::path& output);
@@ -108,6 +121,11 @@ struct LineDrawingPlugin {
     hsr::LineSettings settings;
     hsr::LineStyle style;
 };
+
+// The line style of --hidden, --line-color, --line-width and the background; lines are drawn on
+// white unless --background says otherwise (a .scene file's background is for shaded pictures), in
+// a colour that contrasts with it unless --line-color says otherwise. A mistake is a UsageError.
+hsr::LineStyle make_line_style(const RenderOptions& options);
 
 // Draws the scene's visible edges to output (SVG or PNG), and writes the --trace file.
 void render_line_drawing(const RenderOptions& options, RenderScene scene, LineDrawingPlugin& plugin,

@@ -1,7 +1,9 @@
-// hsr render with a hidden-line plugin: the visible edges drawn as SVG or PNG, optionally the
+// hsr render with a hidden-line plugin: the visible edges drawn as SVG or PNG in the line style of
+// --line-color, --line-width and --hidden (docs/line-drawings.md), optionally the
 // algorithm's steps as a JSON-lines trace, and with --stats its counters (render.hpp). The trace
 // streams into a temporary file during the render; both files are replaced together, once the
 // drawing is written too (hsr/atomic_file.hpp).
+#include "commands.hpp"
 #include "render.hpp"
 
 #include "hsr/atomic_file.hpp"
@@ -16,6 +18,8 @@
 
 namespace {
 
+using hsr::host::UsageError;
+
 void print_line_stats(const hsr::LineDrawing& drawing, const hsr::HiddenLineRemover& remover,
                       const hsr_scene& scene) {
     std::fprintf(stderr, "%s, %u triangles, %zu edges asked for, %ux%u\n", remover.plugin().descriptor.name,
@@ -27,6 +31,28 @@ void print_line_stats(const hsr::LineDrawing& drawing, const hsr::HiddenLineRemo
 
 }  // namespace
 
+hsr::LineStyle hsr::host::make_line_style(const RenderOptions& o) {
+    hsr::LineStyle style;
+    if (o.hidden_lines == "hidden")
+        style.hidden = hsr::HiddenLines::kHidden;
+    else if (o.hidden_lines == "dashed")
+        style.hidden = hsr::HiddenLines::kDashed;
+    else
+        throw UsageError("--hidden '{}': expected 'dashed' or 'hidden'", hsr::printable(o.hidden_lines));
+    if (o.was_given("background")) style.background = parse_color_option(o.background, "background");
+    if (!o.line_color.empty()) {
+        style.ink = parse_color_option(o.line_color, "line-color");
+        style.hidden_ink = 0.5f * (style.ink + style.background);
+    } else if (hsr::relative_luminance(style.background) < 0.5f) {
+        style.ink = hsr::LineStyle::light_ink;
+        style.hidden_ink = hsr::LineStyle::light_hidden_ink;
+    }
+    if (!(o.line_width > 0.0 && o.line_width <= max_line_width))
+        throw UsageError("--line-width {}: expected more than 0 and at most {} pixels", o.line_width, max_line_width);
+    style.scale_widths(o.line_width);
+    return style;
+}
+
 void hsr::host::render_line_drawing(const RenderOptions& o, RenderScene scene, LineDrawingPlugin& plugin,
                                     const std::filesystem::path& output) {
     if (!scene.scene.instances.empty()) scene.scene = hsr::flatten_instances(scene.scene);
@@ -35,10 +61,7 @@ void hsr::host::render_line_drawing(const RenderOptions& o, RenderScene scene, L
     hsr::AtomicFileSet files;
     if (!o.trace.empty()) settings.trace = &files.add(o.trace).stream();
     const hsr::LineDrawing drawing = hsr::render_lines(scene_view, scene.camera, *plugin.remover, settings);
-    hsr::LineStyle style = plugin.style;
-    // Lines are drawn on white unless --background says otherwise; a .scene file's background is for
-    // shaded pictures.
-    if (o.was_given("background")) style.background = parse_color_option(o.background, "background");
+    const hsr::LineStyle& style = plugin.style;
     const hsr::LineImageStats drawn = hsr::write_line_drawing(files.add(output), drawing, style);
     files.commit();
     if (o.stats) print_line_stats(drawing, *plugin.remover, scene_view);

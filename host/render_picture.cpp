@@ -1,6 +1,7 @@
 // hsr render with a hidden-surface plugin: the shaded picture as PNG, optionally the depth buffer and
 // the depth-complexity and depth-test heat maps, and with --stats the plugin's counters (render.hpp).
 // The files are replaced together, once all of them are written (hsr/atomic_file.hpp).
+#include "commands.hpp"
 #include "render.hpp"
 
 #include "hsr/atomic_file.hpp"
@@ -17,6 +18,7 @@
 namespace {
 
 using hsr::host::RenderOptions;
+using hsr::host::UsageError;
 
 // --light, else the scene file's lights, else the default light; carried into world space.
 std::vector<hsr_light> resolve_lights(const RenderOptions& o, const hsr::host::RenderScene& scene) {
@@ -33,13 +35,15 @@ std::vector<hsr_light> resolve_lights(const RenderOptions& o, const hsr::host::R
 
 void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remover,
                  const hsr::LightingModel& lighting, const hsr_scene& scene,
-                 const std::optional<hsr::DepthComplexity>& depth_complexity) {
+                 const std::optional<hsr::DepthComplexity>& depth_complexity, uint32_t samples) {
     const uint64_t drawn = hsr::drawn_triangle_count(scene);
     std::fprintf(stderr, "%s + %s, %llu triangles", remover.plugin().descriptor.name, lighting.plugin().descriptor.name,
                  static_cast<unsigned long long>(drawn));
     if (scene.instance_count > 0)
         std::fprintf(stderr, " (%u instances of %u stored)", scene.instance_count, scene.triangle_count);
-    std::fprintf(stderr, ", %ux%u\n", frame.width, frame.height);
+    std::fprintf(stderr, ", %ux%u", frame.width, frame.height);
+    if (samples > 1) std::fprintf(stderr, ", %u samples per pixel (times and counters summed over them)", samples);
+    std::fprintf(stderr, "\n");
     const double build_ms = double(frame.counter("build-time-us")) / 1000.0;
     int w = 28;  // the name column: as wide as the longest name a plugin reports
     for (const auto& counter : frame.counters) w = std::max(w, int(counter.first.size()));
@@ -55,6 +59,7 @@ void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remov
         std::fprintf(stderr, "  %-*s %10.2f (max %u, over %llu covered pixels)\n", w, "depth complexity",
                      depth_complexity->mean_over_covered(), depth_complexity->max,
                      static_cast<unsigned long long>(depth_complexity->covered_pixels));
+        if (samples > 1) return;  // the ratios below compare one pass with the pixel centres
         const uint64_t written = frame.counter("pixels-written");
         if (depth_complexity->covered_pixels > 0 && written > 0)
             std::fprintf(stderr, "  %-*s %10.3f\n", w, "overdraw (writes / pixel)",
@@ -88,6 +93,18 @@ void print_heat_maps_written(const RenderOptions& o, const hsr::DepthComplexity&
 
 }  // namespace
 
+uint32_t hsr::host::picture_samples(const RenderOptions& o, const RenderScene* scene) {
+    const uint32_t samples = o.was_given("samples") ? uint32_t(o.samples)
+                             : scene && scene->samples ? *scene->samples
+                                                       : 1u;
+    if (samples > 1)
+        for (const char* option : {"depth-out", "depth-tests-out", "step"})
+            if (o.was_given(option))
+                throw UsageError("--{} shows one visibility pass: it does not go with {} samples (render it with "
+                                 "--samples 1)", option, samples);
+    return samples;
+}
+
 void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene, PicturePlugins& plugins,
                                const std::filesystem::path& output) {
     const std::vector<hsr_light> lights = resolve_lights(o, scene);
@@ -97,11 +114,12 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     frame_settings.threads = o.threads;
     frame_settings.count_depth_tests = !o.depth_tests_out.empty();
     if (o.was_given("step")) frame_settings.stop_after_step = static_cast<uint64_t>(o.step);
+    frame_settings.samples = picture_samples(o, &scene);
 
     const hsr_scene scene_view = scene.scene.view();
     const hsr_shading_context context = hsr::make_shading_context(scene.camera, lights);
     hsr::Frame frame =
-        hsr::render_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
+        hsr::render_supersampled_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
 
     std::optional<hsr::DepthComplexity> depth_complexity;
     if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())
@@ -112,7 +130,8 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     if (depth_complexity) write_heat_maps(o, frame, *depth_complexity, files);
     files.commit();
     if (depth_complexity) print_heat_maps_written(o, *depth_complexity);
-    if (o.stats) print_stats(frame, *plugins.remover, *plugins.lighting, scene_view, depth_complexity);
+    if (o.stats) print_stats(frame, *plugins.remover, *plugins.lighting, scene_view, depth_complexity,
+                            frame_settings.samples);
     if (frame.steps) {
         if (frame.steps->stopped)
             std::fprintf(stderr, "step %llu: %s\n", static_cast<unsigned long long>(frame.steps->last.index),

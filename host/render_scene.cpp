@@ -1,5 +1,5 @@
-// hsr render's scene and camera, from a mesh, a .scene file, a formula or a height map, optionally
-// repeated into a deep scene (render.hpp).
+// hsr render's scene and camera, from a mesh, a .scene file, a formula, a height map or random
+// triangles, optionally repeated into a deep scene (render.hpp).
 #include "commands.hpp"
 #include "render.hpp"
 
@@ -8,11 +8,13 @@
 #include "hsr/instancing.hpp"
 #include "hsr/limits.hpp"
 #include "hsr/pipeline.hpp"
+#include "hsr/random_triangles.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_builder.hpp"
 #include "hsr/scene_file.hpp"
 #include "hsr/surface.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -61,6 +63,14 @@ void apply_scene_file_view(const hsr::SceneFile& file, const RenderOptions& o, h
 
 }  // namespace
 
+uint64_t hsr::host::parse_seed(const std::string& text) {
+    uint64_t seed = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size())
+        throw UsageError("--seed '{}': expected a whole number from 0 to 18446744073709551615", hsr::printable(text));
+    return seed;
+}
+
 hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
     RenderScene loaded;
     const fs::path path = model_path(o);
@@ -81,7 +91,9 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         if (!o.up.empty()) look_at.up = parse_vector_option(o.up, "up");
         view.look_at = look_at;
     }
-    if (!o.surface.empty()) {
+    if (o.was_given("random-triangles")) {
+        loaded.scene = hsr::make_random_triangles(uint64_t(o.random_triangles), parse_seed(o.seed));
+    } else if (!o.surface.empty()) {
         const hsr::SurfaceRange range = o.range.empty() ? hsr::SurfaceRange{} : hsr::parse_surface_range(o.range);
         loaded.scene = hsr::make_formula_surface(o.surface, range,
                                                  o.color.empty() ? glm::vec3(0.8f) : parse_color_option(o.color, "color"));
@@ -95,6 +107,7 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         loaded.scene = std::move(file.scene);
         loaded.lights = std::move(file.lights);
         loaded.background = file.background;
+        loaded.samples = file.samples;
         pixel_camera = file.pixel_camera;
         apply_scene_file_view(file, o, view);
         view.clip_planes = file.clip_planes;

@@ -492,8 +492,8 @@ TEST_CASE("facecolor returns each fragment's face colour exactly", "[lighting][f
     CHECK(c[0] == glm::vec3(1.0f, 0.0f, 0.5f));
     CHECK(c[1] == glm::vec3(0.2f, 0.4f, 0.6f));
     CHECK(c[2] == glm::vec3(1.0f, 0.0f, 0.5f));
-    // It has no parameters.
-    CHECK(load("facecolor").descriptor.param_count == 0);
+    // One parameter, by, whose default (given) is the scene's colours, as above.
+    CHECK(load("facecolor").descriptor.param_count == 1);
 }
 
 TEST_CASE("an empty batch is fine, also with NULL arrays", "[lighting]") {

@@ -5,6 +5,8 @@
 
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
+#include "hsr/random_triangles.hpp"
 #include "hsr/scene_file.hpp"
 #include "hsr/subdivide.hpp"
 
@@ -108,7 +110,30 @@ ModelSpec parse_model_spec(const std::string& text, const fs::path& models_dir) 
         ModelSpec inner = parse_model_spec(base, models_dir);
         spec.file = inner.file;
         spec.loop_levels = inner.loop_levels;
+        spec.random_triangles = inner.random_triangles;
+        spec.seed = inner.seed;
         spec.layers = *layers;
+        return spec;
+    }
+
+    // random-N[:SEED]
+    if (text.rfind("random-", 0) == 0) {
+        const std::size_t colon = text.find(':');
+        const std::string_view count = std::string_view(text).substr(7, colon == std::string::npos ? std::string::npos
+                                                                                                  : colon - 7);
+        uint64_t n = 0;
+        auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), n);
+        if (count.empty() || ec != std::errc() || end != count.data() + count.size() || n == 0)
+            throw Error("model '{}': random-N[:SEED] needs a triangle count N of at least 1 (random-1000, "
+                        "random-1000:7)", text);
+        if (colon != std::string::npos) {
+            const std::string_view seed = std::string_view(text).substr(colon + 1);
+            auto [seed_end, seed_ec] = std::from_chars(seed.data(), seed.data() + seed.size(), spec.seed);
+            if (seed.empty() || seed_ec != std::errc() || seed_end != seed.data() + seed.size())
+                throw Error("model '{}': the seed after ':' must be a whole number (random-1000:7)", text);
+        }
+        check_limit(&Limits::stored_triangles, n, fmt::format("model '{}'", text));
+        spec.random_triangles = n;
         return spec;
     }
 
@@ -207,7 +232,9 @@ BenchScene load_bench_scene(const ModelSpec& spec, const DeepGrid& grid) {
     BenchScene out;
     out.name = spec.name;
     out.layers = spec.layers;
-    if (is_scene_file(spec.file)) {
+    if (spec.random_triangles > 0) {
+        out.scene = make_random_triangles(spec.random_triangles, spec.seed);
+    } else if (is_scene_file(spec.file)) {
         SceneFile file = load_scene_file(spec.file);
         out.scene = spec.loop_levels > 0 ? loop_subdivide(file.scene, spec.loop_levels) : std::move(file.scene);
         if (file.yaw_degrees) out.camera.yaw_degrees = *file.yaw_degrees;

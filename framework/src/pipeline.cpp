@@ -16,6 +16,7 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <span>
 #include <thread>
 
 namespace hsr {
@@ -363,6 +364,78 @@ Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfa
     }
     resolve(scene);
     shade_frame(scene, lighting, context, settings, frame);
+    return frame;
+}
+
+bool is_sample_count(uint32_t samples) {
+    return samples == 1 || samples == 2 || samples == 4 || samples == 8 || samples == 16;
+}
+
+std::vector<glm::vec2> sample_offsets(uint32_t samples) {
+    // In sixteenths of a pixel from the centre, as the Direct3D and Vulkan specifications list them.
+    static constexpr int8_t two[][2] = {{4, 4}, {-4, -4}};
+    static constexpr int8_t four[][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
+    static constexpr int8_t eight[][2] = {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
+    static constexpr int8_t sixteen[][2] = {{1, 1},   {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5},
+                                            {5, 3},   {3, -5},  {-2, 6}, {0, -7}, {-4, -6}, {-6, 4},
+                                            {-8, 0},  {7, -4},  {6, 7},  {-7, -8}};
+    std::span<const int8_t[2]> table;
+    switch (samples) {
+    case 1: return {glm::vec2(0.0f)};
+    case 2: table = two; break;
+    case 4: table = four; break;
+    case 8: table = eight; break;
+    case 16: table = sixteen; break;
+    default: throw Error("{} samples: expected 1, 2, 4, 8 or 16", samples);
+    }
+    std::vector<glm::vec2> offsets;
+    for (const auto& o : table) offsets.emplace_back(float(o[0]) / 16.0f, float(o[1]) / 16.0f);
+    return offsets;
+}
+
+hsr_camera offset_camera(const hsr_camera& camera, glm::vec2 offset) {
+    // Window x = (ndc x + 1) w / 2 and y = (1 - ndc y) h / 2: moving what lies at centre + offset to
+    // the centre moves NDC by (-2 dx / w, +2 dy / h), i.e. clip x += shift_x * w_clip (and y alike),
+    // which is the translation T applied after the projection: P' = T P.
+    const double shift_x = -2.0 * double(offset.x) / double(camera.width);
+    const double shift_y = 2.0 * double(offset.y) / double(camera.height);
+    hsr_camera shifted = camera;
+    for (float* m : {shifted.projection, shifted.view_projection})
+        for (int c = 0; c < 4; ++c) {  // column-major: m[4 c + row]
+            m[4 * c] = float(double(m[4 * c]) + shift_x * double(m[4 * c + 3]));
+            m[4 * c + 1] = float(double(m[4 * c + 1]) + shift_y * double(m[4 * c + 3]));
+        }
+    return shifted;
+}
+
+Frame render_supersampled_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                               LightingModel& lighting, const hsr_shading_context& context,
+                               const FrameSettings& settings) {
+    if (settings.samples <= 1) return render_frame(scene, camera, remover, lighting, context, settings);
+    const std::vector<glm::vec2> offsets = sample_offsets(settings.samples);
+    if (settings.stop_after_step) throw Error("steps are of one visibility pass: render them with 1 sample");
+    if (settings.count_depth_tests) throw Error("depth-test counts are of one visibility pass: count them with 1 sample");
+    Frame frame;
+    std::vector<uint32_t> sum;
+    for (std::size_t k = 0; k < offsets.size(); ++k) {
+        Frame sample = render_frame(scene, offset_camera(camera, offsets[k]), remover, lighting, context, settings);
+        if (k == 0) sum.assign(sample.rgb.size(), 0);
+        for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += sample.rgb[i];
+        for (const auto& [name, value] : sample.counters) collect_counter(&frame.counters, name.c_str(), value);
+        frame.visibility_ms += sample.visibility_ms;
+        frame.shading_ms += sample.shading_ms;
+        if (k == 0) {
+            frame.width = sample.width;
+            frame.height = sample.height;
+            frame.depth = std::move(sample.depth);
+            frame.face = std::move(sample.face);
+            frame.bary = std::move(sample.bary);
+            frame.instance = std::move(sample.instance);
+        }
+    }
+    const uint32_t n = uint32_t(offsets.size());
+    frame.rgb.resize(sum.size());
+    for (std::size_t i = 0; i < sum.size(); ++i) frame.rgb[i] = uint8_t((sum[i] + n / 2) / n);
     return frame;
 }
 

@@ -216,6 +216,16 @@ private:
             }
             result_.width = size[0];
             result_.height = size[1];
+        } else if (keyword == "samples") {
+            finish_object();
+            expect_count(s, 2, "samples <n>  (1, 2, 4, 8 or 16)");
+            if (result_.samples) fail(s.line, "samples is given twice");
+            const std::string& word = s.words[1];
+            uint32_t n = 0;
+            auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), n);
+            if (ec != std::errc() || end != word.data() + word.size() || !(n == 1 || n == 2 || n == 4 || n == 8 || n == 16))
+                fail(s.line, fmt::format("samples '{}': expected 1, 2, 4, 8 or 16", printable(word)));
+            result_.samples = n;
         } else if (keyword == "camera") {
             finish_object();
             camera(s);

@@ -51,12 +51,15 @@ const std::vector<std::string>& quick_models();
 //   NAME            models/NAME.obj (or .off, .ply, .stl) in the models folder: cube, monkey, bunny, ...
 //   NAME-loop[K]    that model with K levels of Loop subdivision (default 1): bunny-loop
 //   deep-N[:NAME]   NAME (default monkey) placed on a DeepGrid with N layers: deep-20
+//   random-N[:SEED] N random triangles (hsr/random_triangles.hpp), seed 1 unless given: random-1000:7
 //   a file path     anything with a '/' or an extension: a mesh file or a .scene file
 struct ModelSpec {
     std::string name;              // as given; shown in tables and plots
     std::filesystem::path file;    // the mesh or .scene file
     int loop_levels = 0;
     uint32_t layers = 0;           // 0: the model alone; else a deep scene of that many layers
+    uint64_t random_triangles = 0; // not 0: random triangles instead of a file
+    uint64_t seed = 1;             // of the random triangles
 };
 // Throws hsr::Error for an unknown name or a file that does not exist.
 ModelSpec parse_model_spec(const std::string& text, const std::filesystem::path& models_dir);
@@ -166,6 +169,9 @@ struct Result {
     double build_ms = 0;
     unsigned build_calls = 0;
     Counters counters;
+    // Not empty: the plugin refused this scene (an error from one of its calls), and this is its
+    // one-line reason; nothing was timed.
+    std::string refused;
 };
 Result make_result(std::string algorithm, std::string model, const hsr_scene& scene, const hsr_camera& camera,
                    const Timing& timing, unsigned warmup, const std::optional<DepthComplexity>& depth_complexity);

@@ -25,7 +25,20 @@ struct LineStyle {
     double outline_width = 2.0;                // silhouettes and boundaries
     double hidden_width = 0.75;
     double dash = 4.0, gap = 3.0;              // dashed hidden lines, pixels
+
+    // The inks for a dark background (relative_luminance below 0.5).
+    static constexpr glm::vec3 light_ink{0.92f, 0.92f, 0.9f};
+    static constexpr glm::vec3 light_hidden_ink{0.5f, 0.5f, 0.55f};
+
+    // Every width, dash and gap times `factor`: the style of lines `factor` times as heavy.
+    void scale_widths(double factor) {
+        for (double* length : {&line_width, &outline_width, &hidden_width, &dash, &gap}) *length *= factor;
+    }
 };
+
+// The relative luminance of an sRGB colour (ITU-R BT.709 weights on the stored values): 0 black,
+// 1 white; what decides whether lines are drawn dark or light.
+inline float relative_luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
 // Counts of what was drawn, for messages.
 struct LineImageStats {

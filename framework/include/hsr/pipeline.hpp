@@ -27,7 +27,19 @@ struct FrameSettings {
     // Render step by step (ABI 1.3): stop after this step (1-based; 0 runs every step). Empty: no
     // steps, render() as usual.
     std::optional<uint64_t> stop_after_step;
+    // Supersampling (render_supersampled_frame; render_frame renders the pixel centres only):
+    // visibility and shading once per position of sample_offsets(samples), the colours averaged.
+    uint32_t samples = 1;
 };
+
+// The sample positions of a pixel for supersampling, as offsets from its centre in pixels (x right,
+// y down): the standard multisample patterns of Direct3D 10.1+ and Vulkan (standardSampleLocations)
+// for 1, 2, 4, 8 and 16 samples; 4 is the rotated grid (RGSS). Throws hsr::Error for another count.
+std::vector<glm::vec2> sample_offsets(uint32_t samples);
+bool is_sample_count(uint32_t samples);  // 1, 2, 4, 8 or 16
+// The camera that sees at each pixel centre what `camera` sees at that centre plus offset (pixels,
+// x right, y down): its projection shifted in NDC, so that any hidden-surface plugin samples there.
+hsr_camera offset_camera(const hsr_camera& camera, glm::vec2 offset);
 
 // One of a plugin's own buffers at a step (hsr_step_buffer), copied.
 struct StepBuffer {
@@ -66,7 +78,7 @@ struct Frame {
     std::vector<float> bary;
     std::vector<uint32_t> instance;     // per pixel; empty unless the scene has instances
     std::vector<uint32_t> depth_tests;  // per pixel; empty unless asked for (FrameSettings)
-    std::vector<uint8_t> rgb;   // 3 * width * height, rows top to bottom
+    std::vector<uint8_t> rgb;   // 3 * width * height, rows top to bottom; with samples, their mean
     std::vector<std::pair<std::string, uint64_t>> counters;  // the plugins' and the host's, in order
     std::optional<StepRun> steps;  // when rendered step by step (FrameSettings::stop_after_step)
     double visibility_ms = 0;   // time inside the hidden-surface plugin
@@ -104,6 +116,15 @@ bool has_transparency(const hsr_scene& scene);
 // transparent objects is an error for it. Rendering step by step uses one surface per pixel.
 Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                    LightingModel& lighting, const hsr_shading_context& context, const FrameSettings& settings);
+
+// render_frame() once per sample of settings.samples, each with the camera offset to the sample
+// (offset_camera), for any remover: rgb is the mean of the samples' colours, the counters and times
+// are their sums, and depth, face, bary and instance are the first sample's (at an offset from the
+// pixel centres). With 1 sample it is render_frame(). Steps and depth-test counts are of one pass:
+// asked for with more samples, they are an hsr::Error.
+Frame render_supersampled_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                                LightingModel& lighting, const hsr_shading_context& context,
+                                const FrameSettings& settings);
 
 // Depth complexity: how many triangles cover each pixel centre (all of them, front- and
 // back-facing, before any depth test), counted with the same rasterization rules as the z-buffer

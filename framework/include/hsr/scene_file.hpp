@@ -50,6 +50,7 @@ struct SceneFile {
     std::optional<float> yaw_degrees, pitch_degrees, zoom, fov_y_degrees;  // `camera orbit ...`
     std::optional<LookAt> look_at;                                         // `camera look-at ...`
     std::optional<bool> orthographic;
+    std::optional<uint32_t> samples;       // `samples N`: supersampling (FrameSettings::samples)
     std::vector<LightSpec> lights;
     std::vector<glm::vec4> clip_planes;  // `clip-plane a b c d` and `section z`, in file order
 };
