@@ -1,0 +1,231 @@
+// bsp: building the tree (Fuchs, Kedem & Naylor 1980, section 3) in world space, without
+// recursion (a tree of a closed mesh can be thousands of nodes deep). See bsp_tree.hpp.
+#include "bsp_tree.hpp"
+
+#include "hsr/triangle_setup.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace bsp {
+
+namespace {
+
+bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+[[noreturn]] void refuse(const BuildParams& params, const BuildStats& stats) {
+    throw hsr::sdk::Unsupported("bsp: more than max-polygons=" + std::to_string(params.max_polygons) +
+                                " polygons after splits (" + std::to_string(stats.polygons_in) + " triangles, " +
+                                std::to_string(stats.polygons_split) +
+                                " split so far); raise max-polygons or try split=fewest-splits");
+}
+
+}  // namespace
+
+void Tree::clear() {
+    nodes.clear();
+    polygons.clear();
+    corners.clear();
+    planes.clear();
+    node_polygons.clear();
+    stats = BuildStats{};
+    epsilon = 0.0;
+}
+
+Tree::Side Tree::classify(const Polygon& polygon, const glm::dvec4& plane) const {
+    bool front = false, back = false;
+    const glm::dvec3 normal(plane);
+    for (uint32_t k = 0; k < polygon.corner_count; ++k) {
+        const double d = glm::dot(normal, corners[polygon.first_corner + k].position) + plane.w;
+        front |= d > epsilon;
+        back |= d < -epsilon;
+    }
+    return front ? (back ? Side::kSpanning : Side::kFront) : (back ? Side::kBack : Side::kOn);
+}
+
+// The paper leaves the choice open and suggests trying a few candidates for the fewest splits;
+// ties go to the candidate that divides the rest more evenly, which keeps the tree shallower.
+uint32_t Tree::choose_splitter(const std::vector<uint32_t>& list, const BuildParams& params) const {
+    if (params.choice == SplitChoice::kFirst || list.size() == 1) return 0;
+    const size_t samples = std::min<size_t>(params.samples, list.size());
+    uint32_t best = 0;
+    uint64_t best_splits = UINT64_MAX, best_imbalance = UINT64_MAX;
+    for (size_t s = 0; s < samples; ++s) {
+        const uint32_t candidate = uint32_t(s * list.size() / samples);  // evenly spread over the list
+        const glm::dvec4 plane = planes[polygons[list[candidate]].plane];
+        Split split;
+        for (uint32_t index : list) {
+            switch (classify(polygons[index], plane)) {
+                case Side::kOn: break;
+                case Side::kFront: ++split.front; break;
+                case Side::kBack: ++split.back; break;
+                case Side::kSpanning: ++split.spanning; break;
+            }
+            if (split.spanning > best_splits) break;
+        }
+        const uint64_t imbalance = split.front > split.back ? split.front - split.back : split.back - split.front;
+        if (split.spanning < best_splits || (split.spanning == best_splits && imbalance < best_imbalance)) {
+            best = candidate;
+            best_splits = split.spanning;
+            best_imbalance = imbalance;
+        }
+    }
+    return best;
+}
+
+// A convex piece of `from` becomes a polygon of its own. A piece with more corners than the
+// rasterizer takes (a cut adds one) is cut once more along a diagonal, the two halves sharing it.
+void Tree::add_piece(const Corner* piece, int count, const Polygon& from, std::vector<uint32_t>& list,
+                     const BuildParams& params) {
+    if (count < 3) return;
+    if (count > hsr::raster::kMaxPieceVertices) {
+        const int half = count / 2;
+        Corner rest[hsr::raster::kMaxPieceVertices + 2];
+        std::copy(piece + half, piece + count, rest);
+        rest[count - half] = piece[0];
+        add_piece(piece, half + 1, from, list, params);
+        add_piece(rest, count - half + 1, from, list, params);
+        return;
+    }
+    if (++stats.polygons_after_splits > params.max_polygons) refuse(params, stats);
+    Polygon p = from;
+    p.first_corner = uint32_t(corners.size());
+    p.corner_count = uint32_t(count);
+    corners.insert(corners.end(), piece, piece + count);
+    list.push_back(uint32_t(polygons.size()));
+    polygons.push_back(p);
+}
+
+// Cuts polygon `index` by the plane. Corners within epsilon of the plane go to both pieces; a
+// crossing corner is computed once, from the front end toward the back end, and shared, so that
+// the two pieces meet along a bit-identical edge.
+void Tree::split(uint32_t index, const glm::dvec4& plane, std::vector<uint32_t>& front, std::vector<uint32_t>& back,
+                 const BuildParams& params) {
+    const Polygon from = polygons[index];
+    Corner in[hsr::raster::kMaxPieceVertices];
+    double distance[hsr::raster::kMaxPieceVertices];
+    const glm::dvec3 normal(plane);
+    const int count = int(from.corner_count);
+    for (int k = 0; k < count; ++k) {
+        in[k] = corners[from.first_corner + k];
+        const double d = glm::dot(normal, in[k].position) + plane.w;
+        distance[k] = d > epsilon ? d : d < -epsilon ? d : 0.0;
+    }
+    Corner front_piece[hsr::raster::kMaxPieceVertices + 1], back_piece[hsr::raster::kMaxPieceVertices + 1];
+    int front_count = 0, back_count = 0;
+    for (int k = 0; k < count; ++k) {
+        const int next = k + 1 == count ? 0 : k + 1;
+        const double da = distance[k], db = distance[next];
+        if (da >= 0.0) front_piece[front_count++] = in[k];
+        if (da <= 0.0) back_piece[back_count++] = in[k];
+        if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
+            const Corner& f = da > 0.0 ? in[k] : in[next];
+            const Corner& b = da > 0.0 ? in[next] : in[k];
+            const double d_front = std::max(da, db), d_back = std::min(da, db);
+            const double t = d_front / (d_front - d_back);
+            const Corner crossing{f.position + t * (b.position - f.position), f.bary + t * (b.bary - f.bary)};
+            front_piece[front_count++] = crossing;
+            back_piece[back_count++] = crossing;
+        }
+    }
+    ++stats.polygons_split;
+    --stats.polygons_after_splits;  // the polygon cut, replaced by its pieces
+    add_piece(front_piece, front_count, from, front, params);
+    add_piece(back_piece, back_count, from, back, params);
+}
+
+void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
+    clear();
+    const uint32_t placements = scene.placement_count();
+    uint64_t triangles = 0;
+    for (uint32_t k = 0; k < placements; ++k) triangles += scene.placement(k).triangle_count;
+    if (triangles > params.max_polygons) {
+        stats.polygons_in = triangles;
+        refuse(params, stats);
+    }
+    polygons.reserve(triangles);
+    planes.reserve(triangles);
+    corners.reserve(3 * triangles);
+
+    // The placed triangles in world space. Degenerate ones (no plane) cover no pixel centre.
+    const uint32_t* indices = scene.raw().indices;
+    double largest_coordinate = 0.0;
+    std::vector<uint32_t> all;
+    all.reserve(triangles);
+    for (uint32_t k = 0; k < placements; ++k) {
+        const hsr::sdk::Placement p = scene.placement(k);
+        const glm::dmat4 world_from_object = p.identity ? glm::dmat4(1.0) : glm::dmat4(p.transform);
+        for (uint32_t t = p.first_triangle; t < p.first_triangle + p.triangle_count; ++t) {
+            glm::dvec3 w[3];
+            for (int c = 0; c < 3; ++c)
+                w[c] = glm::dvec3(world_from_object * glm::dvec4(glm::dvec3(scene.position(indices[3 * size_t(t) + c])), 1.0));
+            if (!(finite(w[0]) && finite(w[1]) && finite(w[2]))) continue;
+            const glm::dvec3 cross = glm::cross(w[1] - w[0], w[2] - w[0]);
+            const double length = glm::length(cross);
+            if (!(length > 0.0) || !std::isfinite(length)) continue;
+            const glm::dvec3 normal = cross / length;
+            for (const glm::dvec3& c : w)
+                largest_coordinate = std::max({largest_coordinate, std::abs(c.x), std::abs(c.y), std::abs(c.z)});
+            const uint32_t first = uint32_t(corners.size());
+            corners.push_back({w[0], {0.0, 0.0}});
+            corners.push_back({w[1], {1.0, 0.0}});
+            corners.push_back({w[2], {0.0, 1.0}});
+            all.push_back(uint32_t(polygons.size()));
+            polygons.push_back({first, 3, t, p.instance, uint32_t(planes.size())});
+            planes.emplace_back(normal, -glm::dot(normal, w[0]));
+        }
+    }
+    stats.polygons_in = polygons.size();
+    stats.polygons_after_splits = polygons.size();
+    // A corner's distance to a plane through other double corners is exact to about 1e-16 of the
+    // coordinates' size; corners of the float input that are meant to lie in one plane (two
+    // triangles of a flat quad, a box face) miss it by that much. 1e-9 of the largest coordinate
+    // is far above that rounding and far below anything a pixel can show, so coplanar polygons are
+    // kept together and no sliver thinner than rounding is cut off.
+    epsilon = 1e-9 * largest_coordinate;
+    if (all.empty()) return;
+
+    struct Work {
+        uint32_t node;
+        uint32_t depth;
+        std::vector<uint32_t> list;
+    };
+    std::vector<Work> stack;
+    nodes.emplace_back();
+    stack.push_back({0, 1, std::move(all)});
+    while (!stack.empty()) {
+        Work work = std::move(stack.back());
+        stack.pop_back();
+        stats.depth = std::max(stats.depth, work.depth);
+        const uint32_t splitter = choose_splitter(work.list, params);
+        const glm::dvec4 plane = planes[polygons[work.list[splitter]].plane];
+        std::vector<uint32_t> front, back;
+        const uint32_t first_polygon = uint32_t(node_polygons.size());
+        for (size_t k = 0; k < work.list.size(); ++k) {
+            const uint32_t index = work.list[k];
+            const Side side = k == splitter ? Side::kOn : classify(polygons[index], plane);
+            switch (side) {
+                case Side::kOn: node_polygons.push_back(index); break;
+                case Side::kFront: front.push_back(index); break;
+                case Side::kBack: back.push_back(index); break;
+                case Side::kSpanning: split(index, plane, front, back, params); break;
+            }
+        }
+        work.list = std::vector<uint32_t>();  // free it before the children's lists grow
+        Node& node = nodes[work.node];
+        node.plane = plane;
+        node.first_polygon = first_polygon;
+        node.polygon_count = uint32_t(node_polygons.size()) - first_polygon;
+        for (std::vector<uint32_t>* side : {&back, &front}) {
+            if (side->empty()) continue;
+            const uint32_t child = uint32_t(nodes.size());
+            (side == &front ? nodes[work.node].front : nodes[work.node].back) = child;
+            nodes.emplace_back();
+            stack.push_back({child, work.depth + 1, std::move(*side)});
+        }
+    }
+}
+
+}  // namespace bsp
