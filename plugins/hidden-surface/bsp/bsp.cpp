@@ -7,11 +7,14 @@
 // changes. A frame walks it from the eye: at each node the subtree on the far side of its plane,
 // then the node's own polygons, then the near subtree (back to front, painting over what is drawn),
 // or the reverse (front to back, with a per-pixel coverage mask: a pixel once written is never
-// written again). Each node polygon goes to clip space (view_projection * world) and through the
-// SDK's polygon rasterizer (hsr/raster.hpp), which clips it to near/far, the guard band and the
-// camera's clip planes, and gives depth and perspective-correct barycentrics of the original
-// triangle at each covered pixel centre. The coverage mask is right with clip planes only because
-// what a plane cuts away is never rasterized. docs/algorithms/bsp.md describes the steps and counters.
+// written again). A node polygon is drawn as its triangle, taken to clip space (view_projection *
+// world) and through the SDK's polygon rasterizer (hsr/raster.hpp: clipping to near/far, the guard
+// band and the camera's clip planes, the z-buffer's setup, coverage, depth and perspective-correct
+// barycentrics), at the pixel centres the piece's cuts keep. Rasterizing the pieces' own corners
+// instead would leave cracks: a cut's corner on a triangle's edge, snapped to the subpixel grid,
+// is off its unsplit neighbour's edge (a T-junction). The coverage mask is right with clip planes
+// only because what a plane cuts away is never rasterized. docs/algorithms/bsp.md describes the
+// steps and counters.
 #include "bsp_tree.hpp"
 
 #include "../octree-zbuffer/scene_key.hpp"  // how octree-zbuffer recognises a scene it built for
@@ -24,6 +27,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <new>
@@ -42,6 +46,11 @@ struct Rect {
     bool empty() const { return x0 > x1; }
 };
 
+// A window coordinate held to [-1, size] as a pixel index (NaN: -1).
+inline int32_t pixel(double v, int32_t size) {
+    return v >= -1.0 ? int32_t(std::min(v, double(size))) : -1;
+}
+
 struct FrameStats {
     uint64_t nodes_visited = 0;
     uint64_t polygons_drawn = 0;  // rasterized with at least one pixel centre in the image
@@ -50,19 +59,30 @@ struct FrameStats {
     uint64_t pixels_skipped = 0;  // front to back: already covered
 };
 
-// One pixel of a node polygon: painted over (back to front) or written only where the coverage
-// mask is clear (front to back). kMirror: the mask is also kept as floats, for the steps' buffer.
+// One pixel centre of a node polygon's triangle: skipped unless the piece's cuts keep it, then
+// painted over (back to front) or written only where the coverage mask is clear (front to back).
+// kMirror: the mask is also kept as floats, for the steps' buffer.
 template <bool kFrontToBack, bool kCountTests, bool kMirror>
 struct PixelWriter {
     raster::PixelBuffers b;
     uint8_t* covered;
     float* covered_view;
+    const bsp::Cut* cuts;
+    uint32_t cut_count;
     uint32_t face_id;
     uint32_t instance_id;
     uint64_t painted = 0;
     uint64_t skipped = 0;
 
     void operator()(const raster::TriangleSetup& s, int32_t x, int32_t y, double i, double j) {
+        glm::vec2 bary(0.0f);
+        if (cut_count > 0) {
+            bary = raster::barycentrics_at(s, i, j);
+            for (uint32_t k = 0; k < cut_count; ++k) {
+                const glm::dvec3& f = cuts[k].value;
+                if ((f.x + f.y * double(bary.x) + f.z * double(bary.y) >= 0.0) != cuts[k].front) return;
+            }
+        }
         const size_t p = size_t(y) * b.stride + size_t(x);
         if constexpr (kCountTests) ++b.tests[p];
         if constexpr (kFrontToBack) {
@@ -74,10 +94,10 @@ struct PixelWriter {
             if constexpr (kMirror) covered_view[p] = 1.0f;
         }
         ++painted;
+        if (cut_count == 0) bary = raster::barycentrics_at(s, i, j);
         b.depth[p] = raster::depth_at(s, i, j);
         b.face[p] = face_id;
         if (b.instance != nullptr) b.instance[p] = instance_id;
-        const glm::vec2 bary = raster::barycentrics_at(s, i, j);
         b.bary[2 * p] = bary.x;
         b.bary[2 * p + 1] = bary.y;
     }
@@ -167,9 +187,10 @@ private:
         } catch (...) {  // refused (Unsupported) or out of memory: keep nothing half built
             tree_.clear();
             tree_.nodes.shrink_to_fit();
+            tree_.triangles.shrink_to_fit();
             tree_.polygons.shrink_to_fit();
             tree_.corners.shrink_to_fit();
-            tree_.planes.shrink_to_fit();
+            tree_.cuts.shrink_to_fit();
             tree_.node_polygons.shrink_to_fit();
             throw;
         }
@@ -229,9 +250,13 @@ private:
             stack_.pop_back();
             const bsp::Node& node = tree_.nodes[visit.node];
             if (visit.polygons) {
-                for (uint32_t k = 0; k < node.polygon_count; ++k)
-                    draw_polygon<kFrontToBack, kCountTests>(tree_.node_polygons[node.first_polygon + k], visit.node,
+                // Kept in z-buffer order (lower instance, then face first): back to front, the
+                // first of them must paint last.
+                for (uint32_t k = 0; k < node.polygon_count; ++k) {
+                    const uint32_t at = kFrontToBack ? k : node.polygon_count - 1 - k;
+                    draw_polygon<kFrontToBack, kCountTests>(tree_.node_polygons[node.first_polygon + at], visit.node,
                                                             steps);
+                }
                 continue;
             }
             ++stats_.nodes_visited;
@@ -247,51 +272,77 @@ private:
         }
     }
 
+    // A node polygon: its triangle through the rasterizer (the z-buffer's clipping, setup and
+    // coverage, bit for bit), within the piece's screen bounds, at the pixel centres its cuts keep.
     template <bool kFrontToBack, bool kCountTests, class Steps>
     void draw_polygon(uint32_t index, uint32_t node, Steps& steps) {
         const bsp::Polygon& polygon = tree_.polygons[index];
-        if (cull_backfaces_ && !(eye_side(tree_.planes[polygon.plane]) > 0.0)) {
+        const bsp::Triangle& triangle = tree_.triangles[polygon.triangle];
+        const raster::ClipVertex corners[3] = {{view_projection_ * glm::dvec4(triangle.corner[0], 1.0), {0.0, 0.0}},
+                                               {view_projection_ * glm::dvec4(triangle.corner[1], 1.0), {1.0, 0.0}},
+                                               {view_projection_ * glm::dvec4(triangle.corner[2], 1.0), {0.0, 1.0}}};
+        if (cull_backfaces_ &&
+            !raster::is_front_facing(corners[0].position, corners[1].position, corners[2].position)) {
             ++stats_.polygons_culled;
             if constexpr (Steps::enabled)
-                steps.step({"polygon", polygon.face, polygon.instance},
-                           "node %u, piece of triangle %u: culled, it faces away from the camera", node, polygon.face);
+                steps.step({"polygon", triangle.face, triangle.instance},
+                           "node %u, piece of triangle %u: culled, it faces away from the camera", node, triangle.face);
             return;
         }
-        raster::ClipVertex clip[raster::kMaxPieceVertices];
-        for (uint32_t k = 0; k < polygon.corner_count; ++k) {
-            const bsp::Corner& c = tree_.corners[polygon.first_corner + k];
-            clip[k] = {view_projection_ * glm::dvec4(c.position, 1.0), c.bary};
+        // The piece's pixel bounds, a pixel wider than its corners (all of them in front of the eye).
+        Rect bounds{INT32_MIN, INT32_MIN, INT32_MAX, INT32_MAX};
+        if (polygon.cut_count > 0) {
+            Rect piece;
+            bool in_front = true;
+            for (uint32_t k = 0; k < polygon.corner_count && in_front; ++k) {
+                const glm::dvec4 clip = view_projection_ * glm::dvec4(tree_.corners[polygon.first_corner + k], 1.0);
+                in_front = clip.w > 0.0;
+                const glm::dvec3 w = geometry_.viewport().project(clip);
+                piece.x0 = std::min(piece.x0, pixel(std::floor(w.x) - 1.0, width_));
+                piece.y0 = std::min(piece.y0, pixel(std::floor(w.y) - 1.0, height_));
+                piece.x1 = std::max(piece.x1, pixel(std::ceil(w.x) + 1.0, width_));
+                piece.y1 = std::max(piece.y1, pixel(std::ceil(w.y) + 1.0, height_));
+            }
+            if (in_front) bounds = piece;  // (NaN corners make empty bounds: nothing drawn)
         }
         PixelWriter<kFrontToBack, kCountTests, Steps::enabled> writer{
-            buffers_, covered_.data(), covered_view_.data(), polygon.face, polygon.instance};
+            buffers_,          covered_.data(),      covered_view_.data(), tree_.cuts.data() + polygon.first_cut,
+            polygon.cut_count, triangle.face, triangle.instance};
         Rect box;
-        const bool drawn = geometry_.rasterize_polygon(clip, int(polygon.corner_count), [&](const raster::TriangleSetup& s) {
-            raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) { writer(s, x, y, i, j); });
+        bool drawn = false;
+        geometry_.rasterize_polygon(corners, 3, [&](const raster::TriangleSetup& s) {
+            const int32_t x0 = std::max(s.min_x, bounds.x0), y0 = std::max(s.min_y, bounds.y0);
+            const int32_t x1 = std::min(s.max_x, bounds.x1), y1 = std::min(s.max_y, bounds.y1);
+            if (x0 > x1 || y0 > y1) return;
+            drawn = true;
+            raster::for_each_covered_pixel_in(
+                s, x0, y0, x1, y1, [&](int32_t x, int32_t y, double i, double j) { writer(s, x, y, i, j); });
             if constexpr (Steps::enabled) {
-                box.x0 = std::min(box.x0, s.min_x);
-                box.y0 = std::min(box.y0, s.min_y);
-                box.x1 = std::max(box.x1, s.max_x);
-                box.y1 = std::max(box.y1, s.max_y);
+                box.x0 = std::min(box.x0, x0);
+                box.y0 = std::min(box.y0, y0);
+                box.x1 = std::max(box.x1, x1);
+                box.y1 = std::max(box.y1, y1);
             }
         });
         stats_.polygons_drawn += drawn ? 1 : 0;
         stats_.pixels_painted += writer.painted;
         stats_.pixels_skipped += writer.skipped;
-        if constexpr (Steps::enabled) polygon_step<kFrontToBack>(steps, clip, polygon, node, box, writer.painted,
-                                                                 writer.skipped);
+        if constexpr (Steps::enabled)
+            polygon_step<kFrontToBack>(steps, polygon, triangle, node, box, writer.painted, writer.skipped);
     }
 
     // The step of one node polygon: its outline (when it lies in front of the eye and near the
     // image), the pixel bounds of what it wrote, and in front-to-back order the coverage mask.
     template <bool kFrontToBack, class Steps>
-    void polygon_step(Steps& steps, const raster::ClipVertex* clip, const bsp::Polygon& polygon, uint32_t node,
+    void polygon_step(Steps& steps, const bsp::Polygon& polygon, const bsp::Triangle& triangle, uint32_t node,
                       const Rect& box, uint64_t painted, uint64_t skipped) {
         const int count = int(polygon.corner_count);
         bool outline = true;
         glm::dvec3 window[raster::kMaxPieceVertices];
         for (int k = 0; k < count && outline; ++k) {
-            outline = clip[k].position.w > 0.0;
-            if (outline) window[k] = geometry_.viewport().project(clip[k].position);
+            const glm::dvec4 clip = view_projection_ * glm::dvec4(tree_.corners[polygon.first_corner + k], 1.0);
+            outline = clip.w > 0.0;
+            if (outline) window[k] = geometry_.viewport().project(clip);
             outline = outline && window[k].x >= -1.0 && window[k].x <= width_ + 1.0 && window[k].y >= -1.0 &&
                       window[k].y <= height_ + 1.0;
         }
@@ -304,9 +355,9 @@ private:
         if (!box.empty())
             raster::pixel_box_lines(steps, box.x0, box.y0, box.x1, box.y1, width_, height_,
                                     painted > 0 ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED);
-        const unsigned f = polygon.face, n = node;
+        const unsigned f = triangle.face, n = node;
         const unsigned long long w = painted, s = skipped;
-        const hsr::sdk::Steps::Event event{"polygon", polygon.face, polygon.instance, HSR_NO_LEVEL, painted, skipped};
+        const hsr::sdk::Steps::Event event{"polygon", triangle.face, triangle.instance, HSR_NO_LEVEL, painted, skipped};
         if (kFrontToBack) {
             steps.buffer("coverage", uint32_t(width_), uint32_t(height_), covered_view_.data());
             steps.step(event, "node %u, piece of triangle %u: %llu pixel%s written, %llu skipped as covered", n, f, w,

@@ -13,7 +13,7 @@ namespace bsp {
 
 namespace {
 
-bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+bool is_finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
 [[noreturn]] void refuse(const BuildParams& params, const BuildStats& stats) {
     throw hsr::sdk::Unsupported("bsp: more than max-polygons=" + std::to_string(params.max_polygons) +
@@ -26,9 +26,10 @@ bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.
 
 void Tree::clear() {
     nodes.clear();
+    triangles.clear();
     polygons.clear();
     corners.clear();
-    planes.clear();
+    cuts.clear();
     node_polygons.clear();
     stats = BuildStats{};
     epsilon = 0.0;
@@ -38,7 +39,7 @@ Tree::Side Tree::classify(const Polygon& polygon, const glm::dvec4& plane) const
     bool front = false, back = false;
     const glm::dvec3 normal(plane);
     for (uint32_t k = 0; k < polygon.corner_count; ++k) {
-        const double d = glm::dot(normal, corners[polygon.first_corner + k].position) + plane.w;
+        const double d = glm::dot(normal, corners[polygon.first_corner + k]) + plane.w;
         front |= d > epsilon;
         back |= d < -epsilon;
     }
@@ -54,7 +55,7 @@ uint32_t Tree::choose_splitter(const std::vector<uint32_t>& list, const BuildPar
     uint64_t best_splits = UINT64_MAX, best_imbalance = UINT64_MAX;
     for (size_t s = 0; s < samples; ++s) {
         const uint32_t candidate = uint32_t(s * list.size() / samples);  // evenly spread over the list
-        const glm::dvec4 plane = planes[polygons[list[candidate]].plane];
+        const glm::dvec4 plane = triangles[polygons[list[candidate]].triangle].plane;
         Split split;
         for (uint32_t index : list) {
             switch (classify(polygons[index], plane)) {
@@ -75,18 +76,34 @@ uint32_t Tree::choose_splitter(const std::vector<uint32_t>& list, const BuildPar
     return best;
 }
 
-// A convex piece of `from` becomes a polygon of its own. A piece with more corners than the
-// rasterizer takes (a cut adds one) is cut once more along a diagonal, the two halves sharing it.
-void Tree::add_piece(const Corner* piece, int count, const Polygon& from, std::vector<uint32_t>& list,
-                     const BuildParams& params) {
+// A convex piece of `from`, cut off by `cut`, becomes a polygon of its own. A piece with more
+// corners than the rasterizer takes (a cut adds one) is halved along a diagonal; the halves share
+// the piece's cuts and their pixel centres are told apart by one more cut, along that diagonal.
+void Tree::add_piece(const glm::dvec3* piece, int count, const Polygon& from, const Cut* cut,
+                     std::vector<uint32_t>& list, const BuildParams& params) {
     if (count < 3) return;
     if (count > hsr::raster::kMaxPieceVertices) {
         const int half = count / 2;
-        Corner rest[hsr::raster::kMaxPieceVertices + 2];
+        glm::dvec3 rest[hsr::raster::kMaxPieceVertices + 2];
         std::copy(piece + half, piece + count, rest);
         rest[count - half] = piece[0];
-        add_piece(piece, half + 1, from, list, params);
-        add_piece(rest, count - half + 1, from, list, params);
+        // The plane through the diagonal (piece[0], piece[half]) and the triangle's normal.
+        const Triangle& t = triangles[from.triangle];
+        const glm::dvec3 normal = glm::cross(glm::dvec3(t.plane), piece[half] - piece[0]);
+        const glm::dvec4 plane(normal, -glm::dot(normal, piece[0]));
+        const bool first_in_front = glm::dot(normal, piece[1]) + plane.w > 0.0;
+        // The first half goes in as a piece with the diagonal's cut; then the rest with the other.
+        Polygon with_cut = from;
+        if (cut != nullptr) {
+            with_cut.first_cut = uint32_t(cuts.size());
+            cuts.insert(cuts.end(), cuts.begin() + from.first_cut, cuts.begin() + from.first_cut + from.cut_count);
+            cuts.push_back(*cut);
+            with_cut.cut_count = from.cut_count + 1;
+        }
+        const Cut first_cut = cut_of(from.triangle, plane, first_in_front);
+        const Cut rest_cut = cut_of(from.triangle, plane, !first_in_front);
+        add_piece(piece, half + 1, with_cut, &first_cut, list, params);
+        add_piece(rest, count - half + 1, with_cut, &rest_cut, list, params);
         return;
     }
     if (++stats.polygons_after_splits > params.max_polygons) refuse(params, stats);
@@ -94,26 +111,39 @@ void Tree::add_piece(const Corner* piece, int count, const Polygon& from, std::v
     p.first_corner = uint32_t(corners.size());
     p.corner_count = uint32_t(count);
     corners.insert(corners.end(), piece, piece + count);
+    if (cut != nullptr) {
+        p.first_cut = uint32_t(cuts.size());
+        cuts.insert(cuts.end(), cuts.begin() + from.first_cut, cuts.begin() + from.first_cut + from.cut_count);
+        cuts.push_back(*cut);
+        p.cut_count = from.cut_count + 1;
+    }
     list.push_back(uint32_t(polygons.size()));
     polygons.push_back(p);
 }
 
+Cut Tree::cut_of(uint32_t triangle, const glm::dvec4& plane, bool front) const {
+    const Triangle& t = triangles[triangle];
+    const glm::dvec3 normal(plane);
+    return {{glm::dot(normal, t.corner[0]) + plane.w, glm::dot(normal, t.corner[1] - t.corner[0]),
+             glm::dot(normal, t.corner[2] - t.corner[0])},
+            front};
+}
+
 // Cuts polygon `index` by the plane. Corners within epsilon of the plane go to both pieces; a
-// crossing corner is computed once, from the front end toward the back end, and shared, so that
-// the two pieces meet along a bit-identical edge.
+// crossing corner is computed once, from the front end toward the back end, and shared.
 void Tree::split(uint32_t index, const glm::dvec4& plane, std::vector<uint32_t>& front, std::vector<uint32_t>& back,
                  const BuildParams& params) {
     const Polygon from = polygons[index];
-    Corner in[hsr::raster::kMaxPieceVertices];
+    glm::dvec3 in[hsr::raster::kMaxPieceVertices];
     double distance[hsr::raster::kMaxPieceVertices];
     const glm::dvec3 normal(plane);
     const int count = int(from.corner_count);
     for (int k = 0; k < count; ++k) {
         in[k] = corners[from.first_corner + k];
-        const double d = glm::dot(normal, in[k].position) + plane.w;
+        const double d = glm::dot(normal, in[k]) + plane.w;
         distance[k] = d > epsilon ? d : d < -epsilon ? d : 0.0;
     }
-    Corner front_piece[hsr::raster::kMaxPieceVertices + 1], back_piece[hsr::raster::kMaxPieceVertices + 1];
+    glm::dvec3 front_piece[hsr::raster::kMaxPieceVertices + 1], back_piece[hsr::raster::kMaxPieceVertices + 1];
     int front_count = 0, back_count = 0;
     for (int k = 0; k < count; ++k) {
         const int next = k + 1 == count ? 0 : k + 1;
@@ -121,39 +151,39 @@ void Tree::split(uint32_t index, const glm::dvec4& plane, std::vector<uint32_t>&
         if (da >= 0.0) front_piece[front_count++] = in[k];
         if (da <= 0.0) back_piece[back_count++] = in[k];
         if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
-            const Corner& f = da > 0.0 ? in[k] : in[next];
-            const Corner& b = da > 0.0 ? in[next] : in[k];
+            const glm::dvec3& f = da > 0.0 ? in[k] : in[next];
+            const glm::dvec3& b = da > 0.0 ? in[next] : in[k];
             const double d_front = std::max(da, db), d_back = std::min(da, db);
-            const double t = d_front / (d_front - d_back);
-            const Corner crossing{f.position + t * (b.position - f.position), f.bary + t * (b.bary - f.bary)};
+            const glm::dvec3 crossing = f + (d_front / (d_front - d_back)) * (b - f);
             front_piece[front_count++] = crossing;
             back_piece[back_count++] = crossing;
         }
     }
     ++stats.polygons_split;
     --stats.polygons_after_splits;  // the polygon cut, replaced by its pieces
-    add_piece(front_piece, front_count, from, front, params);
-    add_piece(back_piece, back_count, from, back, params);
+    const Cut front_cut = cut_of(from.triangle, plane, true), back_cut = cut_of(from.triangle, plane, false);
+    add_piece(front_piece, front_count, from, &front_cut, front, params);
+    add_piece(back_piece, back_count, from, &back_cut, back, params);
 }
 
 void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
     clear();
     const uint32_t placements = scene.placement_count();
-    uint64_t triangles = 0;
-    for (uint32_t k = 0; k < placements; ++k) triangles += scene.placement(k).triangle_count;
-    if (triangles > params.max_polygons) {
-        stats.polygons_in = triangles;
+    uint64_t placed_triangles = 0;
+    for (uint32_t k = 0; k < placements; ++k) placed_triangles += scene.placement(k).triangle_count;
+    if (placed_triangles > params.max_polygons) {
+        stats.polygons_in = placed_triangles;
         refuse(params, stats);
     }
-    polygons.reserve(triangles);
-    planes.reserve(triangles);
-    corners.reserve(3 * triangles);
+    triangles.reserve(placed_triangles);
+    polygons.reserve(placed_triangles);
+    corners.reserve(3 * placed_triangles);
 
     // The placed triangles in world space. Degenerate ones (no plane) cover no pixel centre.
     const uint32_t* indices = scene.raw().indices;
     double largest_coordinate = 0.0;
     std::vector<uint32_t> all;
-    all.reserve(triangles);
+    all.reserve(placed_triangles);
     for (uint32_t k = 0; k < placements; ++k) {
         const hsr::sdk::Placement p = scene.placement(k);
         const glm::dmat4 world_from_object = p.identity ? glm::dmat4(1.0) : glm::dmat4(p.transform);
@@ -161,7 +191,7 @@ void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
             glm::dvec3 w[3];
             for (int c = 0; c < 3; ++c)
                 w[c] = glm::dvec3(world_from_object * glm::dvec4(glm::dvec3(scene.position(indices[3 * size_t(t) + c])), 1.0));
-            if (!(finite(w[0]) && finite(w[1]) && finite(w[2]))) continue;
+            if (!(is_finite(w[0]) && is_finite(w[1]) && is_finite(w[2]))) continue;
             const glm::dvec3 cross = glm::cross(w[1] - w[0], w[2] - w[0]);
             const double length = glm::length(cross);
             if (!(length > 0.0) || !std::isfinite(length)) continue;
@@ -169,12 +199,10 @@ void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
             for (const glm::dvec3& c : w)
                 largest_coordinate = std::max({largest_coordinate, std::abs(c.x), std::abs(c.y), std::abs(c.z)});
             const uint32_t first = uint32_t(corners.size());
-            corners.push_back({w[0], {0.0, 0.0}});
-            corners.push_back({w[1], {1.0, 0.0}});
-            corners.push_back({w[2], {0.0, 1.0}});
+            corners.insert(corners.end(), w, w + 3);
             all.push_back(uint32_t(polygons.size()));
-            polygons.push_back({first, 3, t, p.instance, uint32_t(planes.size())});
-            planes.emplace_back(normal, -glm::dot(normal, w[0]));
+            polygons.push_back({first, 3, uint32_t(triangles.size()), 0, 0});
+            triangles.push_back({{w[0], w[1], w[2]}, glm::dvec4(normal, -glm::dot(normal, w[0])), t, p.instance});
         }
     }
     stats.polygons_in = polygons.size();
@@ -200,7 +228,7 @@ void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
         stack.pop_back();
         stats.depth = std::max(stats.depth, work.depth);
         const uint32_t splitter = choose_splitter(work.list, params);
-        const glm::dvec4 plane = planes[polygons[work.list[splitter]].plane];
+        const glm::dvec4 plane = triangles[polygons[work.list[splitter]].triangle].plane;
         std::vector<uint32_t> front, back;
         const uint32_t first_polygon = uint32_t(node_polygons.size());
         for (size_t k = 0; k < work.list.size(); ++k) {
@@ -214,6 +242,13 @@ void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
             }
         }
         work.list = std::vector<uint32_t>();  // free it before the children's lists grow
+        // Polygons of one plane that overlap meet at equal depths: the plain z-buffer keeps the
+        // lower instance, then the lower face, so they are kept in that order (and drawn so that
+        // it wins).
+        std::sort(node_polygons.begin() + first_polygon, node_polygons.end(), [&](uint32_t a, uint32_t b) {
+            const Triangle &ta = triangles[polygons[a].triangle], &tb = triangles[polygons[b].triangle];
+            return ta.instance != tb.instance ? ta.instance < tb.instance : ta.face < tb.face;
+        });
         Node& node = nodes[work.node];
         node.plane = plane;
         node.first_polygon = first_polygon;

@@ -3,7 +3,7 @@
 // space over every placement's triangles. Each node holds a splitting plane (the plane of one of its
 // polygons), the polygons lying in that plane, and the subtrees of what lies in front of it and
 // behind it; a polygon crossing the plane is cut in two. Node polygons are convex pieces of the
-// original triangles, carrying the original face, instance and barycentrics at their corners.
+// scene's triangles, each knowing its triangle and the cuts that made it.
 // Built by bsp_tree.cpp; drawn by bsp.cpp.
 #pragma once
 
@@ -18,18 +18,32 @@ namespace bsp {
 
 inline constexpr uint32_t kNoNode = 0xffffffffu;
 
-// A polygon corner in world space, with the barycentrics (b1, b2) of the original triangle there.
-struct Corner {
-    glm::dvec3 position;
-    glm::dvec2 bary;
+// A placed triangle of the scene in world space, as the tree found it.
+struct Triangle {
+    glm::dvec3 corner[3];
+    glm::dvec4 plane;  // (normal, offset), the normal by the winding (front side counter-clockwise)
+    uint32_t face;
+    uint32_t instance;
 };
 
+// A cut of a triangle by a splitting plane, as the affine function of the triangle's barycentrics
+// (b1, b2) that the plane's equation becomes on it: f = value.x + value.y * b1 + value.z * b2. The
+// piece on the plane's front keeps f >= 0, the piece behind keeps f < 0: evaluated alike at a pixel
+// centre, the two tests are exact complements, so the pieces of a triangle share its pixel centres
+// among them without a gap or an overlap.
+struct Cut {
+    glm::dvec3 value;
+    bool front;
+};
+
+// A node polygon: a convex piece of a triangle, its corners (for the tree and the screen bounds)
+// and the cuts that made it (for its pixels).
 struct Polygon {
     uint32_t first_corner;  // into Tree::corners
     uint32_t corner_count;  // 3 .. kMaxPieceVertices
-    uint32_t face;          // the original triangle
-    uint32_t instance;
-    uint32_t plane;  // into Tree::planes: the original triangle's world plane, its normal by the winding
+    uint32_t triangle;      // into Tree::triangles
+    uint32_t first_cut;     // into Tree::cuts
+    uint32_t cut_count;
 };
 
 struct Node {
@@ -45,7 +59,7 @@ enum class SplitChoice { kFirst, kFewestSplits };
 struct BuildParams {
     SplitChoice choice = SplitChoice::kFewestSplits;
     uint32_t samples = 8;                // candidate planes tried per node (kFewestSplits)
-    uint64_t max_polygons = 1'000'000;  // refuse the scene above this many polygons after splits
+    uint64_t max_polygons = 1'000'000;   // refuse the scene above this many polygons after splits
 };
 
 struct BuildStats {
@@ -64,9 +78,10 @@ public:
     void clear();
 
     std::vector<Node> nodes;  // nodes[0] is the root, when there is one
+    std::vector<Triangle> triangles;
     std::vector<Polygon> polygons;
-    std::vector<Corner> corners;
-    std::vector<glm::dvec4> planes;
+    std::vector<glm::dvec3> corners;
+    std::vector<Cut> cuts;
     std::vector<uint32_t> node_polygons;  // indices into polygons, node by node
     BuildStats stats;
     double epsilon = 0.0;  // distance within which a corner counts as on a plane
@@ -81,8 +96,9 @@ private:
     uint32_t choose_splitter(const std::vector<uint32_t>& list, const BuildParams& params) const;
     void split(uint32_t index, const glm::dvec4& plane, std::vector<uint32_t>& front, std::vector<uint32_t>& back,
                const BuildParams& params);
-    void add_piece(const Corner* piece, int count, const Polygon& from, std::vector<uint32_t>& list,
-                   const BuildParams& params);
+    Cut cut_of(uint32_t triangle, const glm::dvec4& plane, bool front) const;
+    void add_piece(const glm::dvec3* piece, int count, const Polygon& from, const Cut* cut,
+                   std::vector<uint32_t>& list, const BuildParams& params);
 };
 
 }  // namespace bsp
