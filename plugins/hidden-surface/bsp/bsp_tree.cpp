@@ -48,17 +48,26 @@ Tree::Side Tree::classify(const Polygon& polygon, const glm::dvec4& plane) const
 
 // The paper leaves the choice open and suggests trying a few candidates for the fewest splits;
 // ties go to the candidate that divides the rest more evenly, which keeps the tree shallower.
+// Candidates are scored against 1/k of the list (at least kScoredPolygons of it), spread evenly
+// over it, so that choosing costs about as much as partitioning the list: a tree of a closed mesh
+// is deep, most nodes hold long lists, and scoring every candidate against all of the list costs
+// k times the whole build (3 s instead of 1 s on the bunny).
+constexpr size_t kScoredPolygons = 32;
+
 uint32_t Tree::choose_splitter(const std::vector<uint32_t>& list, const BuildParams& params) const {
     if (params.choice == SplitChoice::kFirst || list.size() == 1) return 0;
     const size_t samples = std::min<size_t>(params.samples, list.size());
+    const size_t scored = std::min(list.size(), std::max(kScoredPolygons, list.size() / samples));
     uint32_t best = 0;
     uint64_t best_splits = UINT64_MAX, best_imbalance = UINT64_MAX;
     for (size_t s = 0; s < samples; ++s) {
         const uint32_t candidate = uint32_t(s * list.size() / samples);  // evenly spread over the list
         const glm::dvec4 plane = triangles[polygons[list[candidate]].triangle].plane;
         Split split;
-        for (uint32_t index : list) {
-            switch (classify(polygons[index], plane)) {
+        for (size_t k = 0; k < scored; ++k) {
+            const size_t at = k * list.size() / scored;
+            if (at == candidate) continue;
+            switch (classify(polygons[list[at]], plane)) {
                 case Side::kOn: break;
                 case Side::kFront: ++split.front; break;
                 case Side::kBack: ++split.back; break;
