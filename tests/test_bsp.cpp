@@ -433,5 +433,6 @@ TEST_CASE("bsp: a scene needing more polygons than max-polygons is refused in on
     // default limit: refused before the tree is built.
     const hsr::SceneData& deep = model("deep-monkeys.scene");
     CHECK_THROWS_WITH(render("bsp", deep.view(), orbit(deep, 0, 0, 3.2f, false, 64)),
-                      Catch::Contains("bsp: more than max-polygons=1000000 polygons after splits (1889280 triangles"));
+                      Catch::Contains("bsp: more than max-polygons=1000000 polygons after splits (1889280 triangles before "
+                                    "any split); raise max-polygons"));
 }

@@ -115,7 +115,7 @@ public:
                           "or the first polygon's"),
         ParamSpec::integer("samples", "8", 1, 1024, "candidate planes tried per node with split=fewest-splits"),
         ParamSpec::integer("max-polygons", "1000000", 1, 100000000,
-                           "refuse a scene needing more polygons after splits (bounds memory: about 250 bytes each)"),
+                           "refuse a scene needing more polygons after splits (bounds memory: about 500 bytes each)"),
         ParamSpec::boolean("cull-backfaces", false, "skip polygons whose back faces the camera"),
     };
 

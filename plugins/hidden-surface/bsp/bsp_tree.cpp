@@ -16,10 +16,12 @@ namespace {
 bool is_finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
 [[noreturn]] void refuse(const BuildParams& params, const BuildStats& stats) {
+    const std::string why = stats.polygons_split == 0
+                                ? std::to_string(stats.polygons_in) + " triangles before any split"
+                                : std::to_string(stats.polygons_in) + " triangles, " +
+                                      std::to_string(stats.polygons_split) + " split so far";
     throw hsr::sdk::Unsupported("bsp: more than max-polygons=" + std::to_string(params.max_polygons) +
-                                " polygons after splits (" + std::to_string(stats.polygons_in) + " triangles, " +
-                                std::to_string(stats.polygons_split) +
-                                " split so far); raise max-polygons or try split=fewest-splits");
+                                " polygons after splits (" + why + "); raise max-polygons");
 }
 
 }  // namespace
