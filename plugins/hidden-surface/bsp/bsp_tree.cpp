@@ -200,8 +200,10 @@ void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
         const glm::dmat4 world_from_object = p.identity ? glm::dmat4(1.0) : glm::dmat4(p.transform);
         for (uint32_t t = p.first_triangle; t < p.first_triangle + p.triangle_count; ++t) {
             glm::dvec3 w[3];
-            for (int c = 0; c < 3; ++c)
-                w[c] = glm::dvec3(world_from_object * glm::dvec4(glm::dvec3(scene.position(indices[3 * size_t(t) + c])), 1.0));
+            for (int c = 0; c < 3; ++c) {
+                const glm::dvec3 object(scene.position(indices[3 * size_t(t) + c]));
+                w[c] = glm::dvec3(world_from_object * glm::dvec4(object, 1.0));
+            }
             if (!(is_finite(w[0]) && is_finite(w[1]) && is_finite(w[2]))) continue;
             const glm::dvec3 cross = glm::cross(w[1] - w[0], w[2] - w[0]);
             const double length = glm::length(cross);
