@@ -115,7 +115,7 @@ public:
                           "or the first polygon's"),
         ParamSpec::integer("samples", "8", 1, 1024, "candidate planes tried per node with split=fewest-splits"),
         ParamSpec::integer("max-polygons", "1000000", 1, 100000000,
-                           "refuse a scene needing more polygons after splits (bounds memory: about 500 bytes each)"),
+                           "refuse a scene needing more polygons after splits (bounds memory: about 600 bytes each)"),
         ParamSpec::boolean("cull-backfaces", false, "skip polygons whose back faces the camera"),
     };
 
@@ -191,7 +191,6 @@ private:
             tree_.polygons.shrink_to_fit();
             tree_.corners.shrink_to_fit();
             tree_.cuts.shrink_to_fit();
-            tree_.node_polygons.shrink_to_fit();
             throw;
         }
         scene_key_ = skey;
@@ -254,8 +253,7 @@ private:
                 // first of them must paint last.
                 for (uint32_t k = 0; k < node.polygon_count; ++k) {
                     const uint32_t at = kFrontToBack ? k : node.polygon_count - 1 - k;
-                    draw_polygon<kFrontToBack, kCountTests>(tree_.node_polygons[node.first_polygon + at], visit.node,
-                                                            steps);
+                    draw_polygon<kFrontToBack, kCountTests>(node.first_polygon + at, visit.node, steps);
                 }
                 continue;
             }

@@ -32,7 +32,6 @@ void Tree::clear() {
     polygons.clear();
     corners.clear();
     cuts.clear();
-    node_polygons.clear();
     stats = BuildStats{};
     epsilon = 0.0;
 }
@@ -234,6 +233,7 @@ void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
         std::vector<uint32_t> list;
     };
     std::vector<Work> stack;
+    std::vector<uint32_t> node_polygons;  // indices into polygons, node by node
     nodes.emplace_back();
     stack.push_back({0, 1, std::move(all)});
     while (!stack.empty()) {
@@ -274,6 +274,67 @@ void Tree::build(const hsr::sdk::Scene& scene, const BuildParams& params) {
             stack.push_back({child, work.depth + 1, std::move(*side)});
         }
     }
+    lay_out(node_polygons);
+}
+
+// Every subtree becomes one contiguous range of each array, which the walk reads, in either order
+// of the children, with far fewer cache misses than in the order the build made things; the
+// corners and cuts of polygons that were cut again are dropped.
+void Tree::lay_out(const std::vector<uint32_t>& node_polygons) {
+    size_t corner_total = 0, cut_total = 0;
+    for (uint32_t index : node_polygons) {
+        corner_total += polygons[index].corner_count;
+        cut_total += polygons[index].cut_count;
+    }
+    std::vector<Node> out_nodes;
+    std::vector<Triangle> out_triangles;
+    std::vector<Polygon> out_polygons;
+    std::vector<glm::dvec3> out_corners;
+    std::vector<Cut> out_cuts;
+    out_nodes.reserve(nodes.size());
+    out_triangles.reserve(triangles.size());
+    out_polygons.reserve(node_polygons.size());
+    out_corners.reserve(corner_total);
+    out_cuts.reserve(cut_total);
+    std::vector<uint32_t> new_triangle(triangles.size(), kNoNode);
+    struct Visit {
+        uint32_t node;    // in nodes
+        uint32_t parent;  // in out_nodes
+        bool front;       // the parent's front child
+    };
+    std::vector<Visit> stack{{0, kNoNode, false}};
+    while (!stack.empty()) {
+        const Visit visit = stack.back();
+        stack.pop_back();
+        const uint32_t index = uint32_t(out_nodes.size());
+        if (visit.parent != kNoNode)
+            (visit.front ? out_nodes[visit.parent].front : out_nodes[visit.parent].back) = index;
+        const Node& old = nodes[visit.node];
+        Node node = old;
+        node.front = node.back = kNoNode;
+        node.first_polygon = uint32_t(out_polygons.size());
+        for (uint32_t k = 0; k < old.polygon_count; ++k) {
+            const Polygon& p = polygons[node_polygons[old.first_polygon + k]];
+            uint32_t& triangle = new_triangle[p.triangle];
+            if (triangle == kNoNode) {
+                triangle = uint32_t(out_triangles.size());
+                out_triangles.push_back(triangles[p.triangle]);
+            }
+            out_polygons.push_back(
+                {uint32_t(out_corners.size()), p.corner_count, triangle, uint32_t(out_cuts.size()), p.cut_count});
+            out_corners.insert(out_corners.end(), corners.begin() + p.first_corner,
+                               corners.begin() + p.first_corner + p.corner_count);
+            out_cuts.insert(out_cuts.end(), cuts.begin() + p.first_cut, cuts.begin() + p.first_cut + p.cut_count);
+        }
+        out_nodes.push_back(node);
+        if (old.back != kNoNode) stack.push_back({old.back, index, false});
+        if (old.front != kNoNode) stack.push_back({old.front, index, true});
+    }
+    nodes = std::move(out_nodes);
+    triangles = std::move(out_triangles);
+    polygons = std::move(out_polygons);
+    corners = std::move(out_corners);
+    cuts = std::move(out_cuts);
 }
 
 }  // namespace bsp

@@ -50,7 +50,7 @@ struct Node {
     glm::dvec4 plane{0.0};  // (normal, offset): a point p is in front where dot(normal, p) + offset > 0
     uint32_t front = kNoNode;
     uint32_t back = kNoNode;
-    uint32_t first_polygon = 0;  // its polygons (all in its plane): Tree::node_polygons[first, first + count)
+    uint32_t first_polygon = 0;  // its polygons (all in its plane): Tree::polygons[first, first + count)
     uint32_t polygon_count = 0;
 };
 
@@ -77,12 +77,13 @@ public:
     void build(const hsr::sdk::Scene& scene, const BuildParams& params);
     void clear();
 
+    // The finished tree in pre-order (a node, its front subtree, its back subtree), its polygons
+    // node by node with their corners and cuts, and the triangles in the order they are first used.
     std::vector<Node> nodes;  // nodes[0] is the root, when there is one
     std::vector<Triangle> triangles;
     std::vector<Polygon> polygons;
     std::vector<glm::dvec3> corners;
     std::vector<Cut> cuts;
-    std::vector<uint32_t> node_polygons;  // indices into polygons, node by node
     BuildStats stats;
     double epsilon = 0.0;  // distance within which a corner counts as on a plane
 
@@ -99,6 +100,7 @@ private:
     Cut cut_of(uint32_t triangle, const glm::dvec4& plane, bool front) const;
     void add_piece(const glm::dvec3* piece, int count, const Polygon& from, const Cut* cut,
                    std::vector<uint32_t>& list, const BuildParams& params);
+    void lay_out(const std::vector<uint32_t>& node_polygons);
 };
 
 }  // namespace bsp
