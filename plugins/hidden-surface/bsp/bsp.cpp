@@ -152,7 +152,7 @@ private:
         // At least 1 on a call that built, so that "built" never reads as "reused".
         counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(build_us)) : 0);
 
-        begin_frame(scene, camera, target);
+        begin_frame(camera, target);
         stats_ = FrameStats{};
         try {
             if (!tree_.nodes.empty()) draw(steps);
@@ -199,9 +199,10 @@ private:
         return true;
     }
 
-    void begin_frame(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target) {
-        // Culling is decided here, from the polygon's plane; the geometry stage only rasterizes.
-        geometry_.begin_frame(scene.raw(), camera, false);
+    void begin_frame(const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target) {
+        // The geometry stage only rasterizes node polygons: no vertices of its own to transform
+        // (an empty scene), and facing is judged per polygon (draw_polygon).
+        geometry_.begin_frame(hsr_scene{}, camera, false);
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
         perspective_ = camera.projection_type == HSR_PROJECTION_PERSPECTIVE;
         // The eye and the direction toward the viewer, from the view matrix (world = inverse(view) * eye).
