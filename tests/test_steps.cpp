@@ -499,7 +499,7 @@ TEST_CASE("steps: hsr render --step N of the last step writes the plain render's
     // Every remover with steps whose plain picture is one surface per pixel (a-buffer's is
     // composited from its fragment lists).
     const char* const removers[] = {"zbuffer", "scanline-zbuffer", "hierarchical-zbuffer", "octree-zbuffer",
-                                    "warnock", "weiler-atherton", "raycast", "painter", "painter:mode=naive"};
+                                    "warnock", "weiler-atherton", "raycast", "painter", "painter:mode=naive", "bsp", "bsp:order=front-to-back"};
     for (const char* name : removers) {
         for (const char* model_file : {"cube.obj", "boxes.scene"}) {
             INFO(name << " on " << model_file);

@@ -17,9 +17,8 @@
 // steps and counters.
 #include "bsp_tree.hpp"
 
-#include "../octree-zbuffer/scene_key.hpp"  // how octree-zbuffer recognises a scene it built for
-
 #include "hsr/raster.hpp"
+#include "hsr/scene_key.hpp"
 #include "hsr/sdk.hpp"
 
 #include <glm/glm.hpp>
@@ -37,8 +36,8 @@ namespace {
 
 namespace raster = hsr::raster;
 using hsr::sdk::ParamSpec;
-using octree_zbuffer::InstanceKey;
-using octree_zbuffer::SceneKey;
+using hsr::sdk::InstanceKey;
+using hsr::sdk::SceneKey;
 
 // Pixel bounds of what a polygon's setups covered (steps only).
 struct Rect {
@@ -178,8 +177,8 @@ private:
 
     // Builds the tree unless it was built for this very scene; true when it built.
     bool prepare(const hsr::sdk::Scene& scene) {
-        const SceneKey skey = octree_zbuffer::scene_key(scene);
-        const InstanceKey ikey = octree_zbuffer::instance_key(scene);
+        const SceneKey skey = hsr::sdk::scene_key(scene);
+        const InstanceKey ikey = hsr::sdk::instance_key(scene);
         if (has_built_ && skey == scene_key_ && ikey == instance_key_) return false;
         has_built_ = false;
         try {
