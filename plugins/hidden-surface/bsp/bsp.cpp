@@ -102,7 +102,7 @@ struct PixelWriter {
     }
 };
 
-class Bsp final : public hsr::sdk::HiddenSurfaceRemover {
+class Bsp final : public hsr::sdk::StepwiseRemover<Bsp> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "bsp", "1.0.0", "BSP tree (Fuchs, Kedem & Naylor 1980): built once per scene, drawn in order from the eye"};
@@ -125,19 +125,11 @@ public:
         build_params_.max_polygons = uint64_t(p.integer("max-polygons"));
     }
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per node polygon, in drawing order.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per node polygon, in drawing order.
 
 private:
+    friend class hsr::sdk::StepwiseRemover<Bsp>;
+
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                      hsr::sdk::Counters& counters, Steps& steps) {

@@ -53,7 +53,7 @@ struct TileStats {
     uint64_t rays = 0, hits = 0;
 };
 
-class Embree final : public hsr::sdk::HiddenSurfaceRemover {
+class Embree final : public hsr::sdk::StepwiseRemover<Embree> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "embree", "1.0.0", "ray casting with Intel Embree 3 (Wald et al. 2014) as the ray-tracing kernel"};
@@ -77,17 +77,8 @@ public:
     Embree(const Embree&) = delete;
     Embree& operator=(const Embree&) = delete;
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per tile, tiles in rows from the top left, all cast on the calling thread.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per tile, tiles in rows from the top left,
+    // all cast on the calling thread.
 
     // The intersection filter: passes over hits outside the view volume, cut away, or facing away.
     static void filter(const RTCFilterFunctionNArguments* args) {
@@ -113,6 +104,8 @@ private:
         glm::dmat4 world_from_object{1.0};
         glm::dmat4 clip_from_object{1.0};  // per frame
     };
+
+    friend class hsr::sdk::StepwiseRemover<Embree>;
 
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,

@@ -51,7 +51,7 @@ struct SortStats {
     uint64_t passed[6] = {};
 };
 
-class Painter final : public hsr::sdk::HiddenSurfaceRemover {
+class Painter final : public hsr::sdk::StepwiseRemover<Painter> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "painter", "1.0.0", "depth sort (Newell, Newell & Sancha 1972): painted back to front, cycles split"};
@@ -69,17 +69,8 @@ public:
         : newell_(p.choice("mode") == 0), key_mid_(p.choice("naive-key") == 1),
           cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per polygon painted, per reordering and per split, in the order they happen.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per polygon painted, per reordering and per
+    // split, in the order they happen.
 
 private:
     // Sort order: farther key first, then lower polygon index (scene order).
@@ -92,6 +83,8 @@ private:
             return a.depth > b.depth || (a.depth == b.depth && a.id < b.id);
         }
     };
+
+    friend class hsr::sdk::StepwiseRemover<Painter>;
 
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,

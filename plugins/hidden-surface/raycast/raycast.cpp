@@ -95,7 +95,7 @@ struct Nearest {
 // window depth, from view_projection, decides. The same relative slack widens the search limit.
 constexpr double kTSlack = 1e-6;
 
-class Raycast final : public hsr::sdk::HiddenSurfaceRemover {
+class Raycast final : public hsr::sdk::StepwiseRemover<Raycast> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "raycast", "1.0.0",
@@ -115,19 +115,12 @@ public:
           leaf_triangles_(uint32_t(p.integer("leaf-triangles"))),
           cull_backfaces_(p.boolean("cull-backfaces")) {}
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per tile, tiles in rows from the top left, all cast on the calling thread.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per tile, tiles in rows from the top left, all
+    // cast on the calling thread.
 
 private:
+    friend class hsr::sdk::StepwiseRemover<Raycast>;
+
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                      hsr::sdk::Counters& counters, Steps& steps) {

@@ -92,7 +92,7 @@ inline double depth_at_row_start(const raster::TriangleSetup& s) {
     return s.depth.origin - s.depth.dx * double(s.min_x);
 }
 
-class ScanlineZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
+class ScanlineZBuffer final : public hsr::sdk::StepwiseRemover<ScanlineZBuffer> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "scanline-zbuffer", "1.0.0",
@@ -104,17 +104,8 @@ public:
 
     explicit ScanlineZBuffer(const hsr::sdk::Params& p) : cull_backfaces_(p.boolean("cull-backfaces")) {}
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per scanline, top to bottom, empty ones included: step k leaves rows 0 .. k-1 drawn.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per scanline, top to bottom, empty ones included:
+    // step k leaves rows 0 .. k-1 drawn.
 
 private:
     struct Stats {
@@ -124,6 +115,8 @@ private:
         uint64_t edge_pairs = 0;  // (polygon, scanline) pairs: spans computed
         uint64_t active_max = 0;
     };
+
+    friend class hsr::sdk::StepwiseRemover<ScanlineZBuffer>;
 
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,

@@ -83,7 +83,7 @@ struct WindowStats {
 
 constexpr uint32_t kNone = ~0u;
 
-class Warnock final : public hsr::sdk::HiddenSurfaceRemover {
+class Warnock final : public hsr::sdk::StepwiseRemover<Warnock> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "warnock", "1.0.0", "area subdivision (Warnock 1969): windows split in four until each is simple"};
@@ -96,19 +96,12 @@ public:
     explicit Warnock(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per window decided, parents before their quarters (depth first).
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per window decided, parents before their quarters
+    // (depth first).
 
 private:
+    friend class hsr::sdk::StepwiseRemover<Warnock>;
+
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                      hsr::sdk::Counters& counters, Steps& steps) {

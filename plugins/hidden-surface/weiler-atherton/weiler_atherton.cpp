@@ -66,7 +66,7 @@ struct Fragment {
     float x0, y0, x1, y1;  // window-space bounds
 };
 
-class WeilerAtherton final : public hsr::sdk::HiddenSurfaceRemover {
+class WeilerAtherton final : public hsr::sdk::StepwiseRemover<WeilerAtherton> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "weiler-atherton", "1.0.0",
@@ -80,17 +80,8 @@ public:
     explicit WeilerAtherton(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_fragments_(uint64_t(p.integer("max-fragments"))) {}
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per clip polygon, then one per visible fragment rasterized.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per clip polygon, then one per visible fragment
+    // rasterized.
 
 private:
     struct Stats {
@@ -119,6 +110,8 @@ private:
         uint32_t fragment;
         std::vector<glm::dvec4> edges;
     };
+
+    friend class hsr::sdk::StepwiseRemover<WeilerAtherton>;
 
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,

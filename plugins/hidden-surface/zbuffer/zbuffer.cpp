@@ -20,7 +20,7 @@ namespace {
 namespace raster = hsr::raster;
 using hsr::sdk::ParamSpec;
 
-class ZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
+class ZBuffer final : public hsr::sdk::StepwiseRemover<ZBuffer> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "zbuffer", "1.0.0", "plain z-buffer (Catmull 1974): per-triangle edge-function rasterization"};
@@ -33,23 +33,15 @@ public:
     explicit ZBuffer(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), keep_farthest_(p.choice("depth-test") == 1) {}
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        render_with(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per input triangle, in drawing order.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        render_with(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per input triangle, in drawing order.
 
 private:
     struct PixelStats {
         uint64_t depth_tested = 0;
         uint64_t written = 0;
     };
+
+    friend class hsr::sdk::StepwiseRemover<ZBuffer>;
 
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,

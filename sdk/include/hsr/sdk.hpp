@@ -411,6 +411,25 @@ struct NoSteps {
     uint64_t count() const { return 0; }
 };
 
+// A remover whose steps come from the code that renders: derive from StepwiseRemover<Derived> and
+// define (private, with `friend class hsr::sdk::StepwiseRemover<Derived>;`)
+//   template <class StepsT>
+//   void render_with(const Scene&, const hsr_camera&, VisibilityBuffer&, Counters&, StepsT& steps);
+// render() calls it with NoSteps, so that the step code compiles away, and render_steps() (ABI 1.3)
+// with Steps.
+template <class Derived>
+class StepwiseRemover : public HiddenSurfaceRemover {
+public:
+    void render(const Scene& scene, const hsr_camera& camera, VisibilityBuffer& target, Counters& counters) final {
+        NoSteps no_steps;
+        static_cast<Derived*>(this)->render_with(scene, camera, target, counters, no_steps);
+    }
+    void render_steps(const Scene& scene, const hsr_camera& camera, VisibilityBuffer& target, Counters& counters,
+                      Steps& steps) {
+        static_cast<Derived*>(this)->render_with(scene, camera, target, counters, steps);
+    }
+};
+
 // ABI 1.2: the edges a hidden-line remover is asked for (see hsr_line_request).
 class LineRequest {
 public:
