@@ -16,13 +16,13 @@
 
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
+#include "hsr/tiles.hpp"
 
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -31,8 +31,6 @@
 #include <map>
 #include <memory>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <vector>
 
 namespace embree_plugin {
@@ -126,13 +124,13 @@ private:
         };
         if constexpr (Steps::enabled) {
             try {
-                for (uint32_t k = 0; k < tile_count(); ++k) {
+                for (uint32_t k = 0; k < tiles().count(); ++k) {
                     TileStats tile;
                     cast_tile(k, tile);
                     total.rays += tile.rays;
                     total.hits += tile.hits;
                     uint32_t x0, y0, x1, y1;
-                    tile_rect(k, x0, y0, x1, y1);
+                    tiles().rect(k, x0, y0, x1, y1);
                     steps.box(float(x0), float(y0), float(x1), float(y1), HSR_STEP_SUBJECT);
                     steps.step({"tile", HSR_NO_FACE, 0, HSR_NO_LEVEL, tile.hits, 0}, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits",
                                k, x0, y0, x1 - 1, y1 - 1, (unsigned long long)tile.rays, (unsigned long long)tile.hits);
@@ -282,33 +280,11 @@ private:
         return true;
     }
 
-    uint32_t tiles_across() const { return (width_ + tile_size_ - 1) / tile_size_; }
-    uint32_t tile_count() const { return tiles_across() * ((height_ + tile_size_ - 1) / tile_size_); }
-
-    void tile_rect(uint32_t k, uint32_t& x0, uint32_t& y0, uint32_t& x1, uint32_t& y1) const {
-        x0 = (k % tiles_across()) * tile_size_;
-        y0 = (k / tiles_across()) * tile_size_;
-        x1 = std::min(x0 + tile_size_, width_);
-        y1 = std::min(y0 + tile_size_, height_);
-    }
+    hsr::sdk::TileGrid tiles() const { return {width_, height_, tile_size_}; }
 
     void cast_all(TileStats& total) {
-        const uint32_t tiles = tile_count();
-        uint32_t threads = threads_ != 0 ? threads_ : std::max(1u, std::thread::hardware_concurrency());
-        threads = std::min(threads, tiles);
-        std::atomic<uint32_t> next{0};
-        std::vector<TileStats> stats(threads);
-        auto work = [&](TileStats& s) {
-            for (uint32_t k = next.fetch_add(1); k < tiles; k = next.fetch_add(1)) cast_tile(k, s);
-        };
-        std::vector<std::thread> pool;
-        try {
-            for (uint32_t k = 1; k < threads; ++k) pool.emplace_back(work, std::ref(stats[k]));
-        } catch (const std::system_error&) {
-            // Fewer threads than asked for: those started and this one cast every tile all the same.
-        }
-        work(stats[0]);
-        for (std::thread& t : pool) t.join();
+        const std::vector<TileStats> stats = hsr::sdk::share_tiles<TileStats>(
+            tiles().count(), threads_, [this](uint32_t k, TileStats& s) { cast_tile(k, s); });
         for (const TileStats& s : stats) {
             total.rays += s.rays;
             total.hits += s.hits;
@@ -317,7 +293,7 @@ private:
 
     void cast_tile(uint32_t k, TileStats& stats) const {
         uint32_t x0, y0, x1, y1;
-        tile_rect(k, x0, y0, x1, y1);
+        tiles().rect(k, x0, y0, x1, y1);
         RTCIntersectContext context;
         for (uint32_t y = y0; y < y1; ++y)
             for (uint32_t x = x0; x < x1; ++x) {

@@ -26,12 +26,12 @@
 
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
+#include "hsr/tiles.hpp"
 
 #include <glm/glm.hpp>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -39,8 +39,6 @@
 #include <functional>
 #include <limits>
 #include <map>
-#include <system_error>
-#include <thread>
 #include <vector>
 
 namespace raycast {
@@ -145,7 +143,7 @@ private:
         };
         if constexpr (Steps::enabled) {
             try {
-                for (uint32_t k = 0; k < tile_count(); ++k) {
+                for (uint32_t k = 0; k < tiles().count(); ++k) {
                     RayStats tile;
                     cast_tile(k, tile);
                     total += tile;
@@ -288,35 +286,13 @@ private:
         tests_ = target.depth_tests();
     }
 
-    uint32_t tiles_across() const { return (width_ + tile_size_ - 1) / tile_size_; }
-    uint32_t tile_count() const { return tiles_across() * ((height_ + tile_size_ - 1) / tile_size_); }
+    hsr::sdk::TileGrid tiles() const { return {width_, height_, tile_size_}; }
 
     // Every tile, by the threads asked for, each taking the next tile left.
     void cast_all(RayStats& total) {
-        const uint32_t tiles = tile_count();
-        uint32_t threads = threads_ != 0 ? threads_ : std::max(1u, std::thread::hardware_concurrency());
-        threads = std::min(threads, tiles);
-        std::atomic<uint32_t> next{0};
-        std::vector<RayStats> stats(threads);
-        auto work = [&](RayStats& s) {
-            for (uint32_t k = next.fetch_add(1); k < tiles; k = next.fetch_add(1)) cast_tile(k, s);
-        };
-        std::vector<std::thread> pool;
-        try {
-            for (uint32_t k = 1; k < threads; ++k) pool.emplace_back(work, std::ref(stats[k]));
-        } catch (const std::system_error&) {
-            // Fewer threads than asked for: those started and this one cast every tile all the same.
-        }
-        work(stats[0]);
-        for (std::thread& t : pool) t.join();
+        const std::vector<RayStats> stats = hsr::sdk::share_tiles<RayStats>(
+            tiles().count(), threads_, [this](uint32_t k, RayStats& s) { cast_tile(k, s); });
         for (const RayStats& s : stats) total += s;
-    }
-
-    void tile_rect(uint32_t k, uint32_t& x0, uint32_t& y0, uint32_t& x1, uint32_t& y1) const {
-        x0 = (k % tiles_across()) * tile_size_;
-        y0 = (k / tiles_across()) * tile_size_;
-        x1 = std::min(x0 + tile_size_, width_);
-        y1 = std::min(y0 + tile_size_, height_);
     }
 
     void cast_tile(uint32_t k, RayStats& stats) const {
@@ -329,7 +305,7 @@ private:
     template <class Real>
     void cast_tile(uint32_t k, RayStats& stats) const {
         uint32_t x0, y0, x1, y1;
-        tile_rect(k, x0, y0, x1, y1);
+        tiles().rect(k, x0, y0, x1, y1);
         for (uint32_t y = y0; y < y1; ++y)
             for (uint32_t x = x0; x < x1; ++x) cast_pixel<Real>(x, y, stats);
     }
@@ -496,7 +472,7 @@ private:
     template <class Steps>
     void tile_step(Steps& steps, uint32_t k, const RayStats& tile) const {
         uint32_t x0, y0, x1, y1;
-        tile_rect(k, x0, y0, x1, y1);
+        tiles().rect(k, x0, y0, x1, y1);
         steps.box(float(x0), float(y0), float(x1), float(y1), HSR_STEP_SUBJECT);
         const hsr::sdk::Steps::Event event{"tile", HSR_NO_FACE, 0, HSR_NO_LEVEL, tile.hits, 0};
         steps.step(event, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits, %llu ray/triangle tests, %llu nodes visited",
