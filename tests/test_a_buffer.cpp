@@ -58,23 +58,8 @@ glm::dvec2 sample_point(uint32_t x, uint32_t y, int k) {
     return {x + (2 * (k % 8) + 1) / 16.0, y + (2 * (k / 8) + 1) / 8.0};
 }
 
-// The nearest (face, instance) a ray through window point w meets, or HSR_NO_FACE.
-std::pair<uint32_t, uint32_t> ray_cast(const hsr_scene& raw, const hsr_camera& camera, glm::dvec2 w) {
-    const hsr::sdk::Scene scene(raw);
-    const ray_reference::Ray ray = ray_reference::window_ray(camera, w.x, w.y);
-    double nearest = std::numeric_limits<double>::infinity();
-    std::pair<uint32_t, uint32_t> found{HSR_NO_FACE, 0};
-    for (uint32_t k = 0; k < scene.placement_count(); ++k) {
-        const hsr::sdk::Placement p = scene.placement(k);
-        const glm::dmat4 m(p.transform);
-        auto corner = [&](uint32_t t, int c) { return glm::dvec3(m * glm::dvec4(scene.corner_position(t, c), 1.0)); };
-        for (uint32_t t = p.first_triangle; t < p.first_triangle + p.triangle_count; ++t) {
-            const ray_reference::Hit h = ray_reference::intersect(ray, corner(t, 0), corner(t, 1), corner(t, 2));
-            const double along = glm::dot(h.point - ray.origin, ray.direction);
-            if (h.hit && along < nearest) nearest = along, found = {t, p.instance};
-        }
-    }
-    return found;
+std::pair<uint32_t, uint32_t> nearest(const hsr_scene& scene, const hsr_camera& camera, glm::dvec2 w) {
+    return ray_reference::nearest_surface(scene, camera, w.x, w.y);
 }
 
 struct SampleComparison {
@@ -90,10 +75,10 @@ SampleComparison compare_samples(const hsr_scene& scene, const hsr_camera& camer
         for (uint32_t x = 0; x < camera.width; ++x)
             for (int k = 0; k < HSR_COVERAGE_SAMPLES; ++k) {
                 const glm::dvec2 w = sample_point(x, y, k);
-                const auto truth = ray_cast(scene, camera, w);
-                if (ray_cast(scene, camera, w + glm::dvec2(d, d)) != truth ||
-                    ray_cast(scene, camera, w - glm::dvec2(d, d)) != truth ||
-                    ray_cast(scene, camera, w + glm::dvec2(d, -d)) != truth) {
+                const auto truth = nearest(scene, camera, w);
+                if (nearest(scene, camera, w + glm::dvec2(d, d)) != truth ||
+                    nearest(scene, camera, w - glm::dvec2(d, d)) != truth ||
+                    nearest(scene, camera, w + glm::dvec2(d, -d)) != truth) {
                     ++c.ambiguous;
                     continue;
                 }

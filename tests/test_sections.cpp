@@ -30,31 +30,6 @@ void add_clip_plane(hsr_camera& camera, glm::vec4 plane) {
     ++camera.clip_plane_count;
 }
 
-// The surface a ray cast of the clipped scene finds through window point (wx, wy): the nearest hit
-// that every clip plane keeps, as (face, instance), or (HSR_NO_FACE, 0).
-std::pair<uint32_t, uint32_t> clipped_ray_cast(const hsr_scene& raw, const hsr_camera& camera, double wx, double wy) {
-    const hsr::sdk::Scene scene(raw);
-    const hsr::sdk::ClipPlanes planes(camera);
-    const ray_reference::Ray ray = ray_reference::window_ray(camera, wx, wy);
-    double nearest = std::numeric_limits<double>::infinity();
-    std::pair<uint32_t, uint32_t> found{HSR_NO_FACE, 0};
-    for (uint32_t k = 0; k < scene.placement_count(); ++k) {
-        const hsr::sdk::Placement p = scene.placement(k);
-        const glm::dmat4 m(p.transform);
-        auto corner = [&](uint32_t t, int c) { return glm::dvec3(m * glm::dvec4(scene.corner_position(t, c), 1.0)); };
-        for (uint32_t t = p.first_triangle; t < p.first_triangle + p.triangle_count; ++t) {
-            const ray_reference::Hit h = ray_reference::intersect(ray, corner(t, 0), corner(t, 1), corner(t, 2));
-            if (!h.hit || !planes.keeps(h.point)) continue;
-            const double along = glm::dot(h.point - ray.origin, ray.direction);
-            if (along < nearest) {
-                nearest = along;
-                found = {t, p.instance};
-            }
-        }
-    }
-    return found;
-}
-
 struct RayCastComparison {
     int covered = 0;      // pixels the ray cast finds a surface at, unambiguously
     int uncovered = 0;    // pixels it finds none at, unambiguously
@@ -69,10 +44,10 @@ RayCastComparison compare_with_clipped_ray_cast(const hsr_scene& scene, const hs
     const double offsets[5][2] = {{0, 0}, {d, 0}, {-d, 0}, {0, d}, {0, -d}};
     for (uint32_t y = 0; y < camera.height; ++y)
         for (uint32_t x = 0; x < camera.width; ++x) {
-            const auto centre = clipped_ray_cast(scene, camera, x + 0.5, y + 0.5);
+            const auto centre = ray_reference::nearest_surface(scene, camera, x + 0.5, y + 0.5);
             bool agree = true;
             for (int k = 1; k < 5 && agree; ++k)
-                agree = clipped_ray_cast(scene, camera, x + 0.5 + offsets[k][0], y + 0.5 + offsets[k][1]) == centre;
+                agree = ray_reference::nearest_surface(scene, camera, x + 0.5 + offsets[k][0], y + 0.5 + offsets[k][1]) == centre;
             if (!agree) {
                 ++r.ambiguous;
                 continue;

@@ -1,13 +1,16 @@
 // The tests' independent answer for hidden surfaces: casting one ray in double precision through a
 // window point and intersecting it with triangles by Cramer's rule, with nothing shared with the
-// rasterizers (test_zbuffer, test_sections).
+// rasterizers (test_zbuffer, test_sections, test_a_buffer).
 #pragma once
 
 #include "hsr/abi.h"
+#include "hsr/sdk.hpp"
 
 #include <glm/glm.hpp>
 
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace ray_reference {
 
@@ -51,6 +54,32 @@ Hit intersect(const Ray& ray, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
     h.b2 = b2;
     h.point = ray.origin + t * ray.direction;
     return h;
+}
+
+// The surface a ray through window point (wx, wy) meets first among every placement's triangles,
+// skipping what the camera's clip planes cut away: (face, instance), or (HSR_NO_FACE, 0).
+inline std::pair<uint32_t, uint32_t> nearest_surface(const hsr_scene& raw, const hsr_camera& camera, double wx,
+                                                     double wy) {
+    const hsr::sdk::Scene scene(raw);
+    const hsr::sdk::ClipPlanes planes(camera);
+    const Ray ray = window_ray(camera, wx, wy);
+    double nearest = std::numeric_limits<double>::infinity();
+    std::pair<uint32_t, uint32_t> found{HSR_NO_FACE, 0};
+    for (uint32_t k = 0; k < scene.placement_count(); ++k) {
+        const hsr::sdk::Placement p = scene.placement(k);
+        const glm::dmat4 m(p.transform);
+        auto corner = [&](uint32_t t, int c) { return glm::dvec3(m * glm::dvec4(scene.corner_position(t, c), 1.0)); };
+        for (uint32_t t = p.first_triangle; t < p.first_triangle + p.triangle_count; ++t) {
+            const Hit h = intersect(ray, corner(t, 0), corner(t, 1), corner(t, 2));
+            if (!h.hit || !planes.keeps(h.point)) continue;
+            const double along = glm::dot(h.point - ray.origin, ray.direction);
+            if (along < nearest) {
+                nearest = along;
+                found = {t, p.instance};
+            }
+        }
+    }
+    return found;
 }
 
 }  // namespace ray_reference
