@@ -139,3 +139,14 @@ TEST_CASE("embree: clip planes, threads, and an instance moved between frames", 
     }
     CHECK(double(other) < 0.01 * double(covered));
 }
+
+TEST_CASE("embree: hsr exits cleanly after using it, its worker threads still running", "[embree][cli]") {
+    if (!built()) return;
+    // Embree's TBB threads outlive its devices; the plugin stays loaded until the process ends
+    // (linked -z nodelete), or they would crash the process as it exits.
+    const std::string hsr = std::string(HSR_BINARY_DIR) + "/hsr";
+    const std::string out = std::filesystem::temp_directory_path() / "hsr-embree-exit.png";
+    CHECK(std::system((hsr + " render " + HSR_MODELS_DIR + "/cube.obj -a embree --width 64 --height 64 -o " + out +
+                       " 2>/dev/null").c_str()) == 0);
+    CHECK(std::system((hsr + " bench --quick --algorithms embree > /dev/null 2>&1").c_str()) == 0);
+}
