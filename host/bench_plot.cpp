@@ -45,8 +45,9 @@ using Pen = PlotCanvas::Pen;
 using Font = PlotCanvas::Font;
 using Anchor = PlotCanvas::Anchor;
 
-constexpr std::array<const char*, 10> palette = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
-                                                 "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
+constexpr std::array<const char*, 16> palette = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
+                                                 "#e377c2", "#17becf", "#7f7f7f", "#bcbd22", "#393b79", "#000000",
+                                                 "#637939", "#843c39", "#7b4173", "#8c6d31"};
 
 // One plot, offset down by `dy` (for stacked plots).
 void draw_panel(PlotCanvas& canvas, const LogLogPlot& plot, double dy) {

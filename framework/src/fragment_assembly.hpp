@@ -1,15 +1,21 @@
 // What the frame pipeline and the fragment-list compositor share (framework-internal): the arrays
-// of one shading batch, the instances' transforms, and the assembly of one fragment (world position
-// and interpolated shading normal from a face and barycentrics) for a lighting plugin.
+// of one shading batch, the instances' transforms, the assembly of one fragment (world position
+// and interpolated shading normal from a face and barycentrics) for a lighting plugin, and the
+// bands of rows that shading threads take in turn.
 #pragma once
 
 #include "hsr/abi.h"
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <vector>
 
 namespace hsr {
@@ -88,6 +94,53 @@ inline void assemble_fragment(const hsr_scene& scene, const Placements& placemen
         out.position[3 * n + k] = position[k];
         out.normal[3 * n + k] = normal[k];
     }
+}
+
+// The lighting plugin's batch over the first n fragments of `arrays`.
+inline hsr_fragment_batch fragment_batch(FragmentArrays& arrays, uint32_t n, bool instanced) {
+    hsr_fragment_batch batch{};
+    batch.struct_size = sizeof batch;
+    batch.count = n;
+    batch.face = arrays.face.data();
+    batch.bary = arrays.bary.data();
+    batch.position = arrays.position.data();
+    batch.normal = arrays.normal.data();
+    batch.pixel = arrays.pixel.data();
+    batch.color = arrays.color.data();
+    batch.instance = instanced ? arrays.instance.data() : nullptr;
+    return batch;
+}
+
+inline constexpr uint32_t kRowsPerBand = 8;
+
+// Calls band(row_begin, row_end, arrays) for every band of kRowsPerBand rows of an image `height`
+// rows high, on `threads` threads (0: one per core), the caller's among them, which take bands in
+// turn; each thread has FragmentArrays of its own to reuse. The first exception a band throws stops
+// the other threads early and is thrown again here.
+template <class Band>
+void for_each_band(uint32_t height, unsigned threads, Band&& band) {
+    const uint32_t bands = (height + kRowsPerBand - 1) / kRowsPerBand;
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    threads = std::min<unsigned>(threads, std::max<uint32_t>(bands, 1));
+    std::atomic<uint32_t> next_band{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    auto worker = [&] {
+        FragmentArrays arrays;
+        try {
+            for (uint32_t b; (b = next_band.fetch_add(1)) < bands;)
+                band(b * kRowsPerBand, std::min(height, (b + 1) * kRowsPerBand), arrays);
+        } catch (...) {
+            std::lock_guard lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
+            next_band = bands;
+        }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace hsr

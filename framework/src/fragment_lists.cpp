@@ -12,10 +12,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <mutex>
 #include <numeric>
-#include <thread>
 
 namespace hsr {
 
@@ -167,63 +164,29 @@ void shade_fragments(const hsr_scene& scene, LightingModel& lighting, const hsr_
     const bool instanced = !lists.instance.empty();
     frame.rgb.resize(3 * size_t(lists.width) * lists.height);
 
-    constexpr uint32_t rows_per_band = 8;
-    const uint32_t bands = (lists.height + rows_per_band - 1) / rows_per_band;
-    unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
-    threads = std::min<unsigned>(threads, std::max<uint32_t>(bands, 1));
-    std::atomic<uint32_t> next_band{0};
     std::atomic<uint64_t> batches{0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    auto worker = [&] {
-        FragmentArrays arrays;
-        uint64_t my_batches = 0;
-        try {
-            for (uint32_t band; (band = next_band.fetch_add(1)) < bands;) {
-                const uint32_t row_begin = band * rows_per_band;
-                const uint32_t row_end = std::min(lists.height, row_begin + rows_per_band);
-                const size_t pixel_begin = size_t(row_begin) * lists.width, pixel_end = size_t(row_end) * lists.width;
-                const uint32_t begin = lists.first[pixel_begin], end = lists.first[pixel_end];
-                const uint32_t n = end - begin;
-                if (n > 0) {
-                    arrays.reserve(n);
-                    for (size_t p = pixel_begin; p < pixel_end; ++p)
-                        for (uint32_t f = lists.first[p]; f < lists.first[p + 1]; ++f)
-                            assemble_fragment(scene, placements, lists.face[f], instanced ? lists.instance[f] : kNotInstanced,
-                                              lists.bary[2 * size_t(f)], lists.bary[2 * size_t(f) + 1], uint32_t(p),
-                                              arrays, f - begin);
-                    hsr_fragment_batch batch{};
-                    batch.struct_size = sizeof batch;
-                    batch.count = n;
-                    batch.face = arrays.face.data();
-                    batch.bary = arrays.bary.data();
-                    batch.position = arrays.position.data();
-                    batch.normal = arrays.normal.data();
-                    batch.pixel = arrays.pixel.data();
-                    batch.color = arrays.color.data();
-                    batch.instance = instanced ? arrays.instance.data() : nullptr;
-                    lighting.shade(batch);
-                    ++my_batches;
-                }
-                for (size_t p = pixel_begin; p < pixel_end; ++p) {
-                    const glm::vec3 c = composite_pixel(lists, lists.first[p], lists.first[p + 1],
-                                                        arrays.color.data() + 3 * size_t(lists.first[p] - begin),
-                                                        opacity, settings.background);
-                    for (int k = 0; k < 3; ++k) frame.rgb[3 * p + k] = to_byte(c[k]);
-                }
-            }
-        } catch (...) {
-            std::lock_guard lock(failure_mutex);
-            if (!failure) failure = std::current_exception();
-            next_band = bands;
+    for_each_band(lists.height, settings.threads, [&](uint32_t row_begin, uint32_t row_end, FragmentArrays& arrays) {
+        const size_t pixel_begin = size_t(row_begin) * lists.width, pixel_end = size_t(row_end) * lists.width;
+        const uint32_t begin = lists.first[pixel_begin], end = lists.first[pixel_end];
+        const uint32_t n = end - begin;
+        if (n > 0) {
+            arrays.reserve(n);
+            for (size_t p = pixel_begin; p < pixel_end; ++p)
+                for (uint32_t f = lists.first[p]; f < lists.first[p + 1]; ++f)
+                    assemble_fragment(scene, placements, lists.face[f], instanced ? lists.instance[f] : kNotInstanced,
+                                      lists.bary[2 * size_t(f)], lists.bary[2 * size_t(f) + 1], uint32_t(p), arrays,
+                                      f - begin);
+            hsr_fragment_batch batch = fragment_batch(arrays, n, instanced);
+            lighting.shade(batch);
+            ++batches;
         }
-        batches += my_batches;
-    };
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
+        for (size_t p = pixel_begin; p < pixel_end; ++p) {
+            const glm::vec3 c = composite_pixel(lists, lists.first[p], lists.first[p + 1],
+                                                arrays.color.data() + 3 * size_t(lists.first[p] - begin), opacity,
+                                                settings.background);
+            for (int k = 0; k < 3; ++k) frame.rgb[3 * p + k] = to_byte(c[k]);
+        }
+    });
 
     frame.counters.emplace_back("fragments-shaded", lists.size());
     frame.counters.emplace_back("shading-batches", batches.load());

@@ -13,11 +13,8 @@
 #include <chrono>
 #include <cstring>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <span>
-#include <thread>
 
 namespace hsr {
 namespace {
@@ -249,61 +246,26 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
     const uint8_t bg[3] = {to_byte(settings.background.r), to_byte(settings.background.g),
                            to_byte(settings.background.b)};
 
-    // Bands of rows, one batch each; threads take bands in turn. Each thread owns its arrays and
-    // writes only its bands' pixels, so nothing is shared but the counters below.
-    constexpr uint32_t rows_per_band = 8;
-    const uint32_t bands = (frame.height + rows_per_band - 1) / rows_per_band;
-    unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
-    threads = std::min<unsigned>(threads, std::max<uint32_t>(bands, 1));
-
-    std::atomic<uint32_t> next_band{0};
+    // Bands of rows, one batch each. Each thread writes only its bands' pixels, so nothing is
+    // shared but the counters.
+    const bool instanced = !frame.instance.empty();
     std::atomic<uint64_t> fragments{0}, batches{0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    auto worker = [&] {
-        FragmentArrays arrays;
-        arrays.reserve(size_t(rows_per_band) * frame.width);
-        uint64_t my_fragments = 0, my_batches = 0;
-        try {
-            for (uint32_t band; (band = next_band.fetch_add(1)) < bands;) {
-                const uint32_t row_begin = band * rows_per_band;
-                const uint32_t row_end = std::min(frame.height, row_begin + rows_per_band);
-                for (size_t p = size_t(row_begin) * frame.width; p < size_t(row_end) * frame.width; ++p) {
-                    frame.rgb[3 * p] = bg[0], frame.rgb[3 * p + 1] = bg[1], frame.rgb[3 * p + 2] = bg[2];
-                }
-                const uint32_t n = assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
-                if (n == 0) continue;
-                hsr_fragment_batch batch{};
-                batch.struct_size = sizeof batch;
-                batch.count = n;
-                batch.face = arrays.face.data();
-                batch.bary = arrays.bary.data();
-                batch.position = arrays.position.data();
-                batch.normal = arrays.normal.data();
-                batch.pixel = arrays.pixel.data();
-                batch.color = arrays.color.data();
-                batch.instance = frame.instance.empty() ? nullptr : arrays.instance.data();
-                lighting.shade(batch);
-                for (uint32_t i = 0; i < n; ++i) {
-                    uint8_t* out = &frame.rgb[3 * size_t(arrays.pixel[i])];
-                    for (int k = 0; k < 3; ++k) out[k] = to_byte(arrays.color[3 * i + k]);
-                }
-                my_fragments += n;
-                ++my_batches;
-            }
-        } catch (...) {
-            std::lock_guard lock(failure_mutex);
-            if (!failure) failure = std::current_exception();
-            next_band = bands;  // stop the others early
+    for_each_band(frame.height, settings.threads, [&](uint32_t row_begin, uint32_t row_end, FragmentArrays& arrays) {
+        arrays.reserve(size_t(kRowsPerBand) * frame.width);
+        for (size_t p = size_t(row_begin) * frame.width; p < size_t(row_end) * frame.width; ++p) {
+            frame.rgb[3 * p] = bg[0], frame.rgb[3 * p + 1] = bg[1], frame.rgb[3 * p + 2] = bg[2];
         }
-        fragments += my_fragments;
-        batches += my_batches;
-    };
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
+        const uint32_t n = assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
+        if (n == 0) return;
+        hsr_fragment_batch batch = fragment_batch(arrays, n, instanced);
+        lighting.shade(batch);
+        for (uint32_t i = 0; i < n; ++i) {
+            uint8_t* out = &frame.rgb[3 * size_t(arrays.pixel[i])];
+            for (int k = 0; k < 3; ++k) out[k] = to_byte(arrays.color[3 * i + k]);
+        }
+        fragments += n;
+        ++batches;
+    });
 
     frame.counters.emplace_back("fragments-shaded", fragments.load());
     frame.counters.emplace_back("shading-batches", batches.load());
