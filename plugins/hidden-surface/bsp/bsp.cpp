@@ -24,7 +24,6 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <climits>
 #include <cmath>
 #include <cstddef>
@@ -135,13 +134,7 @@ private:
                      hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
 
-        const auto build_start = std::chrono::steady_clock::now();
-        const bool built = prepare(scene);
-        const auto build_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                                  std::chrono::steady_clock::now() - build_start)
-                                  .count();
-        // At least 1 on a call that built, so that "built" never reads as "reused".
-        counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(build_us)) : 0);
+        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
 
         begin_frame(camera, target);
         stats_ = FrameStats{};

@@ -23,7 +23,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -109,12 +108,7 @@ private:
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                      hsr::sdk::Counters& counters, Steps& steps) {
         hsr::raster::validate_frame(info.name, scene.raw(), camera, target.raw());
-        const auto build_start = std::chrono::steady_clock::now();
-        const bool built = prepare(scene);
-        const auto build_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                                  std::chrono::steady_clock::now() - build_start)
-                                  .count();
-        counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(build_us)) : 0);
+        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
 
         begin_frame(scene, camera, target);
         TileStats total;

@@ -33,7 +33,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -124,12 +123,7 @@ private:
                      hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
 
-        const auto build_start = std::chrono::steady_clock::now();
-        const bool built = prepare(scene);
-        const auto build_end = std::chrono::steady_clock::now();
-        // At least 1 on a call that built, so that "built" never reads as "reused".
-        const auto build_us = std::chrono::duration_cast<std::chrono::microseconds>(build_end - build_start).count();
-        counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(build_us)) : 0);
+        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
 
         begin_frame(scene, camera, target);
         stats_ = FrameStats{};

@@ -32,7 +32,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -124,13 +123,7 @@ private:
                      hsr::sdk::Counters& counters, Steps& steps) {
         hsr::raster::validate_frame(info.name, scene.raw(), camera, target.raw());
 
-        const auto build_start = std::chrono::steady_clock::now();
-        const bool built = prepare(scene);
-        const auto build_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                                  std::chrono::steady_clock::now() - build_start)
-                                  .count();
-        // At least 1 on a call that built, so that "built" never reads as "reused".
-        counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(build_us)) : 0);
+        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
         counters.set("bvh-nodes", nodes_.size() + top_nodes_.size());
 
         begin_frame(camera, target);

@@ -8,6 +8,7 @@
 #include "hsr/sdk.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -83,6 +84,18 @@ inline SceneKey scene_key(const hsr::sdk::Scene& scene) {
     key.geometry_hash = mix(sampled_hash(s.positions, size_t(s.vertex_count) * 12),
                             sampled_hash(s.indices, size_t(s.triangle_count) * 12));
     return key;
+}
+
+// Runs build(), which answers whether it built the structure (true) or reused the one it had
+// (false), and reports its time as the counter build-time-us: at least 1 when it built, so that
+// "built" never reads as "reused", and 0 when it reused.
+template <class Build>
+void timed_build(Counters& counters, Build&& build) {
+    const auto start = std::chrono::steady_clock::now();
+    const bool built = build();
+    const auto us =
+        std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start).count();
+    counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(us)) : 0);
 }
 
 }  // namespace hsr::sdk
