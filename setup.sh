@@ -10,7 +10,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")"
 
 packages=(g++ cmake make pkg-config libboost-dev libboost-program-options-dev libboost-filesystem-dev
           libopenmesh-dev libglm-dev libfmt-dev catch2 libpng-dev libcairo2-dev libmuparser-dev valgrind time
-          clang libclang-rt-14-dev libcpp-httplib-dev nlohmann-json3-dev libcmark-dev chromium libembree-dev)
+          clang libclang-rt-14-dev libcpp-httplib-dev nlohmann-json3-dev libcmark-dev chromium libembree-dev
+          libtbb-dev libhwy-dev)
 
 install_missing() {
     local missing=()
