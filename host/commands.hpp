@@ -38,8 +38,8 @@ struct OutputFile {
 // and can be written (where the file is made: hsr/atomic_file.hpp; for a symbolic link, the folder
 // of the file it names), the file itself can be written if it exists, and no two outputs are the
 // same file. Throws UsageError for a wrong name, hsr::Error for a folder or file that cannot be
-// written. Nothing is created.
-void check_outputs(const std::vector<OutputFile>& outputs);
+// written. Nothing is created. Returns each output's absolute path, links in it resolved.
+std::vector<std::filesystem::path> check_outputs(const std::vector<OutputFile>& outputs);
 
 // Each takes the arguments after its name and returns the exit status; a mistake is thrown as
 // UsageError (or a boost::program_options::error), anything else that fails as hsr::Error.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <system_error>
+#include <unordered_map>
 
 namespace fs = std::filesystem;
 
@@ -29,8 +30,9 @@ std::string joined(const std::vector<std::string>& items, const char* last_separ
 
 }  // namespace
 
-void hsr::host::check_outputs(const std::vector<OutputFile>& outputs) {
-    std::vector<std::pair<fs::path, const OutputFile*>> seen;
+std::vector<fs::path> hsr::host::check_outputs(const std::vector<OutputFile>& outputs) {
+    std::unordered_map<std::string, const OutputFile*> seen;
+    std::vector<fs::path> resolved_paths;
     for (const OutputFile& out : outputs) {
         const std::string name = out.path.string();
         if (name.empty()) throw UsageError("--{}: no file name given", out.option);
@@ -55,9 +57,10 @@ void hsr::host::check_outputs(const std::vector<OutputFile>& outputs) {
             throw hsr::Error("--{} '{}': cannot write there (permission denied)", out.option, name);
 
         const fs::path resolved = fs::weakly_canonical(fs::absolute(out.path, ec), ec);
-        for (const auto& [other_path, other] : seen)
-            if (other_path == resolved)
-                throw UsageError("--{} and --{} name the same file '{}'", other->option, out.option, name);
-        seen.emplace_back(resolved, &out);
+        const auto [other, inserted] = seen.emplace(resolved.string(), &out);
+        if (!inserted)
+            throw UsageError("--{} and --{} name the same file '{}'", other->second->option, out.option, name);
+        resolved_paths.push_back(resolved);
     }
+    return resolved_paths;
 }

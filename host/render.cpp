@@ -1,6 +1,8 @@
 // hsr render: its options, parsed, then checked on their own, then the plugins they name found and
-// the files to write checked, all before the scene is loaded and rendered (render.hpp).
+// the files to write checked, all before the scene is loaded and rendered (render.hpp) by jobs.cpp.
 #include "commands.hpp"
+#include "frames.hpp"
+#include "jobs.hpp"
 #include "render.hpp"
 
 #include "hsr/camera.hpp"
@@ -40,15 +42,25 @@ po::options_description render_option_descriptions(RenderOptions& o) {
         ("help,h", "show this help, with every plugin's parameters")
         ("output,o", po::value(&o.output),
          "file to write: PNG for a hidden-surface plugin (default <model name>.png); SVG or PNG for a "
-         "hidden-line plugin (default <model name>.svg)")
+         "hidden-line plugin (default <model name>.svg). With several frames, a frame number goes in every "
+         "file name: %d, or %03d for 000, 001, ... (frames count from 0; %% is a % sign; default "
+         "<model name>-%03d.png)")
+        ("jobs", po::value(&o.jobs),
+         "FILE: run the renders of FILE, one line each of the options of hsr render (# starts a comment "
+         "line); each model is loaded once for all the lines that name it (docs/many-frames.md)")
         ("algorithm,a", po::value(&o.algorithm)->default_value(default_algorithm),
          "hidden-surface or hidden-line plugin: NAME[:key=value,...]")
         ("lighting,l", po::value(&o.lighting)->default_value(default_lighting),
          "lighting plugin: NAME[:key=value,...]")
         ("width", po::value(&o.width)->default_value(1024), "image width in pixels")
         ("height", po::value(&o.height)->default_value(1024), "image height in pixels")
-        ("yaw", po::value(&o.yaw)->default_value(0), "turn the model about the vertical axis, degrees")
-        ("pitch", po::value(&o.pitch)->default_value(0), "tilt: positive looks from above, degrees")
+        ("yaw", po::value(&o.yaw_text)->default_value("0"),
+         "turn the model about the vertical axis, degrees; A:B:STEP renders a frame at each of A, A+STEP, ... "
+         "up to B")
+        ("pitch", po::value(&o.pitch_text)->default_value("0"),
+         "tilt: positive looks from above, degrees; A:B:STEP as for --yaw (the outer loop)")
+        ("views", po::value(&o.views)->default_value(1),
+         "N: a turntable of N frames, the yaw turned by 360/N degrees from one to the next")
         ("zoom", po::value(&o.zoom)->default_value(1), "magnification; 1 fits the model to the view")
         ("ortho", po::bool_switch(&o.orthographic), "orthographic instead of perspective projection")
         ("fov", po::value(&o.fov)->default_value(35), "vertical field of view of the perspective projection, degrees")
@@ -202,6 +214,7 @@ void check_render_options(const RenderOptions& o) {
             if (!text->empty()) hsr::host::parse_vector_option(*text, option);  // parsed again where it is used
     }
     hsr::host::parse_color_option(o.background, "background");  // parsed again where it is used
+    if (!o.color.empty()) hsr::host::parse_color_option(o.color, "color");  // before a long load
     if (!hsr::is_sample_count(o.samples < 0 || o.samples > 16 ? 0u : uint32_t(o.samples)))
         throw UsageError("--samples {}: expected 1, 2, 4, 8 or 16", o.samples);
     if (o.repeat.empty())
@@ -276,22 +289,53 @@ RenderPlugins make_render_plugins(const RenderOptions& o, const hsr::PluginRegis
     return plugins;
 }
 
-// Every file to write, checked before the work: a mistyped folder should not cost a long render.
-// Returns the main output, <model name>.png or .svg unless --output names it.
-fs::path check_render_outputs(const RenderOptions& o, bool line_drawing) {
-    const fs::path output = !o.output.empty()
-        ? fs::path(o.output)
-        : fs::path(hsr::host::model_path(o).stem().string() + (line_drawing ? ".svg" : ".png"));
+// "dir/name-%03d.ext" for "dir/name.ext": where a frame number could go.
+std::string numbered_name(const std::string& text) {
+    const fs::path path(text);
+    return (path.parent_path() / (path.stem().string() + "-%03d" + path.extension().string())).string();
+}
+
+// The file names of the job's options, each with a frame number when there are several frames; a
+// name without one is a UsageError naming the fix.
+void set_output_templates(hsr::host::RenderJob& job, bool line_drawing) {
+    const RenderOptions& o = job.options;
+    const std::size_t frames = job.frames.size();
+    std::string output = o.output;
+    if (output.empty()) {  // <model name>.png, its % signs kept as they are
+        std::string stem;
+        for (char c : hsr::host::model_path(o).stem().string()) stem += c == '%' ? "%%" : std::string(1, c);
+        output = stem + (frames > 1 ? "-%03d" : "") + (line_drawing ? ".svg" : ".png");
+    }
+    for (const auto& [option, text, name] :
+         {std::tuple<const char*, const std::string&, hsr::host::OutputTemplate&>{"output", output, job.output},
+          {"depth-out", o.depth_out, job.depth_out},
+          {"overdraw-out", o.overdraw_out, job.overdraw_out},
+          {"depth-tests-out", o.depth_tests_out, job.depth_tests_out},
+          {"trace", o.trace, job.trace}}) {
+        if (text.empty()) continue;
+        name = hsr::host::OutputTemplate(text, option);
+        if (frames > 1 && !name.has_number())
+            throw UsageError("--{} '{}': {} frames need a frame number in the name, e.g. '{}' (frames count from 0)",
+                             option, hsr::printable(text), frames, hsr::printable(numbered_name(text)));
+    }
+}
+
+// Every file of every frame, checked before the work: a mistyped folder should not cost a long
+// render. Returns them resolved (check_outputs).
+std::vector<fs::path> check_render_outputs(const hsr::host::RenderJob& job, bool line_drawing) {
     std::vector<hsr::host::OutputFile> outputs;
-    outputs.push_back({"output", output, line_drawing ? std::vector<std::string>{".svg", ".png"}
-                                                      : std::vector<std::string>{".png"}});
-    for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"depth-out", o.depth_out},
-                                       {"overdraw-out", o.overdraw_out},
-                                       {"depth-tests-out", o.depth_tests_out}})
-        if (!path.empty()) outputs.push_back({option, path, {".png"}});
-    if (!o.trace.empty()) outputs.push_back({"trace", o.trace, {}});
-    hsr::host::check_outputs(outputs);
-    return output;
+    const std::vector<std::string> output_extensions =
+        line_drawing ? std::vector<std::string>{".svg", ".png"} : std::vector<std::string>{".png"};
+    for (std::size_t k = 0; k < job.frames.size(); ++k) {
+        const RenderOptions o = job.frame_options(k);
+        outputs.push_back({"output", o.output, output_extensions});
+        for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"depth-out", o.depth_out},
+                                           {"overdraw-out", o.overdraw_out},
+                                           {"depth-tests-out", o.depth_tests_out}})
+            if (!path.empty()) outputs.push_back({option, path, {".png"}});
+        if (!o.trace.empty()) outputs.push_back({"trace", o.trace, {}});
+    }
+    return hsr::host::check_outputs(outputs);
 }
 
 }  // namespace
@@ -354,25 +398,62 @@ fs::path hsr::host::model_path(const RenderOptions& o) {
     return fs::path(!o.model.empty() ? o.model : !o.heightmap.empty() ? o.heightmap : "surface");
 }
 
+hsr::host::RenderOptions hsr::host::RenderJob::frame_options(std::size_t k) const {
+    RenderOptions o = options;
+    o.yaw = frames[k].yaw;
+    o.pitch = frames[k].pitch;
+    o.yaw_turn = frames[k].yaw_turn;
+    o.output = output.name(k);
+    for (const auto& [text, name] : {std::pair<std::string&, const OutputTemplate&>{o.depth_out, depth_out},
+                                     {o.overdraw_out, overdraw_out},
+                                     {o.depth_tests_out, depth_tests_out},
+                                     {o.trace, trace}})
+        if (!text.empty()) text = name.name(k);
+    return o;
+}
+
+hsr::host::RenderJob hsr::host::prepare_render_job(const std::vector<std::string>& args, PluginRegistries& registries,
+                                                   std::vector<fs::path>& files) {
+    RenderJob job;
+    job.options = parse_render_options(args);
+    RenderOptions& options = job.options;
+    if (options.help) throw UsageError("--help goes on a command line of its own");
+    if (!options.jobs.empty()) throw UsageError("--jobs: a job cannot run another jobs file");
+    try {
+        job.limits = hsr::limits_from_settings(options.limits);
+    } catch (const hsr::Error& e) {
+        throw UsageError("{}", e.what());
+    }
+    hsr::set_limits(job.limits);
+    job.frames = plan_frames(options);
+    check_render_options(options);
+    auto registry = registries.find(options.plugin_dirs);
+    if (registry == registries.end())
+        registry = registries.emplace(options.plugin_dirs, scan_plugins(options.plugin_dirs)).first;
+    RenderPlugins plugins = make_render_plugins(options, registry->second);
+    job.line_drawing = std::move(plugins.line_drawing);
+    job.picture = std::move(plugins.picture);
+    set_output_templates(job, job.line_drawing.has_value());
+    files = check_render_outputs(job, job.line_drawing.has_value());
+    return job;
+}
+
 int hsr::host::run_render(const std::vector<std::string>& args) {
     const RenderOptions options = parse_render_options(args);
     if (options.help) {
         print_render_help(options.plugin_dirs);
         return 0;
     }
-    try {
-        hsr::set_limits(hsr::limits_from_settings(options.limits));
-    } catch (const hsr::Error& e) {
-        throw UsageError("{}", e.what());
+    if (!options.jobs.empty()) {
+        for (const std::string& option : options.given)
+            if (option != "jobs")
+                throw UsageError("--jobs {}: --{} goes on the lines of the file, which hold every option of each render",
+                                 hsr::printable(options.jobs), option);
+        return run_job_file(options.jobs);
     }
-    check_render_options(options);
-    const hsr::PluginRegistry registry = scan_plugins(options.plugin_dirs);
-    RenderPlugins plugins = make_render_plugins(options, registry);
-    const fs::path output = check_render_outputs(options, plugins.line_drawing.has_value());
-    RenderScene scene = load_render_scene(options);
-    if (plugins.line_drawing)
-        render_line_drawing(options, std::move(scene), *plugins.line_drawing, output);
-    else
-        render_picture(options, scene, *plugins.picture, output);
-    return 0;
+    PluginRegistries registries;
+    std::vector<fs::path> files;
+    std::vector<RenderJob> jobs;
+    jobs.push_back(prepare_render_job(args, registries, files));
+    return run_jobs(jobs, JobFailures::kStop);
 }

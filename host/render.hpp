@@ -1,11 +1,16 @@
 // The steps of hsr render, which render.cpp runs in order: its options, the scene they describe, and
 // the two ways to render it (render_picture.cpp: a shaded picture; render_line_drawing.cpp: the
-// visible edges).
+// visible edges). A render is a job of one or more frames (frames.hpp); jobs.cpp runs jobs, those of
+// a --jobs file or the command line's one.
 #pragma once
 
+#include "frames.hpp"
+
 #include "hsr/abi.h"
+#include "hsr/limits.hpp"
 #include "hsr/line_image.hpp"
 #include "hsr/lines.hpp"
+#include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
 #include "hsr/scene_file.hpp"
@@ -14,6 +19,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -31,6 +37,7 @@ constexpr double max_line_width = 64.0;  // --line-width, pixels
 // The options of hsr render as the command line gave them, not yet checked.
 struct RenderOptions {
     bool help = false;
+    std::string jobs;  // --jobs FILE
     std::string model;
     std::string output;
     std::string algorithm = default_algorithm;
@@ -55,7 +62,11 @@ struct RenderOptions {
     std::string seed = "1";        // --seed S
     double heightmap_height = 0.0;
     float repeat_gap = 0.25f, repeat_jitter = 0.0f;
-    float yaw = 0, pitch = 0, zoom = 1, crease_angle = 40, fov = 35;
+    std::string yaw_text = "0", pitch_text = "0";  // --yaw and --pitch: degrees, or A:B:STEP (frames.hpp)
+    int64_t views = 1;                              // --views N: a turntable (signed, so that -1 is refused)
+    float yaw = 0, pitch = 0;  // this frame's (plan_frames, frames.hpp)
+    double yaw_turn = 0;       // this frame's turn of the turntable, degrees added to the yaw
+    float zoom = 1, crease_angle = 40, fov = 35;
     std::string eye, target, up;  // x,y,z each: a look-at camera
     std::vector<std::string> clip_planes;  // --clip-plane a,b,c,d (repeatable)
     std::vector<float> sections;           // --section z (repeatable)
@@ -88,18 +99,35 @@ void add_clip_plane_options(const RenderOptions& options, std::vector<glm::vec4>
 // "random-triangles" for --random-triangles. Its stem names the default output.
 std::filesystem::path model_path(const RenderOptions& options);
 
-// The scene to render and its camera, with what a .scene file asks for besides its meshes.
-struct RenderScene {
+// A scene as loaded: the jobs and frames that load it with the same options share it.
+struct LoadedScene {
     hsr::SceneData scene;
+    std::optional<hsr::SceneFile> file;  // a .scene file's lights, camera, size... (its scene moved out)
+    // The scene with its instances copied out, for hidden-line plugins: made on first use.
+    const hsr::SceneData& flat_scene();
+
+private:
+    std::optional<hsr::SceneData> flat_;
+};
+
+// Builds the scene (mesh, .scene file, --surface or --heightmap, then --repeat) and prints its
+// warnings.
+LoadedScene load_scene(const RenderOptions& options);
+// The options load_scene reads, as a key: jobs with equal keys share one load.
+std::string scene_load_key(const RenderOptions& options);
+
+// The scene to render and the frame's camera, with what a .scene file asks for besides its meshes.
+struct RenderScene {
+    const hsr::SceneData& scene;
     hsr_camera camera{};
     std::vector<hsr::LightSpec> lights;   // a .scene file's lights
     std::optional<glm::vec3> background;  // a .scene file's background
     std::optional<uint32_t> samples;      // a .scene file's samples
 };
 
-// Builds the scene (mesh, .scene file, --surface or --heightmap, then --repeat), prints its warnings
-// and makes the camera. What the command line gives explicitly wins over what a .scene file says.
-RenderScene load_render_scene(const RenderOptions& options);
+// The camera of the options' frame (--yaw, --pitch, its turn) on the loaded scene. What the command
+// line gives explicitly wins over what a .scene file says. line_drawing: the flat scene.
+RenderScene make_render_scene(const RenderOptions& options, LoadedScene& loaded, bool line_drawing);
 
 // A shaded picture: a hidden-surface plugin and a lighting model.
 struct PicturePlugins {
@@ -111,9 +139,21 @@ struct PicturePlugins {
 // that shows one visibility pass (--depth-out, --depth-tests-out, --step) with more than 1.
 uint32_t picture_samples(const RenderOptions& options, const RenderScene* scene);
 
-// Renders the picture and writes it to output, with the depth and heat maps the options ask for.
-void render_picture(const RenderOptions& options, const RenderScene& scene, PicturePlugins& plugins,
-                    const std::filesystem::path& output);
+// A picture rendered, with what its files and messages need: written by write_picture, which may run
+// while the next frame renders.
+struct RenderedPicture {
+    hsr::Frame frame;
+    std::optional<hsr::DepthComplexity> depth_complexity;  // when the options ask for it
+    uint32_t samples = 1;
+    hsr_scene scene_view{};  // of a scene that outlives the writing
+};
+
+// Renders the picture, and the depth complexity when the options ask for it.
+RenderedPicture render_picture(const RenderOptions& options, const RenderScene& scene, PicturePlugins& plugins);
+// Writes the picture to output, with the depth and heat maps the options ask for, and prints what
+// was written (and --stats). Reads nothing of the plugins but their names.
+void write_picture(const RenderOptions& options, const RenderedPicture& picture, const PicturePlugins& plugins,
+                   const std::filesystem::path& output);
 
 // A line drawing: a hidden-line plugin, which edges it is given and how its lines are drawn.
 struct LineDrawingPlugin {
@@ -128,7 +168,31 @@ struct LineDrawingPlugin {
 hsr::LineStyle make_line_style(const RenderOptions& options);
 
 // Draws the scene's visible edges to output (SVG or PNG), and writes the --trace file.
-void render_line_drawing(const RenderOptions& options, RenderScene scene, LineDrawingPlugin& plugin,
+void render_line_drawing(const RenderOptions& options, const RenderScene& scene, LineDrawingPlugin& plugin,
                          const std::filesystem::path& output);
+
+// One render of one or more frames: its options checked, its plugins made and the files of every
+// frame named and checked, all before any scene is loaded.
+struct RenderJob {
+    std::string origin;  // "FILE:LINE" of a --jobs line; empty for the command line's render
+    RenderOptions options;
+    hsr::Limits limits;  // --limit, set while this job is checked, loaded and rendered
+    std::optional<LineDrawingPlugin> line_drawing;  // exactly one of the two
+    std::optional<PicturePlugins> picture;
+    std::vector<FrameView> frames;
+    // The files' names, a frame number in each when there are several frames.
+    OutputTemplate output, depth_out, overdraw_out, depth_tests_out, trace;
+    // The options of frame k: its angles and the names of its files.
+    RenderOptions frame_options(std::size_t k) const;
+};
+
+// The plugin folders scanned so far, each set once (keyed by --plugin-path).
+using PluginRegistries = std::map<std::vector<std::string>, hsr::PluginRegistry>;
+
+// Checks the options (parsed from args), makes the plugins and checks every file the job will write.
+// Returns the job and the files, resolved (check_outputs). Mistakes are UsageErrors (or
+// boost::program_options errors), anything else hsr::Error.
+RenderJob prepare_render_job(const std::vector<std::string>& args, PluginRegistries& registries,
+                             std::vector<std::filesystem::path>& files);
 
 }  // namespace hsr::host

@@ -8,7 +8,6 @@
 
 #include "hsr/atomic_file.hpp"
 #include "hsr/error.hpp"
-#include "hsr/instancing.hpp"
 #include "hsr/line_image.hpp"
 #include "hsr/lines.hpp"
 
@@ -53,9 +52,8 @@ hsr::LineStyle hsr::host::make_line_style(const RenderOptions& o) {
     return style;
 }
 
-void hsr::host::render_line_drawing(const RenderOptions& o, RenderScene scene, LineDrawingPlugin& plugin,
+void hsr::host::render_line_drawing(const RenderOptions& o, const RenderScene& scene, LineDrawingPlugin& plugin,
                                     const std::filesystem::path& output) {
-    if (!scene.scene.instances.empty()) scene.scene = hsr::flatten_instances(scene.scene);
     const hsr_scene scene_view = scene.scene.view();
     hsr::LineSettings settings = plugin.settings;
     hsr::AtomicFileSet files;

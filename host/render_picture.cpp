@@ -105,8 +105,8 @@ uint32_t hsr::host::picture_samples(const RenderOptions& o, const RenderScene* s
     return samples;
 }
 
-void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene, PicturePlugins& plugins,
-                               const std::filesystem::path& output) {
+hsr::host::RenderedPicture hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
+                                                     PicturePlugins& plugins) {
     const std::vector<hsr_light> lights = resolve_lights(o, scene);
     hsr::FrameSettings frame_settings;
     const glm::vec3 background = parse_color_option(o.background, "background");
@@ -116,14 +116,22 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     if (o.was_given("step")) frame_settings.stop_after_step = static_cast<uint64_t>(o.step);
     frame_settings.samples = picture_samples(o, &scene);
 
-    const hsr_scene scene_view = scene.scene.view();
+    RenderedPicture picture;
+    picture.samples = frame_settings.samples;
+    picture.scene_view = scene.scene.view();
     const hsr_shading_context context = hsr::make_shading_context(scene.camera, lights);
-    hsr::Frame frame =
-        hsr::render_supersampled_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
-
-    std::optional<hsr::DepthComplexity> depth_complexity;
+    picture.frame = hsr::render_supersampled_frame(picture.scene_view, scene.camera, *plugins.remover,
+                                                   *plugins.lighting, context, frame_settings);
     if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())
-        depth_complexity = hsr::measure_depth_complexity(scene_view, scene.camera);
+        picture.depth_complexity = hsr::measure_depth_complexity(picture.scene_view, scene.camera);
+    return picture;
+}
+
+void hsr::host::write_picture(const RenderOptions& o, const RenderedPicture& picture, const PicturePlugins& plugins,
+                              const std::filesystem::path& output) {
+    const hsr::Frame& frame = picture.frame;
+    const std::optional<hsr::DepthComplexity>& depth_complexity = picture.depth_complexity;
+    const hsr_scene& scene_view = picture.scene_view;
     hsr::AtomicFileSet files;
     hsr::write_png(files.add(output), frame.width, frame.height, 3, frame.rgb);
     if (!o.depth_out.empty()) hsr::write_depth_png(files.add(o.depth_out), frame.width, frame.height, frame.depth);
@@ -131,7 +139,7 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
     files.commit();
     if (depth_complexity) print_heat_maps_written(o, *depth_complexity);
     if (o.stats) print_stats(frame, *plugins.remover, *plugins.lighting, scene_view, depth_complexity,
-                            frame_settings.samples);
+                            picture.samples);
     if (frame.steps) {
         if (frame.steps->stopped)
             std::fprintf(stderr, "step %llu: %s\n", static_cast<unsigned long long>(frame.steps->last.index),

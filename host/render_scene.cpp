@@ -57,7 +57,8 @@ void apply_scene_file_view(const hsr::SceneFile& file, const RenderOptions& o, h
     if (file.pitch_degrees && !o.was_given("pitch")) view.pitch_degrees = *file.pitch_degrees;
     if (file.zoom && !o.was_given("zoom")) view.zoom = *file.zoom;
     if (file.fov_y_degrees && !o.was_given("fov")) view.fov_y_degrees = *file.fov_y_degrees;
-    if (file.look_at && !view.look_at && !o.was_given("yaw") && !o.was_given("pitch")) view.look_at = file.look_at;
+    if (file.look_at && !view.look_at && !o.was_given("yaw") && !o.was_given("pitch") && !o.was_given("views"))
+        view.look_at = file.look_at;
     if (file.orthographic && !o.orthographic) view.orthographic = *file.orthographic;
 }
 
@@ -71,26 +72,38 @@ uint64_t hsr::host::parse_seed(const std::string& text) {
     return seed;
 }
 
-hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
-    RenderScene loaded;
+std::string hsr::host::scene_load_key(const RenderOptions& o) {
+    // Every option load_scene reads, each tagged, separated by a byte no option holds.
+    std::string key;
+    const auto add = [&key](const char* name, const std::string& value) { key += fmt::format("{}={}\n", name, value); };
+    add("model", o.model);
+    add("random-triangles", o.was_given("random-triangles") ? std::to_string(o.random_triangles) : "");
+    add("seed", o.seed);
+    add("surface", o.surface);
+    add("range", o.range);
+    add("heightmap", o.heightmap);
+    add("heightmap-height", fmt::format("{}", o.heightmap_height));
+    add("crease-angle", fmt::format("{}", o.crease_angle));
+    add("color", o.color);
+    add("opacity", o.was_given("opacity") ? fmt::format("{}", o.opacity) : "");
+    add("repeat", o.repeat);
+    add("repeat-gap", fmt::format("{}", o.repeat_gap));
+    add("repeat-jitter", fmt::format("{}", o.repeat_jitter));
+    for (const std::string& limit : o.limits) add("limit", limit);
+    for (char& c : key)
+        if (c == '\n') c = '\0';
+    return key;
+}
+
+const hsr::SceneData& hsr::host::LoadedScene::flat_scene() {
+    if (scene.instances.empty()) return scene;
+    if (!flat_) flat_ = hsr::flatten_instances(scene);
+    return *flat_;
+}
+
+hsr::host::LoadedScene hsr::host::load_scene(const RenderOptions& o) {
+    LoadedScene loaded;
     const fs::path path = model_path(o);
-    bool pixel_camera = false;
-    hsr::CameraSettings view;
-    view.width = static_cast<uint32_t>(o.width);
-    view.height = static_cast<uint32_t>(o.height);
-    view.yaw_degrees = o.yaw;
-    view.pitch_degrees = o.pitch;
-    view.zoom = o.zoom;
-    view.orthographic = o.orthographic;
-    view.fov_y_degrees = o.fov;
-    if (o.was_given("near")) view.near_plane = o.near_plane;
-    if (!o.eye.empty()) {
-        hsr::LookAt look_at;
-        look_at.eye = parse_vector_option(o.eye, "eye");
-        if (!o.target.empty()) look_at.target = parse_vector_option(o.target, "target");
-        if (!o.up.empty()) look_at.up = parse_vector_option(o.up, "up");
-        view.look_at = look_at;
-    }
     if (o.was_given("random-triangles")) {
         loaded.scene = hsr::make_random_triangles(uint64_t(o.random_triangles), parse_seed(o.seed));
     } else if (!o.surface.empty()) {
@@ -103,14 +116,9 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         if (!o.color.empty()) heightmap.color = parse_color_option(o.color, "color");
         loaded.scene = hsr::make_heightmap_surface(o.heightmap, heightmap);
     } else if (hsr::is_scene_file(path)) {
-        hsr::SceneFile file = hsr::load_scene_file(path);
-        loaded.scene = std::move(file.scene);
-        loaded.lights = std::move(file.lights);
-        loaded.background = file.background;
-        loaded.samples = file.samples;
-        pixel_camera = file.pixel_camera;
-        apply_scene_file_view(file, o, view);
-        view.clip_planes = file.clip_planes;
+        loaded.file = hsr::load_scene_file(path);
+        loaded.scene = std::move(loaded.file->scene);
+        loaded.file->scene = {};
     } else {
         hsr::MeshOptions mesh_options;
         mesh_options.crease_angle_degrees = o.crease_angle;
@@ -136,13 +144,46 @@ hsr::host::RenderScene hsr::host::load_render_scene(const RenderOptions& o) {
         }
     }
     for (const std::string& warning : scene.warnings) std::fprintf(stderr, "hsr: warning: %s\n", warning.c_str());
+    return loaded;
+}
+
+hsr::host::RenderScene hsr::host::make_render_scene(const RenderOptions& o, LoadedScene& loaded, bool line_drawing) {
+    RenderScene frame{line_drawing ? loaded.flat_scene() : loaded.scene, {}, {}, {}, {}};
+    bool pixel_camera = false;
+    hsr::CameraSettings view;
+    view.width = static_cast<uint32_t>(o.width);
+    view.height = static_cast<uint32_t>(o.height);
+    view.yaw_degrees = o.yaw;
+    view.pitch_degrees = o.pitch;
+    view.zoom = o.zoom;
+    view.orthographic = o.orthographic;
+    view.fov_y_degrees = o.fov;
+    if (o.was_given("near")) view.near_plane = o.near_plane;
+    if (!o.eye.empty()) {
+        hsr::LookAt look_at;
+        look_at.eye = parse_vector_option(o.eye, "eye");
+        if (!o.target.empty()) look_at.target = parse_vector_option(o.target, "target");
+        if (!o.up.empty()) look_at.up = parse_vector_option(o.up, "up");
+        view.look_at = look_at;
+    }
+    if (loaded.file) {
+        const hsr::SceneFile& file = *loaded.file;
+        frame.lights = file.lights;
+        frame.background = file.background;
+        frame.samples = file.samples;
+        pixel_camera = file.pixel_camera;
+        apply_scene_file_view(file, o, view);
+        view.clip_planes = file.clip_planes;
+    }
+    if (o.yaw_turn != 0) view.yaw_degrees = float(double(view.yaw_degrees) + o.yaw_turn);
+    const hsr::SceneData& scene = loaded.scene;
     hsr::check_image_size(view.width, view.height);
     hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(view.width) * view.height,
                      fmt::format("image size {}x{}", view.width, view.height));
     add_clip_plane_options(o, view.clip_planes);
     if (pixel_camera && view.near_plane) throw UsageError("--near does not apply to a .scene file with 'camera pixel'");
-    loaded.camera = pixel_camera ? hsr::make_pixel_camera(view.width, view.height, scene.bounds_min.z,
-                                                          scene.bounds_max.z, view.clip_planes)
-                                 : hsr::make_camera(scene.bounds_min, scene.bounds_max, view);
-    return loaded;
+    frame.camera = pixel_camera ? hsr::make_pixel_camera(view.width, view.height, scene.bounds_min.z,
+                                                         scene.bounds_max.z, view.clip_planes)
+                                : hsr::make_camera(scene.bounds_min, scene.bounds_max, view);
+    return frame;
 }

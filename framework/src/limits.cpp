@@ -10,7 +10,7 @@
 namespace hsr {
 namespace {
 
-constexpr std::array<LimitInfo, 10> table{{
+constexpr std::array<LimitInfo, 11> table{{
     {"triangles", &Limits::triangles, "triangles to draw",
      "triangles drawn, every instance's counted (--repeat, a .scene file's repeat)"},
     {"stored-triangles", &Limits::stored_triangles, "stored triangles",
@@ -25,6 +25,7 @@ constexpr std::array<LimitInfo, 10> table{{
     {"image-pixels", &Limits::image_pixels, "pixels", "width x height of the picture"},
     {"upload-bytes", &Limits::upload_bytes, "bytes", "size of one request body to hsr view: an uploaded model"},
     {"fragments", &Limits::fragments, "fragments", "surface fragments of one frame that a plugin hands back in lists (a-buffer)"},
+    {"frames", &Limits::frames, "frames", "frames of one hsr render: --views, --yaw and --pitch ranges, all the lines of a --jobs file"},
 }};
 
 Limits& current() {

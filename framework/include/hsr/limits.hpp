@@ -1,4 +1,4 @@
-// Limits on the work one command may ask for: triangles to draw, lights, grid samples, pixels.
+// Limits on the work one command may ask for: triangles to draw, lights, grid samples, pixels, frames.
 // Each is checked before the memory it bounds is allocated, and its error names the limit and how
 // to raise it (--limit NAME=N). docs/robustness.md ("Limits") has the table.
 #pragma once
@@ -24,6 +24,7 @@ struct Limits {
     uint64_t image_pixels = 1u << 26;        // width x height of a picture (8192 x 8192)
     uint64_t upload_bytes = 1u << 26;        // one file sent to hsr view (64 MiB)
     uint64_t fragments = 1u << 25;           // fragment lists of a frame (a-buffer), 32 bytes each
+    uint64_t frames = 100'000;               // frames of one hsr render (--views, ranges, a --jobs file)
 };
 
 // One limit as the command line and the messages name it.
