@@ -186,7 +186,7 @@ TEST_CASE("limits: NAME=N settings, and the message of a limit reached", "[limit
     CHECK(limits.lights == hsr::Limits{}.lights);
     CHECK_THAT(error_of([&] { hsr::apply_limit_setting(limits, "polygons=5"); }),
                Catch::StartsWith("--limit: unknown limit 'polygons' (limits: triangles, stored-triangles, model-bytes, instances, "
-                                 "lights, surface-samples, heightmap-pixels, image-pixels, upload-bytes, fragments)"));
+                                 "lights, surface-samples, heightmap-pixels, image-pixels, upload-bytes, fragments, frames)"));
     CHECK_THAT(error_of([&] { hsr::apply_limit_setting(limits, "lights"); }), Catch::Contains("expected NAME=N"));
     for (const char* bad : {"lights=0", "lights=-1", "lights=1e3", "lights=", "lights=18446744073709551616"})
         CHECK(error_of([&] { hsr::apply_limit_setting(limits, bad); }).ends_with("is not a whole number of at least 1"));
