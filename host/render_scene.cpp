@@ -73,15 +73,21 @@ uint64_t hsr::host::parse_seed(const std::string& text) {
 }
 
 std::string hsr::host::scene_load_key(const RenderOptions& o) {
-    // Every option load_scene reads, each tagged, separated by a byte no option holds.
+    // Every option load_scene reads, a line each (a job's options come from one line, so hold no line
+    // break); files by their absolute paths, so that ./a.obj and a.obj share a load.
     std::string key;
     const auto add = [&key](const char* name, const std::string& value) { key += fmt::format("{}={}\n", name, value); };
-    add("model", o.model);
+    const auto file = [](const std::string& path) {
+        std::error_code ec;
+        const fs::path resolved = path.empty() ? fs::path() : fs::weakly_canonical(fs::absolute(path, ec), ec);
+        return ec || resolved.empty() ? path : resolved.string();
+    };
+    add("model", file(o.model));
     add("random-triangles", o.was_given("random-triangles") ? std::to_string(o.random_triangles) : "");
     add("seed", o.seed);
     add("surface", o.surface);
     add("range", o.range);
-    add("heightmap", o.heightmap);
+    add("heightmap", file(o.heightmap));
     add("heightmap-height", fmt::format("{}", o.heightmap_height));
     add("crease-angle", fmt::format("{}", o.crease_angle));
     add("color", o.color);
@@ -90,8 +96,6 @@ std::string hsr::host::scene_load_key(const RenderOptions& o) {
     add("repeat-gap", fmt::format("{}", o.repeat_gap));
     add("repeat-jitter", fmt::format("{}", o.repeat_jitter));
     for (const std::string& limit : o.limits) add("limit", limit);
-    for (char& c : key)
-        if (c == '\n') c = '\0';
     return key;
 }
 

@@ -169,7 +169,9 @@ TEST_CASE("frames: a --jobs file loads each model once and renders every line as
                         << monkey << " " << small << " --views 2 -o " << (dir / "m-%d.png").string() << "\n"
                         << cube << " --width 40 --height 40 -a painter -l lambert -o '" << (dir / "cube one.png").string()
                         << "'\n"
-                        << monkey << " " << small << " -a scanline-zbuffer -l phong:interpolation=gouraud --yaw 45 -o "
+                        // The same file by another path: the same load.
+                        << HSR_MODELS_DIR << "/../models/monkey.obj " << small
+                        << " -a scanline-zbuffer -l phong:interpolation=gouraud --yaw 45 -o "
                         << (dir / "m-scanline.png").string() << "\n"
                         << monkey << " --width 64 --height 64 -a appel --hidden dashed -o " << (dir / "m.svg").string()
                         << "\n";
