@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,28 @@ TEST_CASE("frames: --yaw and --pitch ranges, inclusive of B when a step lands on
     INFO(single.err);
     CHECK(single.status == 0);
     CHECK(slurp(one) == single_render(singles, small, "--yaw 30"));
+}
+
+TEST_CASE("frames: a hidden-line plugin's frames, each with its numbered trace", "[frames][lines]") {
+    const fs::path dir = fresh_dir("line-frames");
+    const std::string cube = "render " + model("cube.obj") + " -a appel --width 64 --height 64 --pitch 20 ";
+    const Run r = run_hsr(cube + "--yaw 0:90:45 -o " + (dir / "l-%d.svg").string() + " --trace " +
+                              (dir / "t-%d.jsonl").string(), "line-frames");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(names_in(dir) ==
+          std::vector<std::string>{"l-0.svg", "l-1.svg", "l-2.svg", "t-0.jsonl", "t-1.jsonl", "t-2.jsonl"});
+    const fs::path single = fresh_dir("line-frames-single");
+    const Run one = run_hsr(cube + "--yaw 45 -o " + (single / "l.svg").string() + " --trace " +
+                                (single / "t.jsonl").string(), "line-frames-single");
+    REQUIRE(one.status == 0);
+    // Cairo numbers the drawings of a process (id="surface<n>"); the rest is the same.
+    const auto drawing = [](const fs::path& svg) {
+        return std::regex_replace(slurp(svg), std::regex("id=\"surface[0-9]+\""), "id=\"surface\"");
+    };
+    CHECK(drawing(dir / "l-1.svg") == drawing(single / "l.svg"));
+    CHECK(slurp(dir / "t-1.jsonl") == slurp(single / "t.jsonl"));
+    CHECK(slurp(dir / "l-0.svg") != slurp(dir / "l-1.svg"));
 }
 
 TEST_CASE("frames: output templates, their mistakes, and the default name of several frames", "[frames]") {
