@@ -96,7 +96,8 @@ struct Agreement {
     uint64_t both = 0, only_hsr = 0, only_llvmpipe = 0;
     int max_difference = 0;           // largest channel difference where both drew, levels of 255
     double mean_difference = 0;       // mean over those pixels of the largest channel difference
-    uint64_t over_tolerance = 0;      // pixels drawn by both differing by more than `tolerance`
+    uint64_t differing = 0;           // pixels drawn by both in different colours
+    uint64_t over_tolerance = 0;      // of those, differing by more than `tolerance`
     static constexpr int tolerance = 3;
     double coverage_mismatch() const {  // pixels drawn by one only, over pixels drawn by either
         const uint64_t either = both + only_hsr + only_llvmpipe;
@@ -122,6 +123,7 @@ Agreement compare(const hsr::Frame& hsr_frame, const std::vector<uint8_t>& rgba)
         for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(hsr_frame.rgb[3 * i + k]) - int(rgba[4 * i + k])));
         a.max_difference = std::max(a.max_difference, d);
         sum += d;
+        if (d > 0) ++a.differing;
         if (d > Agreement::tolerance) ++a.over_tolerance;
     }
     a.mean_difference = a.both ? sum / double(a.both) : 0.0;
@@ -243,10 +245,10 @@ int run(const std::vector<std::string>& args) {
                 "(%.3f %% of the drawn pixels)\n",
                 o.algorithm.c_str(), (unsigned long long)a.both, (unsigned long long)a.only_hsr,
                 (unsigned long long)a.only_llvmpipe, 100.0 * a.coverage_mismatch());
-    std::printf("colours where both drew: mean difference %.3f levels, largest %d, %llu pixels (%.3f %%) differ by "
-                "more than %d\n",
-                a.mean_difference, a.max_difference, (unsigned long long)a.over_tolerance, 100.0 * a.colour_mismatch(),
-                Agreement::tolerance);
+    std::printf("colours where both drew: %llu pixels differ, by %.4f levels on average and %d at most; %llu pixels "
+                "(%.3f %%) by more than %d\n",
+                (unsigned long long)a.differing, a.mean_difference, a.max_difference,
+                (unsigned long long)a.over_tolerance, 100.0 * a.colour_mismatch(), Agreement::tolerance);
     if (o.check && (a.coverage_mismatch() >= 0.01 || a.colour_mismatch() >= 0.01)) {
         std::fprintf(stderr, "hsr-llvmpipe: the pictures differ more than --check allows\n");
         return 1;
