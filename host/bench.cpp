@@ -380,11 +380,6 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     progress.finish();
 
     std::cout << hsr::bench::format_table(results);
-    if (vs_llvmpipe)
-        hsr::host::print_llvmpipe_comparison(llvmpipe_program, results,
-                                             {models_dir, lighting_text, unsigned(warmup), unsigned(repetitions),
-                                              unsigned(threads), plugin_dirs},
-                                             std::cout);
     std::cout.flush();
     // Written only once the results are ready, and replaced together once all are written: neither a
     // run nor a writer that fails leaves an existing file changed.
@@ -401,5 +396,10 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     files.commit();
     for (const auto& [option, path] : {std::pair{"csv", &csv_path}, {"svg", &svg_path}, {"png", &png_path}})
         if (given(option)) std::fprintf(stderr, "wrote %s\n", path->c_str());
+    if (vs_llvmpipe)  // last: the table and files above stand even if llvmpipe fails
+        hsr::host::print_llvmpipe_comparison(llvmpipe_program, results,
+                                             {models_dir, lighting_text, unsigned(warmup), unsigned(repetitions),
+                                              unsigned(threads), plugin_dirs, limit_settings},
+                                             std::cout);
     return 0;
 }

@@ -111,6 +111,7 @@ void print_llvmpipe_comparison(const fs::path& program, const std::vector<bench:
                                          "-w", std::to_string(run.warmup), "-r", std::to_string(run.repetitions),
                                          "--threads", std::to_string(run.threads)};
         for (const std::string& dir : run.plugin_dirs) args.insert(args.end(), {"--plugin-path", dir});
+        for (const std::string& limit : run.limit_settings) args.insert(args.end(), {"--limit", limit});
         const std::string line = run_program(program, args);
         const std::string frame = field(line, "frame-ms");
         threads = field(line, "threads");

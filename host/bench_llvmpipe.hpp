@@ -16,6 +16,7 @@ struct LlvmpipeRun {
     std::string lighting;  // as -l gave it
     unsigned warmup = 1, repetitions = 5, threads = 0;
     std::vector<std::string> plugin_dirs;
+    std::vector<std::string> limit_settings;  // --limit, as given
 };
 
 // The hsr-llvmpipe program: $HSR_LLVMPIPE_PROGRAM, else beside the hsr executable. Throws a one-line

@@ -13,6 +13,7 @@
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"
 #include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/params.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
@@ -43,7 +44,7 @@ namespace {
 struct Options {
     std::string model = "bunny", models_dir, size = "1024", lighting = "blinn-phong", algorithm = "zbuffer";
     std::string png, background = hsr::host::default_background;
-    std::vector<std::string> lights, plugin_dirs;
+    std::vector<std::string> lights, plugin_dirs, limit_settings;
     std::optional<float> yaw, pitch, zoom, fov;
     bool orthographic = false, machine = false, compare = false, check = false;
     int64_t repetitions = 5, warmup = 1, threads = 0;
@@ -57,6 +58,7 @@ std::pair<uint32_t, uint32_t> parse_size(const std::string& text) {
     else if (!(n == 3 && x == 'x')) throw hsr::Error("--size: '{}' is not a size (512 or 800x600)", text);
     if (w == 0 || h == 0 || w > hsr::max_image_side || h > hsr::max_image_side)
         throw hsr::Error("--size: {}: each side must be between 1 and {}", text, hsr::max_image_side);
+    hsr::check_limit(&hsr::Limits::image_pixels, uint64_t{w} * h, fmt::format("--size: {}", text));
     return {w, h};
 }
 
@@ -160,7 +162,8 @@ int run(const std::vector<std::string>& args) {
          "1 % of the rest differ by more than 3 levels")
         ("algorithm,a", po::value(&o.algorithm)->default_value(o.algorithm), "hsr's hidden-surface plugin for --compare")
         ("machine", po::bool_switch(&o.machine), "print one line: frame-ms=... threads=... renderer=...")
-        ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins");
+        ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins")
+        ("limit", po::value(&o.limit_settings)->composing(), hsr::describe_limit_option().c_str());
     po::variables_map vm;
     po::store(po::command_line_parser(args).options(options).run(), vm);
     po::notify(vm);
@@ -176,6 +179,7 @@ int run(const std::vector<std::string>& args) {
     if (o.warmup < 0 || o.warmup > 100000) throw hsr::Error("--warmup must be between 0 and 100000");
     if (o.threads < 0 || o.threads > 1024) throw hsr::Error("--threads must be between 0 and 1024");
     o.compare = o.compare || o.check;
+    hsr::set_limits(hsr::limits_from_settings(o.limit_settings));
     const auto [width, height] = parse_size(o.size);
     const glm::vec3 background = parse_color(o.background);
 
