@@ -223,8 +223,9 @@ int run(const std::vector<std::string>& args) {
         std::printf("frame-ms=%.4f threads=%u renderer=%s\n", summary.median, threads, renderer.description().c_str());
     } else {
         std::printf("%s, LP_NUM_THREADS=%u\n", renderer.description().c_str(), threads);
-        std::printf("%s %ux%u, %u triangles: frame %s ms median [%s-%s] over %zu runs after %lld warm-up\n",
-                    o.model.c_str(), width, height, scene.triangle_count, ms(summary.median).c_str(),
+        std::printf("%s %ux%u, %u triangles, %zu vertices: frame %s ms median [%s-%s] over %zu runs after %lld "
+                    "warm-up\n",
+                    o.model.c_str(), width, height, scene.triangle_count, renderer.vertex_count(), ms(summary.median).c_str(),
                     ms(summary.min).c_str(), ms(summary.max).c_str(), summary.count, (long long)o.warmup);
     }
 

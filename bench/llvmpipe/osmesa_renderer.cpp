@@ -1,6 +1,7 @@
 // The OSMesa context, the shaders and the draw call of the llvmpipe yardstick (osmesa_renderer.hpp).
 // The fragment shader is LightEnvironment::reflect and ShadedLightingModel::shade_phong of
-// hsr/shading.hpp with the normal assembly of framework/src/fragment_assembly.hpp, line for line.
+// hsr/shading.hpp with the normal assembly of framework/src/fragment_assembly.hpp; the face's side
+// comes from gl_FrontFacing, so that vertices need no face normal and can be shared.
 #define GL_GLEXT_PROTOTYPES 1
 #include "osmesa_renderer.hpp"
 
@@ -12,7 +13,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
+#include <unordered_map>
 
 namespace hsr::llvmpipe {
 namespace {
@@ -23,17 +26,14 @@ constexpr size_t max_lights = 16;
 const char* const vertex_shader = R"(#version 330 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 corner_normal;
-layout(location = 2) in vec3 face_normal;
-layout(location = 3) in vec3 face_color;
+layout(location = 2) in vec3 face_color;
 uniform mat4 view_projection;
 out vec3 world_position;
 out vec3 normal;
-flat out vec3 flat_face_normal;
 flat out vec3 flat_face_color;
 void main() {
     world_position = position;
     normal = corner_normal;
-    flat_face_normal = face_normal;
     flat_face_color = face_color;
     gl_Position = view_projection * vec4(position, 1.0);
 }
@@ -55,7 +55,6 @@ uniform float shininess;
 uniform vec3 specular_color;
 in vec3 world_position;
 in vec3 normal;
-flat in vec3 flat_face_normal;
 flat in vec3 flat_face_color;
 out vec4 color;
 
@@ -84,11 +83,22 @@ void main() {
 #else
     v = toward_viewer;
 #endif
+    // Two-sided: the face's normal points away from the viewer exactly when the triangle, counter-
+    // clockwise from the front, is clockwise on screen (!gl_FrontFacing).
     float len = length(normal);
-    n = len > 0.0 ? normal / len : flat_face_normal;
+    if (len > 0.0) {
+        n = normal / len;
 #if TWO_SIDED
-    if (dot(flat_face_normal, v) < 0.0) n = -n;
+        if (!gl_FrontFacing) n = -n;
 #endif
+    } else {
+        // Corner normals that cancel: the face normal, from the position's screen derivatives
+        // (whose cross product points toward the viewer).
+        n = normalize(cross(dFdx(p), dFdy(p)));
+#if !TWO_SIDED
+        if (!gl_FrontFacing) n = -n;
+#endif
+    }
     for (int i = 0; i < DIRECTIONAL_LIGHTS; ++i) add(directional_direction[i], directional_radiance[i]);
     for (int i = 0; i < POINT_LIGHTS; ++i) {
         vec3 to_light = point_position[i] - p;
@@ -122,8 +132,9 @@ struct OsmesaRenderer::State {
     OSMesaContext context = nullptr;
     uint32_t width = 0, height = 0;
     std::vector<uint8_t> buffer;  // the colour buffer OSMesa draws into, rows bottom to top
-    GLuint program = 0, vertex_array = 0, vertex_buffer = 0;
-    GLsizei vertex_count = 0;
+    GLuint program = 0, vertex_array = 0, vertex_buffer = 0, index_buffer = 0;
+    GLsizei index_count = 0;
+    size_t vertex_count = 0;
     GLint uniform(const char* name) const { return glGetUniformLocation(program, name); }
 };
 
@@ -149,6 +160,7 @@ OsmesaRenderer::OsmesaRenderer(uint32_t width, uint32_t height) : state_(std::ma
     glGenVertexArrays(1, &s.vertex_array);
     glBindVertexArray(s.vertex_array);
     glGenBuffers(1, &s.vertex_buffer);
+    glGenBuffers(1, &s.index_buffer);
     glViewport(0, 0, GLsizei(width), GLsizei(height));
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -162,27 +174,55 @@ OsmesaRenderer::~OsmesaRenderer() {
 void OsmesaRenderer::upload(const hsr_scene& scene) {
     if (scene.instance_count > 0) throw Error("llvmpipe: internal error: a scene with instances (flatten it first)");
     State& s = *state_;
-    constexpr int floats_per_vertex = 12;
-    std::vector<float> vertices(size_t{scene.triangle_count} * 3 * floats_per_vertex);
-    float* out = vertices.data();
+    // A vertex per distinct (position, corner normal, face colour), shared through the index buffer
+    // as an application would share it; the face colour is flat, from the provoking vertex, which
+    // carries the face's own colour.
+    constexpr int floats_per_vertex = 9;
+    using Key = std::array<uint32_t, 7>;  // position index, then the bits of the normal and colour
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            uint64_t h = 1469598103934665603ull;
+            for (uint32_t word : k) h = (h ^ word) * 1099511628211ull;
+            return size_t(h);
+        }
+    };
+    std::unordered_map<Key, uint32_t, KeyHash> vertex_of;
+    vertex_of.reserve(3 * size_t{scene.triangle_count} / 2);
+    std::vector<float> vertices;
+    std::vector<uint32_t> indices(3 * size_t{scene.triangle_count});
     for (uint32_t t = 0; t < scene.triangle_count; ++t) {
+        const float* color = scene.face_colors + 3 * size_t{t};
         for (int corner = 0; corner < 3; ++corner) {
-            const uint32_t vertex = scene.indices[3 * size_t{t} + corner];
-            out = std::copy_n(scene.positions + 3 * size_t{vertex}, 3, out);
-            out = std::copy_n(scene.corner_normals + 9 * size_t{t} + 3 * corner, 3, out);
-            out = std::copy_n(scene.face_normals + 3 * size_t{t}, 3, out);
-            out = std::copy_n(scene.face_colors + 3 * size_t{t}, 3, out);
+            const uint32_t position = scene.indices[3 * size_t{t} + corner];
+            const float* normal = scene.corner_normals + 9 * size_t{t} + 3 * corner;
+            Key key{position};
+            std::memcpy(&key[1], normal, 3 * sizeof(float));
+            std::memcpy(&key[4], color, 3 * sizeof(float));
+            const auto [it, added] = vertex_of.try_emplace(key, uint32_t(vertices.size() / floats_per_vertex));
+            if (added) {
+                vertices.insert(vertices.end(), scene.positions + 3 * size_t{position},
+                                scene.positions + 3 * size_t{position} + 3);
+                vertices.insert(vertices.end(), normal, normal + 3);
+                vertices.insert(vertices.end(), color, color + 3);
+            }
+            indices[3 * size_t{t} + corner] = it->second;
         }
     }
     glBindBuffer(GL_ARRAY_BUFFER, s.vertex_buffer);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
-    for (GLuint attribute = 0; attribute < 4; ++attribute) {
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, s.index_buffer);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(uint32_t)), indices.data(),
+                 GL_STATIC_DRAW);
+    for (GLuint attribute = 0; attribute < 3; ++attribute) {
         glEnableVertexAttribArray(attribute);
         glVertexAttribPointer(attribute, 3, GL_FLOAT, GL_FALSE, floats_per_vertex * sizeof(float),
                               reinterpret_cast<const void*>(size_t{attribute} * 3 * sizeof(float)));
     }
-    s.vertex_count = GLsizei(3 * size_t{scene.triangle_count});
+    s.index_count = GLsizei(indices.size());
+    s.vertex_count = vertices.size() / floats_per_vertex;
 }
+
+size_t OsmesaRenderer::vertex_count() const { return state_->vertex_count; }
 
 void OsmesaRenderer::set_view(const hsr_camera& camera, const hsr_shading_context& context,
                               const BlinnPhongMaterial& material, glm::vec3 background) {
@@ -241,7 +281,7 @@ void OsmesaRenderer::set_view(const hsr_camera& camera, const hsr_shading_contex
 
 void OsmesaRenderer::draw_frame() {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDrawArrays(GL_TRIANGLES, 0, state_->vertex_count);
+    glDrawElements(GL_TRIANGLES, state_->index_count, GL_UNSIGNED_INT, nullptr);
     glFinish();
 }
 

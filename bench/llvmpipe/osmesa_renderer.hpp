@@ -30,9 +30,10 @@ public:
     OsmesaRenderer(const OsmesaRenderer&) = delete;
     OsmesaRenderer& operator=(const OsmesaRenderer&) = delete;
 
-    // The triangles into one vertex buffer (3 vertices per triangle: position, corner normal, face
-    // normal, face colour), once. The scene must have no instances.
+    // The triangles into a vertex buffer (position, corner normal, face colour) and an index
+    // buffer, once. The scene must have no instances.
     void upload(const hsr_scene& scene);
+    size_t vertex_count() const;  // distinct vertices uploaded
     // Camera, lights, viewer and material as uniforms; the background as the clear colour.
     void set_view(const hsr_camera& camera, const hsr_shading_context& context, const BlinnPhongMaterial& material,
                   glm::vec3 background);
