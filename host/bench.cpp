@@ -1,5 +1,6 @@
 // hsr bench: the command line around hsr/bench.hpp. Times hidden-surface plugins on models and deep
 // scenes at several resolutions, prints the table, writes CSV and a plot (SVG or PNG).
+#include "bench_llvmpipe.hpp"
 #include "bench_plot.hpp"
 #include "bench_report.hpp"
 #include "commands.hpp"
@@ -183,7 +184,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::vector<std::string> algorithm_specs, plugin_dirs, limit_settings;
     std::string csv_path, svg_path, png_path, models_dir_text;
     int64_t repetitions = 5, warmup = 1, threads = 0;
-    bool quick = false;
+    bool quick = false, vs_llvmpipe = false;
 
     po::options_description options(
         "hsr bench [options]: time hidden-surface plugins on models and deep scenes\n"
@@ -210,6 +211,9 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
         ("quick", po::bool_switch(&quick),
          "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
         ("threads", po::value(&threads)->default_value(0), "shading threads (0 = one per core)")
+        ("vs-llvmpipe", po::bool_switch(&vs_llvmpipe),
+         "also draw each scene with Mesa's llvmpipe (build/hsr-llvmpipe, -DHSR_LLVMPIPE=ON) and print both "
+         "frame times and their ratio (zbuffer + blinn-phong; default algorithm zbuffer only)")
         ("models-dir", po::value(&models_dir_text), "folder of the named models (default: ./models or the source tree's)")
         ("plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
         ("limit", po::value(&limit_settings)->composing(), hsr::describe_limit_option().c_str());
@@ -253,7 +257,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     std::vector<std::string> labels = given("algorithms") ? split_list(algorithms_list, "algorithms")
                                                           : std::vector<std::string>{};
     labels.insert(labels.end(), algorithm_specs.begin(), algorithm_specs.end());
-    if (labels.empty()) labels = all_algorithms(registry);
+    if (labels.empty()) labels = vs_llvmpipe ? std::vector<std::string>{"zbuffer"} : all_algorithms(registry);
     if (labels.empty()) throw hsr::Error("no hidden-surface plugins found (see hsr plugins)");
     refuse_repeats(labels, [](const std::string& label) { return fmt::format("algorithm '{}'", label); });
     for (const std::string& label : labels) {
@@ -263,6 +267,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
                                         algorithms.back().settings);
     }
     const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(lighting_text);
+    const fs::path llvmpipe_program = vs_llvmpipe ? hsr::host::find_llvmpipe_program(labels, lighting_text) : fs::path();
     hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
 
     const std::vector<std::string> model_names = given("models") ? split_list(models_list, "models")
@@ -391,5 +396,10 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     files.commit();
     for (const auto& [option, path] : {std::pair{"csv", &csv_path}, {"svg", &svg_path}, {"png", &png_path}})
         if (given(option)) std::fprintf(stderr, "wrote %s\n", path->c_str());
+    if (vs_llvmpipe)  // last: the table and files above stand even if llvmpipe fails
+        hsr::host::print_llvmpipe_comparison(llvmpipe_program, results,
+                                             {models_dir, lighting_text, unsigned(warmup), unsigned(repetitions),
+                                              unsigned(threads), plugin_dirs, limit_settings},
+                                             std::cout);
     return 0;
 }
