@@ -9,6 +9,8 @@
 #include "hsr/image.hpp"
 #include "hsr/pipeline.hpp"
 
+#include <tbb/global_control.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <optional>
@@ -118,8 +120,12 @@ void hsr::host::render_picture(const RenderOptions& o, const RenderScene& scene,
 
     const hsr_scene scene_view = scene.scene.view();
     const hsr_shading_context context = hsr::make_shading_context(scene.camera, lights);
+    // --threads bounds every parallel thing of the render, the plugins' oneTBB work included.
+    std::optional<tbb::global_control> thread_bound;
+    if (o.threads > 0) thread_bound.emplace(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
     hsr::Frame frame =
         hsr::render_supersampled_frame(scene_view, scene.camera, *plugins.remover, *plugins.lighting, context, frame_settings);
+    thread_bound.reset();
 
     std::optional<hsr::DepthComplexity> depth_complexity;
     if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())

@@ -252,19 +252,26 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
     std::atomic<uint64_t> fragments{0}, batches{0};
     for_each_band(frame.height, settings.threads, [&](uint32_t row_begin, uint32_t row_end, FragmentArrays& arrays) {
         arrays.reserve(size_t(kRowsPerBand) * frame.width);
-        for (size_t p = size_t(row_begin) * frame.width; p < size_t(row_end) * frame.width; ++p) {
-            frame.rgb[3 * p] = bg[0], frame.rgb[3 * p + 1] = bg[1], frame.rgb[3 * p + 2] = bg[2];
-        }
         const uint32_t n = assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
-        if (n == 0) return;
-        hsr_fragment_batch batch = fragment_batch(arrays, n, instanced);
-        lighting.shade(batch);
-        for (uint32_t i = 0; i < n; ++i) {
-            uint8_t* out = &frame.rgb[3 * size_t(arrays.pixel[i])];
-            for (int k = 0; k < 3; ++k) out[k] = to_byte(arrays.color[3 * i + k]);
+        if (n > 0) {
+            hsr_fragment_batch batch = fragment_batch(arrays, n, instanced);
+            lighting.shade(batch);
+            fragments += n;
+            ++batches;
         }
-        fragments += n;
-        ++batches;
+        // The fragments come in pixel order: one pass writes them and the background between.
+        const uint32_t* face = frame.face.data();
+        uint8_t* rgb = frame.rgb.data();
+        const float* color = arrays.color.data();
+        for (size_t p = size_t(row_begin) * frame.width; p < size_t(row_end) * frame.width; ++p, rgb += 0) {
+            uint8_t* out = rgb + 3 * p;
+            if (face[p] == HSR_NO_FACE) {
+                out[0] = bg[0], out[1] = bg[1], out[2] = bg[2];
+            } else {
+                out[0] = to_byte(color[0]), out[1] = to_byte(color[1]), out[2] = to_byte(color[2]);
+                color += 3;
+            }
+        }
     });
 
     frame.counters.emplace_back("fragments-shaded", fragments.load());

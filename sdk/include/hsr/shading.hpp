@@ -63,18 +63,23 @@ inline float blinn_phong_specular(glm::vec3 n, glm::vec3 l, glm::vec3 v, float s
 
 // Specular terms as types, so ShadedLightingModel is compiled once per term and its per-fragment
 // loops contain no indirect call.
+enum class SpecularKind { none, phong, blinn };  // the SIMD kernel's names for the three below
+
 struct NoSpecular {
     static constexpr bool has_specular = false;
+    static constexpr SpecularKind kind = SpecularKind::none;
     float operator()(glm::vec3, glm::vec3, glm::vec3, float) const { return 0.0f; }
 };
 struct PhongSpecular {
     static constexpr bool has_specular = true;
+    static constexpr SpecularKind kind = SpecularKind::phong;
     float operator()(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) const {
         return phong_specular(n, l, v, shininess);
     }
 };
 struct BlinnPhongSpecular {
     static constexpr bool has_specular = true;
+    static constexpr SpecularKind kind = SpecularKind::blinn;
     float operator()(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) const {
         return blinn_phong_specular(n, l, v, shininess);
     }
@@ -232,6 +237,15 @@ public:
         return clamp01(color);
     }
 
+    // The lights as 6 floats each (direction or position, then radiance), for the SIMD kernel.
+    const float* directional_data() const { return directional_.empty() ? nullptr : &directional_[0].direction.x; }
+    uint32_t directional_count() const { return uint32_t(directional_.size()); }
+    const float* point_data() const { return point_.empty() ? nullptr : &point_[0].position.x; }
+    uint32_t point_count() const { return uint32_t(point_.size()); }
+    bool perspective() const { return perspective_; }
+    glm::vec3 eye() const { return eye_; }
+    glm::vec3 toward_viewer() const { return toward_viewer_; }
+
 private:
     struct Directional {
         glm::vec3 direction;  // unit, toward the light
@@ -241,6 +255,7 @@ private:
         glm::vec3 position;
         glm::vec3 radiance;
     };
+    static_assert(sizeof(Directional) == 6 * sizeof(float) && sizeof(Point) == 6 * sizeof(float));
     static bool all_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
     std::vector<Directional> directional_;
@@ -249,6 +264,45 @@ private:
     glm::vec3 eye_{0.0f};
     glm::vec3 toward_viewer_{0.0f, 0.0f, 1.0f};
 };
+
+// ------------------------------------------------------------------------------------------------
+// SIMD: what the per-fragment kernel (hsr/shading_kernels-inl.h) needs of a model, one frame's worth.
+// The kernel is compiled for every instruction set Highway targets and the best one the CPU has is
+// chosen at run time (HWY_DYNAMIC_DISPATCH); all give the scalar code's colours bit for bit.
+
+struct PhongKernelInput {
+    const float* directional = nullptr;  // LightEnvironment::directional_data()
+    uint32_t directional_count = 0;
+    const float* point = nullptr;
+    uint32_t point_count = 0;
+    bool perspective = true;
+    float eye[3] = {0, 0, 0};
+    float toward_viewer[3] = {0, 0, 1};
+    bool two_sided = true;
+    SpecularKind specular = SpecularKind::none;
+    float ambient = 0, diffuse = 0, shininess = 1;
+    float specular_factor[3] = {0, 0, 0};  // ks * specular colour
+    const float* face_normals = nullptr;   // the scene's
+    const float* face_colors = nullptr;
+};
+
+}  // namespace hsr::shading
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "hsr/shading_kernels-inl.h"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include "hsr/shading_kernels-inl.h"
+
+namespace hsr::shading {
+HWY_EXPORT(ShadePhongFragments);
+
+// Shades fragments [0, k) of the batch with the best SIMD kernel the CPU runs, k the largest
+// multiple of its vector length <= count, and returns k (the caller shades the rest).
+inline uint32_t shade_phong_simd(const PhongKernelInput& input, const hsr_fragment_batch& batch, uint32_t count) {
+    return HWY_DYNAMIC_DISPATCH(ShadePhongFragments)(input, batch, count);
+}
 
 // ------------------------------------------------------------------------------------------------
 // A complete lighting model: ambient + diffuse + Specular, with flat, Gouraud or Phong interpolation.
@@ -318,6 +372,7 @@ public:
                 }
             }
         }
+        kernel_input_ = phong_kernel_input(raw);
         scene_.emplace(scene);
     }
 
@@ -387,10 +442,44 @@ private:
         }
     }
 
+    PhongKernelInput phong_kernel_input(const hsr_scene& raw) const {
+        PhongKernelInput in;
+        in.directional = lights_.directional_data();
+        in.directional_count = lights_.directional_count();
+        in.point = lights_.point_data();
+        in.point_count = lights_.point_count();
+        in.perspective = lights_.perspective();
+        for (int k = 0; k < 3; ++k) {
+            in.eye[k] = lights_.eye()[k];
+            in.toward_viewer[k] = lights_.toward_viewer()[k];
+            in.specular_factor[k] = (material_.specular * material_.specular_color)[k];
+        }
+        in.two_sided = material_.two_sided;
+        in.specular = Specular::kind;
+        in.ambient = material_.ambient;
+        in.diffuse = material_.diffuse;
+        in.shininess = material_.shininess;
+        in.face_normals = raw.face_normals;
+        in.face_colors = raw.face_colors;
+        return in;
+    }
+
+    // The SIMD kernel takes whole vectors of fragments when every face index is valid; the scalar
+    // loop takes the rest (and finds the bad index, if any).
     void shade_phong(hsr_fragment_batch& batch) const {
+        uint32_t largest_face = 0;
+        for (uint32_t i = 0; i < batch.count; ++i) largest_face = std::max(largest_face, batch.face[i]);
+        const uint32_t done =
+            largest_face < scene_->triangle_count() ? shade_phong_simd(kernel_input_, batch, batch.count) : 0;
+        shade_phong_scalar(batch, done);
+    }
+
+public:
+    // The scalar code the SIMD kernel equals bit for bit (tests compare them): fragments [first, count).
+    void shade_phong_scalar(hsr_fragment_batch& batch, uint32_t first = 0) const {
         const sdk::Scene& scene = *scene_;
         const Specular specular{};
-        for (uint32_t i = 0; i < batch.count; ++i) {
+        for (uint32_t i = first; i < batch.count; ++i) {
             const uint32_t f = batch.face[i];
             check_face(f);
             const float* pos = batch.position + 3 * size_t{i};
@@ -402,6 +491,7 @@ private:
         }
     }
 
+private:
     // Fragments of an instanced scene: positions and normals arrive in world space; face and corner
     // data are turned into world space with the fragment's instance.
     void shade_instanced(hsr_fragment_batch& batch) const {
@@ -461,6 +551,7 @@ private:
     std::optional<sdk::Scene> scene_;     // set by a successful prepare()
     std::vector<glm::vec3> face_color_;   // flat: one per triangle
     std::vector<glm::vec3> corner_color_; // gouraud: three per triangle
+    PhongKernelInput kernel_input_;
 };
 
 }  // namespace hsr::shading
