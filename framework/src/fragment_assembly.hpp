@@ -25,8 +25,11 @@ namespace hsr {
 struct FragmentArrays {
     std::vector<uint32_t> face, pixel, instance;
     std::vector<float> bary, position, normal, color;
+    std::vector<uint8_t> bytes;  // the colours as bytes
 
+    // Room for n fragments and a vector's worth more (SIMD code stores whole vectors).
     void reserve(size_t n) {
+        n += kSimdSlack;
         face.resize(n);
         pixel.resize(n);
         instance.resize(n);
@@ -34,13 +37,17 @@ struct FragmentArrays {
         position.resize(3 * n);
         normal.resize(3 * n);
         color.resize(3 * n);
+        bytes.resize(3 * n);
     }
+    static constexpr size_t kSimdSlack = 64;
 };
 
 // Where each instance puts its triangles: world = transform * p, normals turn by rotation.
 struct Placements {
     std::vector<glm::mat4> transform;
     std::vector<glm::mat3> rotation;
+
+    Placements() = default;  // none: a scene without instances
 
     explicit Placements(const hsr_scene& scene) {
         for (uint32_t k = 0; k < scene.instance_count; ++k) {
@@ -96,6 +103,26 @@ inline void assemble_fragment(const hsr_scene& scene, const Placements& placemen
         out.normal[3 * n + k] = normal[k];
     }
 }
+
+// A colour channel as a byte: [0, 1] to 0..255 rounded, below 0 and NaN to 0, from 1 up to 255.
+inline uint8_t color_to_byte(float v) {
+    if (!(v > 0.0f)) return 0;
+    if (v >= 1.0f) return 255;
+    return static_cast<uint8_t>(v * 255.0f + 0.5f);
+}
+
+// SIMD (fragment_assembly_simd.cpp), the same results as the scalar code:
+// Whether assemble_covered_pixels takes the scene (its indices fit the SIMD code's 32-bit lanes).
+inline bool fits_simd_assembly(const hsr_scene& scene) {
+    return scene.instance_count == 0 && scene.triangle_count < (1u << 31) / 9 && scene.vertex_count < (1u << 31) / 3;
+}
+// The covered pixels [pixel_begin, pixel_end) of a frame of a scene without instances, assembled
+// into fragments 0, 1, ... of `out` as assemble_fragment does; returns their count. `out` holds
+// FragmentArrays::reserve(pixel_end - pixel_begin).
+uint32_t assemble_covered_pixels(const hsr_scene& scene, const uint32_t* face, const float* bary, uint32_t pixel_begin,
+                                 uint32_t pixel_end, FragmentArrays& out);
+// bytes[i] = color_to_byte(color[i]) for i < count.
+void colors_to_bytes(const float* color, size_t count, uint8_t* bytes);
 
 // The lighting plugin's batch over the first n fragments of `arrays`.
 inline hsr_fragment_batch fragment_batch(FragmentArrays& arrays, uint32_t n, bool instanced) {
