@@ -10,6 +10,8 @@
 
 #include "fragment_assembly.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <cstring>
 
 HWY_BEFORE_NAMESPACE();
@@ -25,55 +27,74 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, con
     const uint32_t lanes = uint32_t(Lanes(du));
     const auto no_face = Set(du, HSR_NO_FACE);
 
-    // The covered pixels, in pixel order (the arrays have room for a whole vector past the end).
+    // The covered pixels, in pixel order: a vector's worth of faces tested at once, the covered
+    // ones taken bit by bit.
     uint32_t n = 0;
     uint32_t p = pixel_begin;
+    HWY_ALIGN uint8_t covered_bits[8];
     for (; p + lanes <= pixel_end; p += lanes) {
-        const auto faces = LoadU(du, face + p);
-        const auto covered = Ne(faces, no_face);
+        const auto covered = Ne(LoadU(du, face + p), no_face);
         if (AllFalse(du, covered)) continue;
-        CompressStore(Iota(du, p), covered, du, out.pixel.data() + n);
-        n += uint32_t(CompressStore(faces, covered, du, out.face.data() + n));
+        StoreMaskBits(du, covered, covered_bits);
+        for (uint32_t byte = 0; byte < (lanes + 7) / 8; ++byte)
+            for (uint32_t bits = covered_bits[byte]; bits != 0; bits &= bits - 1) {
+                const uint32_t q = p + 8 * byte + uint32_t(std::countr_zero(bits));
+                out.face[n] = face[q];
+                out.pixel[n++] = q;
+            }
     }
     for (; p < pixel_end; ++p)
         if (face[p] != HSR_NO_FACE) out.face[n] = face[p], out.pixel[n++] = p;
 
-    // Their fragments, a vector at a time; the last few as assemble_fragment does them.
-    const auto* indices = reinterpret_cast<const int32_t*>(scene.indices);
+    // Their fragments, a block at a time: a scalar pass copies each fragment's corners (normals,
+    // then positions) and barycentrics into columns, from which the arithmetic runs a vector at a
+    // time. (Loads lane by lane beat gather instructions, which are slow on some CPUs.) The last
+    // few fragments are done as assemble_fragment does them.
+    constexpr uint32_t kBlock = 64;
+    HWY_ALIGN float column[20][kBlock];  // 0-8: corner normals, 9-17: corner positions, 18-19: b1, b2
     const auto one = Set(df, 1.0f);
     const auto zero = Zero(df);
     uint32_t i = 0;
-    for (; i + lanes <= n; i += lanes) {
-        const auto t = BitCast(di, LoadU(du, out.face.data() + i));
-        const auto pixel2 = ShiftLeft<1>(BitCast(di, LoadU(du, out.pixel.data() + i)));
-        const auto b1 = GatherIndex(df, bary, pixel2);
-        const auto b2 = GatherIndex(df, bary, Add(pixel2, Set(di, 1)));
-        const auto b0 = Sub(Sub(one, b1), b2);
-        const auto t3 = Mul(t, Set(di, 3));
-        const auto t9 = Mul(t, Set(di, 9));
-        const Vec<decltype(di)> vertex3[3] = {Mul(GatherIndex(di, indices, t3), Set(di, 3)),
-                                              Mul(GatherIndex(di, indices, Add(t3, Set(di, 1))), Set(di, 3)),
-                                              Mul(GatherIndex(di, indices, Add(t3, Set(di, 2))), Set(di, 3))};
-        Vec<decltype(df)> normal[3], position[3];
-        for (int k = 0; k < 3; ++k) {
-            const auto c = Set(di, k);
-            normal[k] = Add(Add(Mul(b0, GatherIndex(df, scene.corner_normals, Add(t9, c))),
-                                Mul(b1, GatherIndex(df, scene.corner_normals, Add(t9, Set(di, 3 + k))))),
-                            Mul(b2, GatherIndex(df, scene.corner_normals, Add(t9, Set(di, 6 + k)))));
-            position[k] = Add(Add(Mul(b0, GatherIndex(df, scene.positions, Add(vertex3[0], c))),
-                                  Mul(b1, GatherIndex(df, scene.positions, Add(vertex3[1], c)))),
-                              Mul(b2, GatherIndex(df, scene.positions, Add(vertex3[2], c))));
+    const uint32_t vector_end = n - n % lanes;
+    while (i < vector_end) {
+        const uint32_t block = std::min(kBlock, vector_end - i);
+        for (uint32_t j = 0; j < block; ++j) {
+            const uint32_t t = out.face[i + j];
+            const uint32_t pixel = out.pixel[i + j];
+            const float* corner_normal = scene.corner_normals + 9 * size_t{t};
+            for (int k = 0; k < 9; ++k) column[k][j] = corner_normal[k];
+            const uint32_t* tri = scene.indices + 3 * size_t{t};
+            for (int c = 0; c < 3; ++c) {
+                const float* p = scene.positions + 3 * size_t{tri[c]};
+                for (int k = 0; k < 3; ++k) column[9 + 3 * c + k][j] = p[k];
+            }
+            column[18][j] = bary[2 * size_t{pixel}];
+            column[19][j] = bary[2 * size_t{pixel} + 1];
         }
-        const auto length = Sqrt(Add(Add(Mul(normal[0], normal[0]), Mul(normal[1], normal[1])), Mul(normal[2], normal[2])));
-        const auto has_length = Gt(length, zero);
-        for (int k = 0; k < 3; ++k) normal[k] = Div(normal[k], length);
-        if (!AllTrue(df, has_length)) {  // no interpolated normal: the face normal
-            for (int k = 0; k < 3; ++k)
-                normal[k] = IfThenElse(has_length, normal[k], GatherIndex(df, scene.face_normals, Add(t3, Set(di, k))));
+        for (uint32_t j = 0; j < block; j += lanes, i += lanes) {
+            const auto b1 = Load(df, column[18] + j);
+            const auto b2 = Load(df, column[19] + j);
+            const auto b0 = Sub(Sub(one, b1), b2);
+            Vec<decltype(df)> normal[3], position[3];
+            for (int k = 0; k < 3; ++k) {
+                normal[k] = Add(Add(Mul(b0, Load(df, column[k] + j)), Mul(b1, Load(df, column[3 + k] + j))),
+                                Mul(b2, Load(df, column[6 + k] + j)));
+                position[k] = Add(Add(Mul(b0, Load(df, column[9 + k] + j)), Mul(b1, Load(df, column[12 + k] + j))),
+                                  Mul(b2, Load(df, column[15 + k] + j)));
+            }
+            const auto length =
+                Sqrt(Add(Add(Mul(normal[0], normal[0]), Mul(normal[1], normal[1])), Mul(normal[2], normal[2])));
+            const auto has_length = Gt(length, zero);
+            for (int k = 0; k < 3; ++k) normal[k] = Div(normal[k], length);
+            if (!AllTrue(df, has_length)) {  // no interpolated normal: the face normal
+                const auto t3 = Mul(BitCast(di, LoadU(du, out.face.data() + i)), Set(di, 3));
+                for (int k = 0; k < 3; ++k)
+                    normal[k] = IfThenElse(has_length, normal[k], GatherIndex(df, scene.face_normals, Add(t3, Set(di, k))));
+            }
+            StoreInterleaved2(b1, b2, df, out.bary.data() + 2 * size_t{i});
+            StoreInterleaved3(position[0], position[1], position[2], df, out.position.data() + 3 * size_t{i});
+            StoreInterleaved3(normal[0], normal[1], normal[2], df, out.normal.data() + 3 * size_t{i});
         }
-        StoreInterleaved2(b1, b2, df, out.bary.data() + 2 * size_t{i});
-        StoreInterleaved3(position[0], position[1], position[2], df, out.position.data() + 3 * size_t{i});
-        StoreInterleaved3(normal[0], normal[1], normal[2], df, out.normal.data() + 3 * size_t{i});
     }
     const Placements no_placements{};
     for (; i < n; ++i) {

@@ -17,7 +17,15 @@
 //   colour = clamp(ka*C + sum over lights of E_l * (kd*C*max(0, N.L) + ks*S*spec(N, L, V)), 0, 1)
 // with C the face colour, S the specular colour, E_l = light colour * intensity, spec = 0 unless
 // N.L > 0. L is the unit vector from the surface point toward the light, V toward the viewer.
-// Header-only and installed with the SDK; depends on abi.h, sdk.hpp and GLM only.
+//
+// Speed: per-fragment (Phong) interpolation runs a SIMD kernel (hsr/shading_kernels-inl.h) compiled
+// for every instruction set Google Highway targets and chosen at run time; its colours equal the
+// scalar code's bit for bit (tests/test_shading_simd.cpp checks every target). The host calls shade()
+// on oneTBB's threads, one band of rows per call, as many at once as --threads allows; a plugin that
+// parallelises work of its own with oneTBB is bounded by the same --threads (docs/abi.md, section 7).
+// Header-only and installed with the SDK; depends on abi.h, sdk.hpp, GLM and Highway (link hwy::hwy;
+// this header defines HWY_TARGET_INCLUDE, so a plugin that includes it uses foreach_target.h only
+// in a file of its own).
 #pragma once
 
 #include "hsr/abi.h"
@@ -328,8 +336,11 @@ public:
                                        raw.face_colors == nullptr))
             throw sdk::InvalidArgument("scene: positions, indices, normals or face colours missing");
         lights_.set(context);
+        kernel_input_ = phong_kernel_input(raw);
         const uint32_t triangles = scene.triangle_count();
-        for (uint32_t t = 0; t < triangles; ++t)
+        uint32_t largest_index = 0;  // one pass the compiler vectorizes; the message only when needed
+        for (size_t k = 0; k < 3 * size_t{triangles}; ++k) largest_index = std::max(largest_index, raw.indices[k]);
+        for (uint32_t t = 0; largest_index >= scene.vertex_count() && t < triangles; ++t)
             for (int corner = 0; corner < 3; ++corner)
                 if (scene.index(t, corner) >= scene.vertex_count())
                     throw sdk::InvalidArgument("scene: triangle " + std::to_string(t) + " refers to vertex " +
@@ -340,7 +351,6 @@ public:
         corner_color_.clear();
         instance_transform_.clear();
         instance_rotation_.clear();
-        const Specular specular{};
         if (scene.instance_count() > 0) {
             // Instanced (ABI 1.1): the same face lies in many places, lit differently in each, so
             // flat and Gouraud colours are worked out per fragment from its instance's placement
@@ -351,28 +361,23 @@ public:
                 instance_rotation_.push_back(placement.rotation);
             }
         } else if (material_.interpolation == Interpolation::flat) {
+            // The model at each face's centroid with the face normal, shaded as fragments are.
             face_color_.resize(triangles);
-            for (uint32_t t = 0; t < triangles; ++t) {
-                const glm::vec3 centroid = (scene.corner_position(t, 0) + scene.corner_position(t, 1) +
-                                            scene.corner_position(t, 2)) / 3.0f;
-                const glm::vec3 v = lights_.view_vector(centroid);
-                const glm::vec3 n = facing_normal(scene.face_normal(t), scene.face_normal(t), v);
-                face_color_[t] = lights_.reflect(material_, specular, scene.face_color(t), centroid, n, v);
-            }
+            shade_points(scene, triangles, [&](uint32_t t, glm::vec3& position, glm::vec3& normal) {
+                position = (scene.corner_position(t, 0) + scene.corner_position(t, 1) + scene.corner_position(t, 2)) / 3.0f;
+                normal = scene.face_normal(t);
+                return t;
+            }, face_color_.data());
         } else if (material_.interpolation == Interpolation::gouraud) {
+            // The model at each corner with the corner normal (the face normal decides the side).
             corner_color_.resize(3 * size_t{triangles});
-            for (uint32_t t = 0; t < triangles; ++t) {
-                const glm::vec3 face_normal = scene.face_normal(t);
-                const glm::vec3 base = scene.face_color(t);
-                for (int corner = 0; corner < 3; ++corner) {
-                    const glm::vec3 p = scene.corner_position(t, corner);
-                    const glm::vec3 v = lights_.view_vector(p);
-                    const glm::vec3 n = facing_normal(scene.corner_normal(t, corner), face_normal, v);
-                    corner_color_[3 * size_t{t} + corner] = lights_.reflect(material_, specular, base, p, n, v);
-                }
-            }
+            shade_points(scene, 3 * size_t{triangles}, [&](size_t k, glm::vec3& position, glm::vec3& normal) {
+                const uint32_t t = uint32_t(k / 3);
+                position = scene.corner_position(t, int(k % 3));
+                normal = scene.corner_normal(t, int(k % 3));
+                return t;
+            }, corner_color_.data());
         }
-        kernel_input_ = phong_kernel_input(raw);
         scene_.emplace(scene);
     }
 
@@ -439,6 +444,45 @@ private:
             const float b2 = batch.bary[2 * size_t{i} + 1];
             const glm::vec3* c = colors + 3 * size_t{f};
             store(batch.color + 3 * size_t{i}, clamp01((1.0f - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2]));
+        }
+    }
+
+    // color[k] = the model at point k as shade_phong evaluates a fragment, for k < count;
+    // point(k, position, normal) sets point k's position and shading normal and returns its face.
+    // In chunks, through the SIMD kernel and the scalar loop as fragments go.
+    template <class Point>
+    void shade_points(const sdk::Scene& scene, size_t count, Point point, glm::vec3* color) {
+        const Specular specular{};
+        constexpr size_t kChunk = 4096;
+        point_face_.resize(kChunk);
+        point_position_.resize(3 * kChunk);
+        point_normal_.resize(3 * kChunk);
+        for (size_t first = 0; first < count; first += kChunk) {
+            const uint32_t n = uint32_t(std::min(kChunk, count - first));
+            for (uint32_t i = 0; i < n; ++i) {
+                glm::vec3 position, normal;
+                point_face_[i] = point(first + i, position, normal);
+                for (int k = 0; k < 3; ++k) {
+                    point_position_[3 * size_t{i} + k] = position[k];
+                    point_normal_[3 * size_t{i} + k] = normal[k];
+                }
+            }
+            hsr_fragment_batch batch{};
+            batch.struct_size = sizeof batch;
+            batch.count = n;
+            batch.face = point_face_.data();
+            batch.position = point_position_.data();
+            batch.normal = point_normal_.data();
+            batch.color = &color[first].x;
+            const uint32_t done = shade_phong_simd(kernel_input_, batch, n);
+            for (uint32_t i = done; i < n; ++i) {
+                const float* pos = batch.position + 3 * size_t{i};
+                const float* nrm = batch.normal + 3 * size_t{i};
+                const glm::vec3 p{pos[0], pos[1], pos[2]};
+                const glm::vec3 v = lights_.view_vector(p);
+                const glm::vec3 nv = facing_normal({nrm[0], nrm[1], nrm[2]}, scene.face_normal(batch.face[i]), v);
+                color[first + i] = lights_.reflect(material_, specular, scene.face_color(batch.face[i]), p, nv, v);
+            }
         }
     }
 
@@ -552,6 +596,8 @@ private:
     std::vector<glm::vec3> face_color_;   // flat: one per triangle
     std::vector<glm::vec3> corner_color_; // gouraud: three per triangle
     PhongKernelInput kernel_input_;
+    std::vector<uint32_t> point_face_;  // prepare(): flat and Gouraud points in chunks
+    std::vector<float> point_position_, point_normal_;
 };
 
 }  // namespace hsr::shading

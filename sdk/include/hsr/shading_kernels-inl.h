@@ -57,7 +57,6 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
                                           uint32_t count) {
     using namespace hn;
     const ScalableTag<float> df;
-    const RebindToSigned<decltype(df)> di;
     const size_t lanes = Lanes(df);
     const auto zero = Zero(df);
     const auto one = Set(df, 1.0f);
@@ -66,9 +65,15 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
         Vec<decltype(df)> px, py, pz, nx, ny, nz;
         LoadInterleaved3(df, batch.position + 3 * size_t{i}, px, py, pz);
         LoadInterleaved3(df, batch.normal + 3 * size_t{i}, nx, ny, nz);
-        const auto face3 = Mul(BitCast(di, LoadU(RebindToUnsigned<decltype(df)>(), batch.face + i)), Set(di, 3));
-        const auto face3_y = Add(face3, Set(di, 1));
-        const auto face3_z = Add(face3, Set(di, 2));
+        // Each fragment's face normal and colour, loaded lane by lane (gathers are slow on some CPUs).
+        HWY_ALIGN float face_data[6][HWY_MAX_BYTES / sizeof(float)];
+        for (size_t j = 0; j < lanes; ++j) {
+            const size_t f3 = 3 * size_t{batch.face[i + j]};
+            for (int k = 0; k < 3; ++k) {
+                face_data[k][j] = in.face_normals[f3 + k];
+                face_data[3 + k][j] = in.face_colors[f3 + k];
+            }
+        }
 
         // View vector (LightEnvironment::view_vector).
         Vec<decltype(df)> vx, vy, vz;
@@ -90,9 +95,9 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
 
         // Two-sided: negate n where the viewer sees the back of the face.
         if (in.two_sided) {
-            const auto fx = GatherIndex(df, in.face_normals, face3);
-            const auto fy = GatherIndex(df, in.face_normals, face3_y);
-            const auto fz = GatherIndex(df, in.face_normals, face3_z);
+            const auto fx = Load(df, face_data[0]);
+            const auto fy = Load(df, face_data[1]);
+            const auto fz = Load(df, face_data[2]);
             const auto back = Lt(Add(Add(Mul(fx, vx), Mul(fy, vy)), Mul(fz, vz)), zero);
             nx = IfThenElse(back, Neg(nx), nx);
             ny = IfThenElse(back, Neg(ny), ny);
@@ -145,16 +150,17 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
 
         // colour = C (ka + kd D) + (ks S) P, clamped to [0, 1] as glm::clamp does (NaN stays NaN).
         const auto ambient = Set(df, in.ambient), diffuse = Set(df, in.diffuse);
-        auto color = [&](const auto& face3_k, const auto& diffuse_sum, const auto& specular_sum, float specular_factor) {
-            const auto base = GatherIndex(df, in.face_colors, face3_k);
+        auto color = [&](const float* face_color, const auto& diffuse_sum, const auto& specular_sum,
+                         float specular_factor) {
+            const auto base = Load(df, face_color);
             auto c = Mul(base, Add(ambient, Mul(diffuse, diffuse_sum)));
             if (in.specular != SpecularKind::none) c = Add(c, Mul(Set(df, specular_factor), specular_sum));
             c = IfThenElse(Lt(c, zero), zero, c);
             return IfThenElse(Lt(one, c), one, c);
         };
-        StoreInterleaved3(color(face3, diffuse_r, specular_r, in.specular_factor[0]),
-                          color(face3_y, diffuse_g, specular_g, in.specular_factor[1]),
-                          color(face3_z, diffuse_b, specular_b, in.specular_factor[2]), df,
+        StoreInterleaved3(color(face_data[3], diffuse_r, specular_r, in.specular_factor[0]),
+                          color(face_data[4], diffuse_g, specular_g, in.specular_factor[1]),
+                          color(face_data[5], diffuse_b, specular_b, in.specular_factor[2]), df,
                           batch.color + 3 * size_t{i});
     }
     return vector_count;

@@ -68,6 +68,18 @@ inline constexpr uint64_t exp2_poly[3] = {0x3fac6af84b912394ull, 0x3fcebfce50fac
 inline constexpr uint64_t overflow_bound = 0x405fffffffd1d571ull;  // 0x1.fffffffd1d571p+6
 }  // namespace powf_data
 
+// table[index[j]] in each lane j, loaded lane by lane (gather instructions are slow on some CPUs).
+template <class D, class VI>
+HWY_INLINE hn::Vec<D> LoadLanes(D d, const hn::TFromD<D>* table, VI index) {
+    using T = hn::TFromD<D>;
+    using I = hn::TFromV<VI>;
+    HWY_ALIGN I lane_index[HWY_MAX_BYTES / sizeof(I)];
+    HWY_ALIGN T lane_value[HWY_MAX_BYTES / sizeof(T)];
+    hn::Store(index, hn::Rebind<I, D>(), lane_index);
+    for (size_t j = 0; j < hn::Lanes(d); ++j) lane_value[j] = table[lane_index[j]];
+    return hn::Load(d, lane_value);
+}
+
 // x^y for one half of a float vector, in doubles (DD: doubles as many as the half's floats).
 template <class DD, class VI32Half, class VF32Half>
 HWY_INLINE hn::Vec<DD> ExactPowfHalf(DD dd, VF32Half z_float, VI32Half k, VI32Half table_index, double y) {
@@ -76,8 +88,8 @@ HWY_INLINE hn::Vec<DD> ExactPowfHalf(DD dd, VF32Half z_float, VI32Half k, VI32Ha
     const RebindToUnsigned<DD> du64;
     auto constant = [&](uint64_t bits) { return Set(dd, std::bit_cast<double>(bits)); };
     const auto index = PromoteTo(di64, table_index);
-    const auto inverse_c = GatherIndex(dd, reinterpret_cast<const double*>(powf_data::inverse_c), index);
-    const auto log2_c = GatherIndex(dd, reinterpret_cast<const double*>(powf_data::log2_c), index);
+    const auto inverse_c = LoadLanes(dd, reinterpret_cast<const double*>(powf_data::inverse_c), index);
+    const auto log2_c = LoadLanes(dd, reinterpret_cast<const double*>(powf_data::log2_c), index);
     const auto z = PromoteTo(dd, z_float);
     // log2(x), the order and fusing of glibc's log2_inline.
     const auto r = MulAdd(z, inverse_c, Set(dd, -1.0));
@@ -95,7 +107,7 @@ HWY_INLINE hn::Vec<DD> ExactPowfHalf(DD dd, VF32Half z_float, VI32Half k, VI32Ha
     const auto shifted = Add(y_log2_x, shift);
     const auto ki = BitCast(du64, shifted);
     const auto s_index = BitCast(di64, And(ki, Set(du64, 31)));
-    const auto t = Add(GatherIndex(du64, powf_data::exp2_table, s_index), ShiftLeft<47>(ki));
+    const auto t = Add(LoadLanes(du64, powf_data::exp2_table, s_index), ShiftLeft<47>(ki));
     const auto s = BitCast(dd, t);
     const auto rr = Sub(y_log2_x, Sub(shifted, shift));
     const auto zz = MulAdd(constant(powf_data::exp2_poly[0]), rr, constant(powf_data::exp2_poly[1]));
