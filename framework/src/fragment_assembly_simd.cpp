@@ -6,6 +6,7 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "fragment_assembly_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include "fragment_assembly.hpp"
@@ -51,6 +52,7 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, con
     // time. (Loads lane by lane beat gather instructions, which are slow on some CPUs.) The last
     // few fragments are done as assemble_fragment does them.
     constexpr uint32_t kBlock = 64;
+    constexpr uint32_t kPrefetchDistance = 16;
     HWY_ALIGN float column[20][kBlock];  // 0-8: corner normals, 9-17: corner positions, 18-19: b1, b2
     const auto one = Set(df, 1.0f);
     const auto zero = Zero(df);
@@ -59,6 +61,14 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, con
     while (i < vector_end) {
         const uint32_t block = std::min(kBlock, vector_end - i);
         for (uint32_t j = 0; j < block; ++j) {
+            // The corner data comes in screen order, not memory order: ask for it ahead.
+            if (i + j + kPrefetchDistance < n) {
+                const uint32_t ahead = out.face[i + j + kPrefetchDistance];
+                hwy::Prefetch(scene.corner_normals + 9 * size_t{ahead});
+                hwy::Prefetch(scene.corner_normals + 9 * size_t{ahead} + 8);
+                const uint32_t* ahead_tri = scene.indices + 3 * size_t{ahead};
+                for (int c = 0; c < 3; ++c) hwy::Prefetch(scene.positions + 3 * size_t{ahead_tri[c]});
+            }
             const uint32_t t = out.face[i + j];
             const uint32_t pixel = out.pixel[i + j];
             const float* corner_normal = scene.corner_normals + 9 * size_t{t};

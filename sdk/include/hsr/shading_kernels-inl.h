@@ -19,6 +19,14 @@
 #include <cmath>
 #include <cstdint>
 
+#ifndef HWY_INLINE_LAMBDA
+#if defined(__GNUC__) || defined(__clang__)
+#define HWY_INLINE_LAMBDA __attribute__((always_inline))
+#else
+#define HWY_INLINE_LAMBDA
+#endif
+#endif
+
 HWY_BEFORE_NAMESPACE();
 namespace hsr::shading::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
@@ -106,7 +114,8 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
 
         auto diffuse_r = zero, diffuse_g = zero, diffuse_b = zero;
         auto specular_r = zero, specular_g = zero, specular_b = zero;
-        auto add = [&](auto lit, auto lx, auto ly, auto lz, const float* radiance) {
+        // Inlined: called once per light, it updates six sums that would otherwise live in memory.
+        auto add = [&](auto lit, auto lx, auto ly, auto lz, const float* radiance) HWY_INLINE_LAMBDA {
             const auto n_dot_l = Add(Add(Mul(nx, lx), Mul(ny, ly)), Mul(nz, lz));
             lit = And(lit, Not(Le(n_dot_l, zero)));
             if (AllFalse(df, lit)) return;
