@@ -8,14 +8,15 @@
 
 #include <glm/glm.hpp>
 
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <exception>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 namespace hsr {
@@ -24,8 +25,11 @@ namespace hsr {
 struct FragmentArrays {
     std::vector<uint32_t> face, pixel, instance;
     std::vector<float> bary, position, normal, color;
+    std::vector<uint8_t> bytes;  // the colours as bytes
 
+    // Room for n fragments and a vector's worth more (SIMD code stores whole vectors).
     void reserve(size_t n) {
+        n += kSimdSlack;
         face.resize(n);
         pixel.resize(n);
         instance.resize(n);
@@ -33,13 +37,17 @@ struct FragmentArrays {
         position.resize(3 * n);
         normal.resize(3 * n);
         color.resize(3 * n);
+        bytes.resize(3 * n);
     }
+    static constexpr size_t kSimdSlack = 64;
 };
 
 // Where each instance puts its triangles: world = transform * p, normals turn by rotation.
 struct Placements {
     std::vector<glm::mat4> transform;
     std::vector<glm::mat3> rotation;
+
+    Placements() = default;  // none: a scene without instances
 
     explicit Placements(const hsr_scene& scene) {
         for (uint32_t k = 0; k < scene.instance_count; ++k) {
@@ -96,6 +104,26 @@ inline void assemble_fragment(const hsr_scene& scene, const Placements& placemen
     }
 }
 
+// A colour channel as a byte: [0, 1] to 0..255 rounded, below 0 and NaN to 0, from 1 up to 255.
+inline uint8_t color_to_byte(float v) {
+    if (!(v > 0.0f)) return 0;
+    if (v >= 1.0f) return 255;
+    return static_cast<uint8_t>(v * 255.0f + 0.5f);
+}
+
+// SIMD (fragment_assembly_simd.cpp), the same results as the scalar code:
+// Whether assemble_covered_pixels takes the scene (its indices fit the SIMD code's 32-bit lanes).
+inline bool fits_simd_assembly(const hsr_scene& scene) {
+    return scene.instance_count == 0 && scene.triangle_count < (1u << 31) / 9 && scene.vertex_count < (1u << 31) / 3;
+}
+// The covered pixels [pixel_begin, pixel_end) of a frame of a scene without instances, assembled
+// into fragments 0, 1, ... of `out` as assemble_fragment does; returns their count. `out` holds
+// FragmentArrays::reserve(pixel_end - pixel_begin).
+uint32_t assemble_covered_pixels(const hsr_scene& scene, const uint32_t* face, const float* bary, uint32_t pixel_begin,
+                                 uint32_t pixel_end, FragmentArrays& out);
+// bytes[i] = color_to_byte(color[i]) for i < count.
+void colors_to_bytes(const float* color, size_t count, uint8_t* bytes);
+
 // The lighting plugin's batch over the first n fragments of `arrays`.
 inline hsr_fragment_batch fragment_batch(FragmentArrays& arrays, uint32_t n, bool instanced) {
     hsr_fragment_batch batch{};
@@ -113,34 +141,41 @@ inline hsr_fragment_batch fragment_batch(FragmentArrays& arrays, uint32_t n, boo
 
 inline constexpr uint32_t kRowsPerBand = 8;
 
+// The calling thread's FragmentArrays, kept for the thread's life so that no frame allocates them
+// again (each oneTBB worker has its own).
+inline FragmentArrays& thread_fragment_arrays() {
+    static thread_local FragmentArrays arrays;
+    return arrays;
+}
+
 // Calls band(row_begin, row_end, arrays) for every band of kRowsPerBand rows of an image `height`
-// rows high, on `threads` threads (0: one per core), the caller's among them, which take bands in
-// turn; each thread has FragmentArrays of its own to reuse. The first exception a band throws stops
-// the other threads early and is thrown again here.
+// rows high, on oneTBB's workers, with the calling thread's FragmentArrays. `threads`: 1 runs every
+// band on the caller; 0 takes as many threads as the process allows (the host bounds that with
+// tbb::global_control from --threads); more makes an arena of that many if the process allows more. A band's result does not
+// depend on the thread that runs it. The first exception a band throws cancels the rest and is
+// thrown again here (oneTBB's exception propagation).
 template <class Band>
 void for_each_band(uint32_t height, unsigned threads, Band&& band) {
     const uint32_t bands = (height + kRowsPerBand - 1) / kRowsPerBand;
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    threads = std::min<unsigned>(threads, std::max<uint32_t>(bands, 1));
-    std::atomic<uint32_t> next_band{0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    auto worker = [&] {
-        FragmentArrays arrays;
-        try {
-            for (uint32_t b; (b = next_band.fetch_add(1)) < bands;)
-                band(b * kRowsPerBand, std::min(height, (b + 1) * kRowsPerBand), arrays);
-        } catch (...) {
-            std::lock_guard lock(failure_mutex);
-            if (!failure) failure = std::current_exception();
-            next_band = bands;
-        }
+    auto run = [&](uint32_t first, uint32_t last) {
+        FragmentArrays& arrays = thread_fragment_arrays();
+        for (uint32_t b = first; b < last; ++b)
+            band(b * kRowsPerBand, std::min(height, (b + 1) * kRowsPerBand), arrays);
     };
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
+    if (threads == 1 || bands <= 1) {
+        run(0, bands);
+        return;
+    }
+    auto parallel = [&] {
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, bands, 1),
+                          [&](const tbb::blocked_range<uint32_t>& r) { run(r.begin(), r.end()); });
+    };
+    if (threads == 0 || threads >= tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)) {
+        parallel();
+    } else {
+        tbb::task_arena arena(int(std::min<unsigned>(threads, bands)));
+        arena.execute(parallel);
+    }
 }
 
 }  // namespace hsr

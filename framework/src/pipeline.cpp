@@ -37,12 +37,6 @@ void collect_counter(void* context, const char* name, uint64_t value) {
     counters->emplace_back(name, value);
 }
 
-uint8_t to_byte(float v) {
-    if (!(v > 0.0f)) return 0;  // also NaN
-    if (v >= 1.0f) return 255;
-    return static_cast<uint8_t>(v * 255.0f + 0.5f);
-}
-
 // Gathers the covered pixels of rows [row_begin, row_end) into fragments. Returns the fragment count.
 uint32_t assemble_fragments(const hsr_scene& scene, const Placements& placements, const Frame& frame,
                             uint32_t row_begin, uint32_t row_end, FragmentArrays& out) {
@@ -243,26 +237,28 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
     lighting.prepare(scene, context);
     const size_t pixels = size_t(frame.width) * frame.height;
     frame.rgb.resize(3 * pixels);
-    const uint8_t bg[3] = {to_byte(settings.background.r), to_byte(settings.background.g),
-                           to_byte(settings.background.b)};
+    std::vector<uint8_t> background_row(3 * size_t(frame.width));
+    for (size_t x = 0; x < frame.width; ++x)
+        for (int k = 0; k < 3; ++k) background_row[3 * x + k] = color_to_byte(settings.background[k]);
 
     // Bands of rows, one batch each. Each thread writes only its bands' pixels, so nothing is
     // shared but the counters.
     const bool instanced = !frame.instance.empty();
+    const bool simd_assembly = fits_simd_assembly(scene);
     std::atomic<uint64_t> fragments{0}, batches{0};
     for_each_band(frame.height, settings.threads, [&](uint32_t row_begin, uint32_t row_end, FragmentArrays& arrays) {
+        const uint32_t pixel_begin = row_begin * frame.width, pixel_end = row_end * frame.width;
         arrays.reserve(size_t(kRowsPerBand) * frame.width);
-        for (size_t p = size_t(row_begin) * frame.width; p < size_t(row_end) * frame.width; ++p) {
-            frame.rgb[3 * p] = bg[0], frame.rgb[3 * p + 1] = bg[1], frame.rgb[3 * p + 2] = bg[2];
-        }
-        const uint32_t n = assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
+        const uint32_t n = simd_assembly ? assemble_covered_pixels(scene, frame.face.data(), frame.bary.data(),
+                                                                   pixel_begin, pixel_end, arrays)
+                                         : assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
+        for (uint32_t y = row_begin; y < row_end; ++y)
+            std::memcpy(&frame.rgb[3 * size_t(y) * frame.width], background_row.data(), background_row.size());
         if (n == 0) return;
         hsr_fragment_batch batch = fragment_batch(arrays, n, instanced);
         lighting.shade(batch);
-        for (uint32_t i = 0; i < n; ++i) {
-            uint8_t* out = &frame.rgb[3 * size_t(arrays.pixel[i])];
-            for (int k = 0; k < 3; ++k) out[k] = to_byte(arrays.color[3 * i + k]);
-        }
+        colors_to_bytes(arrays.color.data(), 3 * size_t(n), arrays.bytes.data());
+        for (uint32_t i = 0; i < n; ++i) std::memcpy(&frame.rgb[3 * size_t(arrays.pixel[i])], &arrays.bytes[3 * size_t(i)], 3);
         fragments += n;
         ++batches;
     });

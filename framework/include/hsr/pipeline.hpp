@@ -22,7 +22,7 @@ void check_image_size(uint32_t width, uint32_t height);
 
 struct FrameSettings {
     glm::vec3 background{1.0f, 1.0f, 1.0f};
-    unsigned threads = 0;  // shading threads; 0 = one per core
+    unsigned threads = 0;  // shading threads; 0 = as many as tbb::global_control allows (every core)
     bool count_depth_tests = false;  // ask the remover for per-pixel depth-test counts (Frame::depth_tests)
     // Render step by step (ABI 1.3): stop after this step (1-based; 0 runs every step). Empty: no
     // steps, render() as usual.

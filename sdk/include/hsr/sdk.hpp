@@ -610,7 +610,8 @@ class LightingModel {
 public:
     virtual ~LightingModel() = default;
     virtual void prepare(const Scene& scene, const hsr_shading_context& context) = 0;
-    // Must be thread-safe: it only reads what prepare() built.
+    // Must be thread-safe: it only reads what prepare() built. The host calls it from oneTBB's
+    // worker threads, several batches at once, as many as --threads allows.
     virtual void shade(hsr_fragment_batch& batch) const = 0;
 };
 

@@ -17,7 +17,15 @@
 //   colour = clamp(ka*C + sum over lights of E_l * (kd*C*max(0, N.L) + ks*S*spec(N, L, V)), 0, 1)
 // with C the face colour, S the specular colour, E_l = light colour * intensity, spec = 0 unless
 // N.L > 0. L is the unit vector from the surface point toward the light, V toward the viewer.
-// Header-only and installed with the SDK; depends on abi.h, sdk.hpp and GLM only.
+//
+// Speed: per-fragment (Phong) interpolation runs a SIMD kernel (hsr/shading_kernels-inl.h) compiled
+// for every instruction set Google Highway targets and chosen at run time; its colours equal the
+// scalar code's bit for bit (tests/test_shading_simd.cpp checks every target). The host calls shade()
+// on oneTBB's threads, one band of rows per call, as many at once as --threads allows; a plugin that
+// parallelises work of its own with oneTBB is bounded by the same --threads (docs/abi.md, section 7).
+// Header-only and installed with the SDK; depends on abi.h, sdk.hpp, GLM and Highway (link hwy::hwy;
+// this header defines HWY_TARGET_INCLUDE, so a plugin that includes it uses foreach_target.h only
+// in a file of its own).
 #pragma once
 
 #include "hsr/abi.h"
@@ -63,18 +71,23 @@ inline float blinn_phong_specular(glm::vec3 n, glm::vec3 l, glm::vec3 v, float s
 
 // Specular terms as types, so ShadedLightingModel is compiled once per term and its per-fragment
 // loops contain no indirect call.
+enum class SpecularKind { none, phong, blinn };  // the SIMD kernel's names for the three below
+
 struct NoSpecular {
     static constexpr bool has_specular = false;
+    static constexpr SpecularKind kind = SpecularKind::none;
     float operator()(glm::vec3, glm::vec3, glm::vec3, float) const { return 0.0f; }
 };
 struct PhongSpecular {
     static constexpr bool has_specular = true;
+    static constexpr SpecularKind kind = SpecularKind::phong;
     float operator()(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) const {
         return phong_specular(n, l, v, shininess);
     }
 };
 struct BlinnPhongSpecular {
     static constexpr bool has_specular = true;
+    static constexpr SpecularKind kind = SpecularKind::blinn;
     float operator()(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) const {
         return blinn_phong_specular(n, l, v, shininess);
     }
@@ -232,6 +245,15 @@ public:
         return clamp01(color);
     }
 
+    // The lights as 6 floats each (direction or position, then radiance), for the SIMD kernel.
+    const float* directional_data() const { return directional_.empty() ? nullptr : &directional_[0].direction.x; }
+    uint32_t directional_count() const { return uint32_t(directional_.size()); }
+    const float* point_data() const { return point_.empty() ? nullptr : &point_[0].position.x; }
+    uint32_t point_count() const { return uint32_t(point_.size()); }
+    bool perspective() const { return perspective_; }
+    glm::vec3 eye() const { return eye_; }
+    glm::vec3 toward_viewer() const { return toward_viewer_; }
+
 private:
     struct Directional {
         glm::vec3 direction;  // unit, toward the light
@@ -241,6 +263,7 @@ private:
         glm::vec3 position;
         glm::vec3 radiance;
     };
+    static_assert(sizeof(Directional) == 6 * sizeof(float) && sizeof(Point) == 6 * sizeof(float));
     static bool all_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
     std::vector<Directional> directional_;
@@ -249,6 +272,45 @@ private:
     glm::vec3 eye_{0.0f};
     glm::vec3 toward_viewer_{0.0f, 0.0f, 1.0f};
 };
+
+// ------------------------------------------------------------------------------------------------
+// SIMD: what the per-fragment kernel (hsr/shading_kernels-inl.h) needs of a model, one frame's worth.
+// The kernel is compiled for every instruction set Highway targets and the best one the CPU has is
+// chosen at run time (HWY_DYNAMIC_DISPATCH); all give the scalar code's colours bit for bit.
+
+struct PhongKernelInput {
+    const float* directional = nullptr;  // LightEnvironment::directional_data()
+    uint32_t directional_count = 0;
+    const float* point = nullptr;
+    uint32_t point_count = 0;
+    bool perspective = true;
+    float eye[3] = {0, 0, 0};
+    float toward_viewer[3] = {0, 0, 1};
+    bool two_sided = true;
+    SpecularKind specular = SpecularKind::none;
+    float ambient = 0, diffuse = 0, shininess = 1;
+    float specular_factor[3] = {0, 0, 0};  // ks * specular colour
+    const float* face_normals = nullptr;   // the scene's
+    const float* face_colors = nullptr;
+};
+
+}  // namespace hsr::shading
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "hsr/shading_kernels-inl.h"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include "hsr/shading_kernels-inl.h"
+
+namespace hsr::shading {
+HWY_EXPORT(ShadePhongFragments);
+
+// Shades fragments [0, k) of the batch with the best SIMD kernel the CPU runs, k the largest
+// multiple of its vector length <= count, and returns k (the caller shades the rest).
+inline uint32_t shade_phong_simd(const PhongKernelInput& input, const hsr_fragment_batch& batch, uint32_t count) {
+    return HWY_DYNAMIC_DISPATCH(ShadePhongFragments)(input, batch, count);
+}
 
 // ------------------------------------------------------------------------------------------------
 // A complete lighting model: ambient + diffuse + Specular, with flat, Gouraud or Phong interpolation.
@@ -274,8 +336,11 @@ public:
                                        raw.face_colors == nullptr))
             throw sdk::InvalidArgument("scene: positions, indices, normals or face colours missing");
         lights_.set(context);
+        kernel_input_ = phong_kernel_input(raw);
         const uint32_t triangles = scene.triangle_count();
-        for (uint32_t t = 0; t < triangles; ++t)
+        uint32_t largest_index = 0;  // one pass the compiler vectorizes; the message only when needed
+        for (size_t k = 0; k < 3 * size_t{triangles}; ++k) largest_index = std::max(largest_index, raw.indices[k]);
+        for (uint32_t t = 0; largest_index >= scene.vertex_count() && t < triangles; ++t)
             for (int corner = 0; corner < 3; ++corner)
                 if (scene.index(t, corner) >= scene.vertex_count())
                     throw sdk::InvalidArgument("scene: triangle " + std::to_string(t) + " refers to vertex " +
@@ -286,7 +351,6 @@ public:
         corner_color_.clear();
         instance_transform_.clear();
         instance_rotation_.clear();
-        const Specular specular{};
         if (scene.instance_count() > 0) {
             // Instanced (ABI 1.1): the same face lies in many places, lit differently in each, so
             // flat and Gouraud colours are worked out per fragment from its instance's placement
@@ -297,26 +361,22 @@ public:
                 instance_rotation_.push_back(placement.rotation);
             }
         } else if (material_.interpolation == Interpolation::flat) {
+            // The model at each face's centroid with the face normal, shaded as fragments are.
             face_color_.resize(triangles);
-            for (uint32_t t = 0; t < triangles; ++t) {
-                const glm::vec3 centroid = (scene.corner_position(t, 0) + scene.corner_position(t, 1) +
-                                            scene.corner_position(t, 2)) / 3.0f;
-                const glm::vec3 v = lights_.view_vector(centroid);
-                const glm::vec3 n = facing_normal(scene.face_normal(t), scene.face_normal(t), v);
-                face_color_[t] = lights_.reflect(material_, specular, scene.face_color(t), centroid, n, v);
-            }
+            shade_points(scene, triangles, [&](uint32_t t, glm::vec3& position, glm::vec3& normal) {
+                position = (scene.corner_position(t, 0) + scene.corner_position(t, 1) + scene.corner_position(t, 2)) / 3.0f;
+                normal = scene.face_normal(t);
+                return t;
+            }, face_color_.data());
         } else if (material_.interpolation == Interpolation::gouraud) {
+            // The model at each corner with the corner normal (the face normal decides the side).
             corner_color_.resize(3 * size_t{triangles});
-            for (uint32_t t = 0; t < triangles; ++t) {
-                const glm::vec3 face_normal = scene.face_normal(t);
-                const glm::vec3 base = scene.face_color(t);
-                for (int corner = 0; corner < 3; ++corner) {
-                    const glm::vec3 p = scene.corner_position(t, corner);
-                    const glm::vec3 v = lights_.view_vector(p);
-                    const glm::vec3 n = facing_normal(scene.corner_normal(t, corner), face_normal, v);
-                    corner_color_[3 * size_t{t} + corner] = lights_.reflect(material_, specular, base, p, n, v);
-                }
-            }
+            shade_points(scene, 3 * size_t{triangles}, [&](size_t k, glm::vec3& position, glm::vec3& normal) {
+                const uint32_t t = uint32_t(k / 3);
+                position = scene.corner_position(t, int(k % 3));
+                normal = scene.corner_normal(t, int(k % 3));
+                return t;
+            }, corner_color_.data());
         }
         scene_.emplace(scene);
     }
@@ -387,10 +447,83 @@ private:
         }
     }
 
+    // color[k] = the model at point k as shade_phong evaluates a fragment, for k < count;
+    // point(k, position, normal) sets point k's position and shading normal and returns its face.
+    // In chunks, through the SIMD kernel and the scalar loop as fragments go.
+    template <class Point>
+    void shade_points(const sdk::Scene& scene, size_t count, Point point, glm::vec3* color) {
+        const Specular specular{};
+        constexpr size_t kChunk = 4096;
+        point_face_.resize(kChunk);
+        point_position_.resize(3 * kChunk);
+        point_normal_.resize(3 * kChunk);
+        for (size_t first = 0; first < count; first += kChunk) {
+            const uint32_t n = uint32_t(std::min(kChunk, count - first));
+            for (uint32_t i = 0; i < n; ++i) {
+                glm::vec3 position, normal;
+                point_face_[i] = point(first + i, position, normal);
+                for (int k = 0; k < 3; ++k) {
+                    point_position_[3 * size_t{i} + k] = position[k];
+                    point_normal_[3 * size_t{i} + k] = normal[k];
+                }
+            }
+            hsr_fragment_batch batch{};
+            batch.struct_size = sizeof batch;
+            batch.count = n;
+            batch.face = point_face_.data();
+            batch.position = point_position_.data();
+            batch.normal = point_normal_.data();
+            batch.color = &color[first].x;
+            const uint32_t done = shade_phong_simd(kernel_input_, batch, n);
+            for (uint32_t i = done; i < n; ++i) {
+                const float* pos = batch.position + 3 * size_t{i};
+                const float* nrm = batch.normal + 3 * size_t{i};
+                const glm::vec3 p{pos[0], pos[1], pos[2]};
+                const glm::vec3 v = lights_.view_vector(p);
+                const glm::vec3 nv = facing_normal({nrm[0], nrm[1], nrm[2]}, scene.face_normal(batch.face[i]), v);
+                color[first + i] = lights_.reflect(material_, specular, scene.face_color(batch.face[i]), p, nv, v);
+            }
+        }
+    }
+
+    PhongKernelInput phong_kernel_input(const hsr_scene& raw) const {
+        PhongKernelInput in;
+        in.directional = lights_.directional_data();
+        in.directional_count = lights_.directional_count();
+        in.point = lights_.point_data();
+        in.point_count = lights_.point_count();
+        in.perspective = lights_.perspective();
+        for (int k = 0; k < 3; ++k) {
+            in.eye[k] = lights_.eye()[k];
+            in.toward_viewer[k] = lights_.toward_viewer()[k];
+            in.specular_factor[k] = (material_.specular * material_.specular_color)[k];
+        }
+        in.two_sided = material_.two_sided;
+        in.specular = Specular::kind;
+        in.ambient = material_.ambient;
+        in.diffuse = material_.diffuse;
+        in.shininess = material_.shininess;
+        in.face_normals = raw.face_normals;
+        in.face_colors = raw.face_colors;
+        return in;
+    }
+
+    // The SIMD kernel takes whole vectors of fragments when every face index is valid; the scalar
+    // loop takes the rest (and finds the bad index, if any).
     void shade_phong(hsr_fragment_batch& batch) const {
+        uint32_t largest_face = 0;
+        for (uint32_t i = 0; i < batch.count; ++i) largest_face = std::max(largest_face, batch.face[i]);
+        const uint32_t done =
+            largest_face < scene_->triangle_count() ? shade_phong_simd(kernel_input_, batch, batch.count) : 0;
+        shade_phong_scalar(batch, done);
+    }
+
+public:
+    // The scalar code the SIMD kernel equals bit for bit (tests compare them): fragments [first, count).
+    void shade_phong_scalar(hsr_fragment_batch& batch, uint32_t first = 0) const {
         const sdk::Scene& scene = *scene_;
         const Specular specular{};
-        for (uint32_t i = 0; i < batch.count; ++i) {
+        for (uint32_t i = first; i < batch.count; ++i) {
             const uint32_t f = batch.face[i];
             check_face(f);
             const float* pos = batch.position + 3 * size_t{i};
@@ -402,6 +535,7 @@ private:
         }
     }
 
+private:
     // Fragments of an instanced scene: positions and normals arrive in world space; face and corner
     // data are turned into world space with the fragment's instance.
     void shade_instanced(hsr_fragment_batch& batch) const {
@@ -461,6 +595,9 @@ private:
     std::optional<sdk::Scene> scene_;     // set by a successful prepare()
     std::vector<glm::vec3> face_color_;   // flat: one per triangle
     std::vector<glm::vec3> corner_color_; // gouraud: three per triangle
+    PhongKernelInput kernel_input_;
+    std::vector<uint32_t> point_face_;  // prepare(): flat and Gouraud points in chunks
+    std::vector<float> point_position_, point_normal_;
 };
 
 }  // namespace hsr::shading

@@ -1,0 +1,154 @@
+// SIMD parts of a shading band (fragment_assembly.hpp) for scenes without instances, on Google
+// Highway with the best instruction set of the CPU chosen at run time: finding the covered pixels
+// (compress-store), assembling their fragments (the float operations of assemble_fragment, in its
+// order, on as many fragments as a vector has lanes) and turning colours into bytes. Bit-identical
+// to the scalar code.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "fragment_assembly_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/cache_control.h>
+#include <hwy/highway.h>
+
+#include "fragment_assembly.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+HWY_BEFORE_NAMESPACE();
+namespace hsr::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, const float* bary, uint32_t pixel_begin,
+                               uint32_t pixel_end, FragmentArrays& out) {
+    using namespace hn;
+    const ScalableTag<uint32_t> du;
+    const RebindToSigned<decltype(du)> di;
+    const RebindToFloat<decltype(du)> df;
+    const uint32_t lanes = uint32_t(Lanes(du));
+    const auto no_face = Set(du, HSR_NO_FACE);
+
+    // The covered pixels, in pixel order: a vector's worth of faces tested at once, the covered
+    // ones taken bit by bit.
+    uint32_t n = 0;
+    uint32_t p = pixel_begin;
+    HWY_ALIGN uint8_t covered_bits[8];
+    for (; p + lanes <= pixel_end; p += lanes) {
+        const auto covered = Ne(LoadU(du, face + p), no_face);
+        if (AllFalse(du, covered)) continue;
+        StoreMaskBits(du, covered, covered_bits);
+        for (uint32_t byte = 0; byte < (lanes + 7) / 8; ++byte)
+            for (uint32_t bits = covered_bits[byte]; bits != 0; bits &= bits - 1) {
+                const uint32_t q = p + 8 * byte + uint32_t(std::countr_zero(bits));
+                out.face[n] = face[q];
+                out.pixel[n++] = q;
+            }
+    }
+    for (; p < pixel_end; ++p)
+        if (face[p] != HSR_NO_FACE) out.face[n] = face[p], out.pixel[n++] = p;
+
+    // Their fragments, a block at a time: a scalar pass copies each fragment's corners (normals,
+    // then positions) and barycentrics into columns, from which the arithmetic runs a vector at a
+    // time. (Loads lane by lane beat gather instructions, which are slow on some CPUs.) The last
+    // few fragments are done as assemble_fragment does them.
+    constexpr uint32_t kBlock = 64;
+    constexpr uint32_t kPrefetchDistance = 16;
+    HWY_ALIGN float column[20][kBlock];  // 0-8: corner normals, 9-17: corner positions, 18-19: b1, b2
+    const auto one = Set(df, 1.0f);
+    const auto zero = Zero(df);
+    uint32_t i = 0;
+    const uint32_t vector_end = n - n % lanes;
+    while (i < vector_end) {
+        const uint32_t block = std::min(kBlock, vector_end - i);
+        for (uint32_t j = 0; j < block; ++j) {
+            // The corner data comes in screen order, not memory order: ask for it ahead.
+            if (i + j + kPrefetchDistance < n) {
+                const uint32_t ahead = out.face[i + j + kPrefetchDistance];
+                hwy::Prefetch(scene.corner_normals + 9 * size_t{ahead});
+                hwy::Prefetch(scene.corner_normals + 9 * size_t{ahead} + 8);
+                const uint32_t* ahead_tri = scene.indices + 3 * size_t{ahead};
+                for (int c = 0; c < 3; ++c) hwy::Prefetch(scene.positions + 3 * size_t{ahead_tri[c]});
+            }
+            const uint32_t t = out.face[i + j];
+            const uint32_t pixel = out.pixel[i + j];
+            const float* corner_normal = scene.corner_normals + 9 * size_t{t};
+            for (int k = 0; k < 9; ++k) column[k][j] = corner_normal[k];
+            const uint32_t* tri = scene.indices + 3 * size_t{t};
+            for (int c = 0; c < 3; ++c) {
+                const float* p = scene.positions + 3 * size_t{tri[c]};
+                for (int k = 0; k < 3; ++k) column[9 + 3 * c + k][j] = p[k];
+            }
+            column[18][j] = bary[2 * size_t{pixel}];
+            column[19][j] = bary[2 * size_t{pixel} + 1];
+        }
+        for (uint32_t j = 0; j < block; j += lanes, i += lanes) {
+            const auto b1 = Load(df, column[18] + j);
+            const auto b2 = Load(df, column[19] + j);
+            const auto b0 = Sub(Sub(one, b1), b2);
+            Vec<decltype(df)> normal[3], position[3];
+            for (int k = 0; k < 3; ++k) {
+                normal[k] = Add(Add(Mul(b0, Load(df, column[k] + j)), Mul(b1, Load(df, column[3 + k] + j))),
+                                Mul(b2, Load(df, column[6 + k] + j)));
+                position[k] = Add(Add(Mul(b0, Load(df, column[9 + k] + j)), Mul(b1, Load(df, column[12 + k] + j))),
+                                  Mul(b2, Load(df, column[15 + k] + j)));
+            }
+            const auto length =
+                Sqrt(Add(Add(Mul(normal[0], normal[0]), Mul(normal[1], normal[1])), Mul(normal[2], normal[2])));
+            const auto has_length = Gt(length, zero);
+            for (int k = 0; k < 3; ++k) normal[k] = Div(normal[k], length);
+            if (!AllTrue(df, has_length)) {  // no interpolated normal: the face normal
+                const auto t3 = Mul(BitCast(di, LoadU(du, out.face.data() + i)), Set(di, 3));
+                for (int k = 0; k < 3; ++k)
+                    normal[k] = IfThenElse(has_length, normal[k], GatherIndex(df, scene.face_normals, Add(t3, Set(di, k))));
+            }
+            StoreInterleaved2(b1, b2, df, out.bary.data() + 2 * size_t{i});
+            StoreInterleaved3(position[0], position[1], position[2], df, out.position.data() + 3 * size_t{i});
+            StoreInterleaved3(normal[0], normal[1], normal[2], df, out.normal.data() + 3 * size_t{i});
+        }
+    }
+    const Placements no_placements{};
+    for (; i < n; ++i) {
+        const uint32_t pixel = out.pixel[i];
+        assemble_fragment(scene, no_placements, out.face[i], kNotInstanced, bary[2 * size_t{pixel}],
+                          bary[2 * size_t{pixel} + 1], pixel, out, i);
+    }
+    return n;
+}
+
+void ColorsToBytes(const float* color, size_t count, uint8_t* bytes) {
+    using namespace hn;
+    const ScalableTag<float> df;
+    const RebindToSigned<decltype(df)> di;
+    const Rebind<uint8_t, decltype(df)> d8;
+    const size_t lanes = Lanes(df);
+    size_t i = 0;
+    for (; i + lanes <= count; i += lanes) {
+        const auto v = LoadU(df, color + i);
+        auto b = ConvertTo(di, Add(Mul(v, Set(df, 255.0f)), Set(df, 0.5f)));
+        b = IfThenElse(RebindMask(di, Ge(v, Set(df, 1.0f))), Set(di, 255), b);
+        b = IfThenZeroElse(RebindMask(di, Not(Gt(v, Zero(df)))), b);
+        StoreU(DemoteTo(d8, b), d8, bytes + i);
+    }
+    for (; i < count; ++i) bytes[i] = color_to_byte(color[i]);
+}
+
+}  // namespace hsr::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace hsr {
+
+HWY_EXPORT(AssembleCoveredPixels);
+HWY_EXPORT(ColorsToBytes);
+
+uint32_t assemble_covered_pixels(const hsr_scene& scene, const uint32_t* face, const float* bary, uint32_t pixel_begin,
+                                 uint32_t pixel_end, FragmentArrays& out) {
+    return HWY_DYNAMIC_DISPATCH(AssembleCoveredPixels)(scene, face, bary, pixel_begin, pixel_end, out);
+}
+
+void colors_to_bytes(const float* color, size_t count, uint8_t* bytes) {
+    HWY_DYNAMIC_DISPATCH(ColorsToBytes)(color, count, bytes);
+}
+
+}  // namespace hsr
+#endif
