@@ -9,10 +9,11 @@
 // depth test. docs/algorithms/zbuffer.md describes the steps and the counters.
 //
 // A frame runs on every thread allowed (sort-middle, after Molnar et al., "A Sorting Classification
-// of Parallel Rendering", 1994): chunks of triangles are set up in parallel and binned to square
-// screen tiles in scene order, then the tiles are rasterized in parallel, each drawing its triangles
-// in scene order, so every buffer and counter is the serial one bit for bit. Render step by step
-// (one step per triangle) draws serially. docs/speed/visibility.md has the design and measurements.
+// of Parallel Rendering", 1994): chunks of triangles are culled and binned to square screen tiles in
+// parallel, in scene order, then the tiles are drawn in parallel, each setting up and rasterizing
+// its triangles in scene order, so every buffer and counter is the serial one bit for bit. Render
+// step by step (one step per triangle) and a frame allowed one thread draw in order.
+// docs/speed/visibility.md has the design and the measurements.
 #include "hsr/parallel.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
@@ -111,8 +112,9 @@ private:
 
     template <bool kKeepNearest, class Steps>
     void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
-        // Bins tell triangles from clipped pieces by kPieceBit; larger scenes are drawn in order.
-        drew_tiles_ = !Steps::enabled && scene.raw().triangle_count < kPieceBit;
+        // Binning costs some work of its own, so one thread draws in order; so do scenes too large
+        // for kPieceBit to tell triangles from clipped pieces.
+        drew_tiles_ = !Steps::enabled && scene.raw().triangle_count < kPieceBit && hsr::sdk::allowed_threads() > 1;
         if (!drew_tiles_) {
             if (target.depth_tests() == nullptr)
                 draw_in_order<kKeepNearest, false>(scene, target, pixels, steps);

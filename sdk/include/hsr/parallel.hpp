@@ -7,13 +7,25 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace hsr::sdk {
+
+// How many threads a parallel loop started here may use (the host's bound, the task arena, the CPU
+// affinity mask): a plugin whose parallel path costs more work than its serial one takes the serial
+// path when this is 1.
+inline size_t allowed_threads() {
+    return std::min(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+                    size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
+}
 
 // Calls work(k) once for every k < count, spread over the threads oneTBB allows, each k a task of
 // its own (items are meant to be coarse). Returns when all are done; an exception thrown by work
