@@ -7,13 +7,23 @@
 // homogeneous clip space, integer edge functions (Pineda 1988) on a 1/256-pixel grid with the
 // top-left fill rule, and perspective-correct barycentrics computed only for pixels that pass the
 // depth test. docs/algorithms/zbuffer.md describes the steps and the counters.
+//
+// A frame runs on every thread allowed (sort-middle, after Molnar et al., "A Sorting Classification
+// of Parallel Rendering", 1994): chunks of triangles are culled and binned to square screen tiles in
+// parallel, in scene order, then the tiles are drawn in parallel, each setting up and rasterizing
+// its triangles in scene order, so every buffer and counter is the serial one bit for bit. Render
+// step by step (one step per triangle) and a frame allowed one thread draw in order.
+// docs/speed/visibility.md has the design and the measurements.
+#include "hsr/parallel.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
+#include "hsr/tiles.hpp"
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace {
 
@@ -41,6 +51,28 @@ private:
         uint64_t written = 0;
     };
 
+    // A piece of a clipped triangle, set up while binning (the others are set up in their tiles).
+    struct ClippedPiece {
+        raster::TriangleSetup setup;
+        uint32_t face;
+    };
+    // Consecutive triangles of one placement, binned by one task.
+    struct Chunk {
+        uint32_t instance = 0;
+        // Per tile, in scene order: a triangle that needs no clipping (its index), or, with
+        // kPieceBit set, one of `pieces`.
+        std::vector<std::vector<uint32_t>> bins;
+        std::vector<ClippedPiece> pieces;
+        raster::TriangleStats stats;
+    };
+    static constexpr uint32_t kPieceBit = 1u << 31;
+
+    // Measured on the bunny at 1024x1024 (docs/speed/visibility.md).
+    static constexpr uint32_t kTileSize = 64;          // pixels a side
+    static constexpr uint32_t kChunkTriangles = 2048;  // input triangles binned by one task
+    static constexpr uint32_t kChunkVertices = 8192;   // vertices transformed by one task
+    static constexpr uint32_t kMaxPendingChunks = 64;  // bounds the memory of the bins
+
     friend class hsr::sdk::StepwiseRemover<ZBuffer>;
 
     template <class Steps>
@@ -59,7 +91,7 @@ private:
                 for (size_t p = 0; p < pixel_count; ++p)
                     if (face[p] == HSR_NO_FACE) depth[p] = std::numeric_limits<float>::infinity();
             }
-            geometry_.stats().report(counters);
+            (drew_tiles_ ? triangle_stats_ : geometry_.stats()).report(counters);
             counters.set("pixels-depth-tested", pixels.depth_tested);
             counters.set("pixels-written", pixels.written);
         };
@@ -80,14 +112,25 @@ private:
 
     template <bool kKeepNearest, class Steps>
     void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
-        if (target.depth_tests() == nullptr)
-            draw<kKeepNearest, false>(scene, target, pixels, steps);
-        else
-            draw<kKeepNearest, true>(scene, target, pixels, steps);
+        // Binning costs some work of its own, so one thread draws in order; so do scenes too large
+        // for kPieceBit to tell triangles from clipped pieces.
+        drew_tiles_ = !Steps::enabled && scene.raw().triangle_count < kPieceBit && hsr::sdk::allowed_threads() > 1;
+        if (!drew_tiles_) {
+            if (target.depth_tests() == nullptr)
+                draw_in_order<kKeepNearest, false>(scene, target, pixels, steps);
+            else
+                draw_in_order<kKeepNearest, true>(scene, target, pixels, steps);
+        } else {
+            if (target.depth_tests() == nullptr)
+                draw_tiled<kKeepNearest, false>(scene, target, pixels);
+            else
+                draw_tiled<kKeepNearest, true>(scene, target, pixels);
+        }
     }
 
+    // One triangle after another, each a step.
     template <bool kKeepNearest, bool kCountTests, class Steps>
-    void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
+    void draw_in_order(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
         constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
         const raster::PixelBuffers buffers(target);
         const uint32_t* indices = scene.raw().indices;
@@ -112,9 +155,143 @@ private:
         }
     }
 
+    // Binned in parallel chunks, drawn in parallel tiles, one placement after another (the tiles set
+    // up the triangles from the placed vertices).
+    template <bool kKeepNearest, bool kCountTests>
+    void draw_tiled(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
+        grid_ = hsr::sdk::TileGrid{target.width(), target.height(), kTileSize};
+        const raster::PixelBuffers buffers(target);
+        raster::TriangleStats triangles;
+        uint32_t pending = 0;  // chunks binned, not drawn yet
+        auto draw_pending = [&] {
+            hsr::sdk::parallel_for_each(grid_.count(), tile_stats_, [&](uint32_t k, PixelStats& stats) {
+                draw_tile<kKeepNearest, kCountTests>(k, pending, buffers, stats);
+            });
+            for (const PixelStats& stats : tile_stats_) {
+                pixels.depth_tested += stats.depth_tested;
+                pixels.written += stats.written;
+            }
+            pending = 0;
+        };
+        for (uint32_t k = 0; k < scene.placement_count(); ++k) {
+            const hsr::sdk::Placement placement = scene.placement(k);
+            place(placement);
+            const uint32_t chunk_count = (placement.triangle_count + kChunkTriangles - 1) / kChunkTriangles;
+            for (uint32_t done = 0; done < chunk_count;) {
+                const uint32_t batch = std::min(chunk_count - done, kMaxPendingChunks - pending);
+                if (chunks_.size() < pending + batch) chunks_.resize(pending + batch);
+                hsr::sdk::parallel_for_each(batch, [&](uint32_t c) {
+                    const uint32_t first = placement.first_triangle + (done + c) * kChunkTriangles;
+                    const uint32_t end = std::min(first + kChunkTriangles,
+                                                  placement.first_triangle + placement.triangle_count);
+                    bin(chunks_[pending + c], placement.instance, first, end);
+                });
+                for (uint32_t c = 0; c < batch; ++c) triangles += chunks_[pending + c].stats;
+                pending += batch;
+                done += batch;
+                if (pending == kMaxPendingChunks) draw_pending();
+            }
+            if (pending > 0) draw_pending();  // before the next placement overwrites the vertices
+        }
+        triangle_stats_ = triangles;
+    }
+
+    // GeometryStage::place, in parallel chunks of vertices.
+    void place(const hsr::sdk::Placement& placement) {
+        const glm::dmat4 m = geometry_.clip_from_object(placement);
+        const uint32_t chunk_count = (placement.vertex_count + kChunkVertices - 1) / kChunkVertices;
+        hsr::sdk::parallel_for_each(chunk_count, [&](uint32_t c) {
+            const uint32_t first = placement.first_vertex + c * kChunkVertices;
+            geometry_.place_vertices(m, first, std::min(first + kChunkVertices,
+                                                        placement.first_vertex + placement.vertex_count));
+        });
+    }
+
+    // Counts the triangles [first, end) of the placed placement into `chunk` and bins each to the
+    // tiles whose pixels it may cover.
+    void bin(Chunk& chunk, uint32_t instance, uint32_t first, uint32_t end) const {
+        chunk.instance = instance;
+        chunk.bins.resize(grid_.count());
+        chunk.pieces.clear();
+        chunk.stats = {};
+        const uint32_t across = grid_.across();
+        auto add = [&](uint32_t entry, const raster::PixelBounds& b, const auto& may_cover) {
+            const uint32_t tx0 = uint32_t(b.min_x) / kTileSize, tx1 = uint32_t(b.max_x) / kTileSize;
+            const uint32_t ty0 = uint32_t(b.min_y) / kTileSize, ty1 = uint32_t(b.max_y) / kTileSize;
+            if (tx0 == tx1 && ty0 == ty1) {
+                chunk.bins[ty0 * across + tx0].push_back(entry);
+                return;
+            }
+            for (uint32_t ty = ty0; ty <= ty1; ++ty)
+                for (uint32_t tx = tx0; tx <= tx1; ++tx) {
+                    const raster::PixelBounds tile{
+                        std::max(b.min_x, int32_t(tx * kTileSize)), std::max(b.min_y, int32_t(ty * kTileSize)),
+                        std::min(b.max_x, int32_t((tx + 1) * kTileSize) - 1),
+                        std::min(b.max_y, int32_t((ty + 1) * kTileSize) - 1)};
+                    if (may_cover(tile)) chunk.bins[ty * across + tx].push_back(entry);
+                }
+        };
+        raster::TriangleSetup setup;
+        for (uint32_t t = first; t < end; ++t) {
+            raster::PixelBounds bounds;
+            if (geometry_.bound_unclipped(t, chunk.stats, bounds)) {
+                if (bounds.min_x > bounds.max_x) continue;
+                const bool large = bounds.max_x - bounds.min_x >= int32_t(kTileSize) ||
+                                   bounds.max_y - bounds.min_y >= int32_t(kTileSize);
+                if (large) geometry_.setup_unclipped(t, setup);  // to skip tiles of its box it misses
+                add(t, bounds, [&](const raster::PixelBounds& r) {
+                    return !large || !raster::misses(setup, r.min_x, r.min_y, r.max_x, r.max_y);
+                });
+                continue;
+            }
+            geometry_.process(t, chunk.stats, [&](const raster::TriangleSetup& s) {
+                chunk.pieces.push_back({s, t});
+                add(uint32_t(chunk.pieces.size() - 1) | kPieceBit, {s.min_x, s.min_y, s.max_x, s.max_y},
+                    [&](const raster::PixelBounds& r) { return !raster::misses(s, r.min_x, r.min_y, r.max_x, r.max_y); });
+            });
+        }
+    }
+
+    // Draws what the first `pending` chunks binned to tile k, in scene order, and empties those bins.
+    template <bool kKeepNearest, bool kCountTests>
+    void draw_tile(uint32_t k, uint32_t pending, const raster::PixelBuffers& buffers, PixelStats& stats) {
+        constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
+        uint32_t tx0, ty0, tx1, ty1;
+        grid_.rect(k, tx0, ty0, tx1, ty1);
+        raster::TriangleSetup unclipped;
+        for (uint32_t c = 0; c < pending; ++c) {
+            Chunk& chunk = chunks_[c];
+            for (const uint32_t entry : chunk.bins[k]) {
+                const raster::TriangleSetup* setup = &unclipped;
+                uint32_t face = entry;
+                if (entry & kPieceBit) {
+                    const ClippedPiece& piece = chunk.pieces[entry & ~kPieceBit];
+                    setup = &piece.setup;
+                    face = piece.face;
+                } else {
+                    geometry_.setup_unclipped(entry, unclipped);
+                }
+                const raster::TriangleSetup& s = *setup;
+                raster::DepthTest<rule, kCountTests> test(buffers, face, chunk.instance);
+                raster::for_each_covered_pixel_in(
+                    s, std::max(s.min_x, int32_t(tx0)), std::max(s.min_y, int32_t(ty0)),
+                    std::min(s.max_x, int32_t(tx1) - 1), std::min(s.max_y, int32_t(ty1) - 1),
+                    [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); });
+                stats.depth_tested += test.tested;
+                stats.written += test.written;
+            }
+            chunk.bins[k].clear();
+        }
+    }
+
     bool cull_backfaces_;
     bool keep_farthest_;
     raster::GeometryStage geometry_;  // keeps its vertex buffers between frames
+    bool drew_tiles_ = false;               // the last frame went through draw_tiled
+    raster::TriangleStats triangle_stats_;  // which counted these
+    hsr::sdk::TileGrid grid_;
+    std::vector<Chunk> chunks_;  // kept between frames, with their capacity
+    std::vector<PixelStats> tile_stats_;
 };
 
 }  // namespace

@@ -113,6 +113,16 @@ struct TriangleStats {
     uint64_t degenerate = 0;  // zero area, too thin to hold a pixel centre, or non-finite
     uint64_t rasterized = 0;  // at least one (sub-)triangle reached the pixel loop
 
+    TriangleStats& operator+=(const TriangleStats& o) {
+        in += o.in;
+        backface_culled += o.backface_culled;
+        clipped += o.clipped;
+        outside += o.outside;
+        degenerate += o.degenerate;
+        rasterized += o.rasterized;
+        return *this;
+    }
+
     void report(hsr::sdk::Counters& counters) const {
         counters.set("triangles-in", in);
         counters.set("triangles-backface-culled", backface_culled);
@@ -249,9 +259,14 @@ public:
     // Transforms the vertices of one placement to clip and window space; process() then works on
     // its triangles. Placing another placement over the same vertices overwrites them.
     void place(const hsr::sdk::Placement& placement) {
-        const glm::dmat4 m = clip_from_object(placement);
-        const uint32_t end = placement.first_vertex + placement.vertex_count;
-        for (uint32_t k = placement.first_vertex; k < end; ++k) {
+        place_vertices(clip_from_object(placement), placement.first_vertex,
+                       placement.first_vertex + placement.vertex_count);
+    }
+
+    // place() for the vertices [first, end) of a placement whose matrix clip_from_object gave; calls
+    // on disjoint ranges may run at the same time (a parallel place()).
+    void place_vertices(const glm::dmat4& m, uint32_t first, uint32_t end) {
+        for (uint32_t k = first; k < end; ++k) {
             const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
             clip_[k] = to_clip(m, p);
             uint32_t code = outcode(clip_[k], guard_) | clip_planes_.outcode(clip_[k]);
@@ -292,7 +307,14 @@ public:
     // holds pixel centres inside the image (one piece unless clipping made a polygon).
     template <class Emit>
     void process(uint32_t t, Emit&& emit) {
-        if (!process_unclipped(t, emit)) process_to_clip(t, emit);
+        process(t, stats_, emit);
+    }
+
+    // process() counting into `stats` instead of stats(): calls for different triangles may run at
+    // the same time, each thread with its own stats, which add up to what process() counts.
+    template <class Emit>
+    void process(uint32_t t, TriangleStats& stats, Emit&& emit) const {
+        if (!process_unclipped(t, stats, emit)) process_to_clip(t, stats, emit);
     }
 
     // process() for a triangle whose corners are finite and need no clipping (most of them), then
@@ -300,24 +322,56 @@ public:
     // others apart (out of line) calls this, then process() for those.
     template <class Emit>
     bool process_unclipped(uint32_t t, Emit&& emit) {
+        return process_unclipped(t, stats_, emit);
+    }
+    template <class Emit>
+    bool process_unclipped(uint32_t t, TriangleStats& stats, Emit&& emit) const {
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t c0 = outcode_[i0], c1 = outcode_[i1], c2 = outcode_[i2];
         if ((c0 | c1 | c2) & (kNeedsClipping | kNonFinite)) return false;
-        ++stats_.in;
-        if (culled(i0, i1, i2, c0 & c1 & c2)) return true;
+        ++stats.in;
+        if (culled(i0, i1, i2, c0 & c1 & c2, stats)) return true;
         WindowVertex v0 = window_[i0], v1 = window_[i1], v2 = window_[i2];
         v1.b1 = 1.0;
         v2.b2 = 1.0;
         TriangleSetup setup;
         switch (setup_triangle(v0, v1, v2, width_, height_, setup)) {
             case SetupResult::kOk:
-                ++stats_.rasterized;
+                ++stats.rasterized;
                 emit(setup);
                 break;
-            case SetupResult::kDegenerate: ++stats_.degenerate; break;
-            case SetupResult::kOffscreen: ++stats_.outside; break;
+            case SetupResult::kDegenerate: ++stats.degenerate; break;
+            case SetupResult::kOffscreen: ++stats.outside; break;
         }
         return true;
+    }
+
+    // For a rasterizer that sorts triangles to screen tiles before setting them up (sort-middle):
+    // process_unclipped() without the setup. For a triangle that needs no clipping, counts it as
+    // process() does and returns true, `bounds` holding the pixels of its setup when it is to be
+    // drawn and nothing (min_x > max_x) when not; setup_unclipped() then makes the setup process()
+    // emits, bit for bit, as long as the placement stays placed. False, counting nothing, for a
+    // triangle that needs clipping (process() it).
+    bool bound_unclipped(uint32_t t, TriangleStats& stats, PixelBounds& bounds) const {
+        const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
+        const uint32_t c0 = outcode_[i0], c1 = outcode_[i1], c2 = outcode_[i2];
+        if ((c0 | c1 | c2) & (kNeedsClipping | kNonFinite)) return false;
+        ++stats.in;
+        bounds = {0, 0, -1, -1};
+        if (culled(i0, i1, i2, c0 & c1 & c2, stats)) return true;
+        switch (triangle_pixel_bounds(window_[i0], window_[i1], window_[i2], width_, height_, bounds)) {
+            case SetupResult::kOk: ++stats.rasterized; return true;
+            case SetupResult::kDegenerate: ++stats.degenerate; break;
+            case SetupResult::kOffscreen: ++stats.outside; break;
+        }
+        bounds = {0, 0, -1, -1};
+        return true;
+    }
+    void setup_unclipped(uint32_t t, TriangleSetup& setup) const {
+        WindowVertex v0 = window_[indices_[3 * t]], v1 = window_[indices_[3 * t + 1]], v2 = window_[indices_[3 * t + 2]];
+        v1.b1 = 1.0;
+        v2.b2 = 1.0;
+        setup_triangle(v0, v1, v2, width_, height_, setup);
     }
 
     const TriangleStats& stats() const { return stats_; }
@@ -379,13 +433,13 @@ public:
 
 private:
     // Outside the view volume (all corners beyond one plane) or a culled back face: counted, true.
-    bool culled(uint32_t i0, uint32_t i1, uint32_t i2, uint32_t all_corners) {
+    bool culled(uint32_t i0, uint32_t i1, uint32_t i2, uint32_t all_corners, TriangleStats& stats) const {
         if (all_corners & kOutsideAnyPlane) {
-            ++stats_.outside;
+            ++stats.outside;
             return true;
         }
         if (cull_backfaces_ && !is_front_facing(clip_[i0], clip_[i1], clip_[i2])) {
-            ++stats_.backface_culled;
+            ++stats.backface_culled;
             return true;
         }
         return false;
@@ -393,24 +447,24 @@ private:
 
     // process() for a triangle with a non-finite corner or one that needs clipping.
     template <class Emit>
-    void process_to_clip(uint32_t t, Emit&& emit) {
-        ++stats_.in;
+    void process_to_clip(uint32_t t, TriangleStats& stats, Emit&& emit) const {
+        ++stats.in;
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t c0 = outcode_[i0], c1 = outcode_[i1], c2 = outcode_[i2];
         const uint32_t any = c0 | c1 | c2;
         if (any & kNonFinite) {
-            ++stats_.degenerate;
+            ++stats.degenerate;
             return;
         }
-        if (culled(i0, i1, i2, c0 & c1 & c2)) return;
-        if (any & kOutsideNear) ++stats_.clipped;
+        if (culled(i0, i1, i2, c0 & c1 & c2, stats)) return;
+        if (any & kOutsideNear) ++stats.clipped;
         const ClipVertex corners[3] = {{clip_[i0], {0.0, 0.0}}, {clip_[i1], {1.0, 0.0}}, {clip_[i2], {0.0, 1.0}}};
         ClipVertex polygon[kMaxClipVertices];
         const int count = clip_polygon(corners, 3, any, guard_, clip_planes_, polygon);
         switch (rasterize_clipped(polygon, count, emit)) {
-            case SetupResult::kOk: ++stats_.rasterized; break;
-            case SetupResult::kDegenerate: ++stats_.degenerate; break;
-            case SetupResult::kOffscreen: ++stats_.outside; break;
+            case SetupResult::kOk: ++stats.rasterized; break;
+            case SetupResult::kDegenerate: ++stats.degenerate; break;
+            case SetupResult::kOffscreen: ++stats.outside; break;
         }
     }
 

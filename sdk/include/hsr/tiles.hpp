@@ -1,14 +1,13 @@
-// hsr tiles: an image cut into square tiles, and the tiles shared out among threads, each thread
-// taking the next tile left, for plugins that work tile by tile (the ray casters). Header-only, part
-// of hsr::sdk.
+// hsr tiles: an image cut into square tiles, and the tiles shared out among threads (hsr/parallel.hpp),
+// for plugins that work tile by tile (the ray casters, zbuffer). Header-only; link hsr::sdk_parallel.
 #pragma once
 
+#include "hsr/parallel.hpp"
+
+#include <tbb/task_arena.h>
+
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
-#include <functional>
-#include <system_error>
-#include <thread>
 #include <vector>
 
 namespace hsr::sdk {
@@ -28,25 +27,16 @@ struct TileGrid {
     }
 };
 
-// Calls work(k, stats) for every tile k < tiles on up to `threads` threads (0: one per core), the
-// calling thread among them, each with its own Stats, which it returns. Should a thread fail to
-// start, the others do its tiles.
+// Calls work(k, stats) for every tile k < tiles on the threads oneTBB allows, at most `threads` of
+// them (0: no further bound), each tile with its own Stats; returns them in order of k.
 template <class Stats, class Work>
 std::vector<Stats> share_tiles(uint32_t tiles, uint32_t threads, Work&& work) {
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    threads = std::max(1u, std::min(threads, tiles));
-    std::atomic<uint32_t> next{0};
-    std::vector<Stats> stats(threads);
-    auto worker = [&](Stats& s) {
-        for (uint32_t k = next.fetch_add(1); k < tiles; k = next.fetch_add(1)) work(k, s);
-    };
-    std::vector<std::thread> pool;
-    try {
-        for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(worker, std::ref(stats[t]));
-    } catch (const std::system_error&) {
-    }
-    worker(stats[0]);
-    for (std::thread& t : pool) t.join();
+    std::vector<Stats> stats;
+    auto run = [&] { parallel_for_each(tiles, stats, work); };
+    if (threads == 0)
+        run();
+    else
+        tbb::task_arena(int(std::min(threads, 1024u))).execute(run);
     return stats;
 }
 

@@ -315,6 +315,11 @@ inline int64_t biased_edge_function(int64_t dx, int64_t dy, int32_t ax, int32_t 
 inline int32_t first_pixel_from(int32_t grid) { return (grid - kHalfPixel + kSubpixelScale - 1) >> kSubpixelBits; }
 inline int32_t last_pixel_to(int32_t grid) { return (grid - kHalfPixel) >> kSubpixelBits; }
 
+// Pixels [min_x, max_x] x [min_y, max_y] (inclusive).
+struct PixelBounds {
+    int32_t min_x, min_y, max_x, max_y;
+};
+
 struct TriangleSetup {
     int32_t min_x, min_y, max_x, max_y;  // pixel bounds, inclusive, inside the image, non-empty
     // Edge function k (opposite corner k, positive inside) at the centre of pixel (min_x, min_y),
@@ -335,27 +340,42 @@ enum class SetupResult {
     kOffscreen    // the bounding box holds pixel centres, but none inside the image
 };
 
-inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, uint32_t width,
-                                  uint32_t height, TriangleSetup& s) {
-    int64_t area = int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y);
+// The first part of setup_triangle, for a rasterizer that sorts triangles to screen tiles before
+// setting them up: what setup_triangle answers for these corners and, when kOk, the pixel bounds
+// of the setup it makes.
+inline SetupResult triangle_pixel_bounds(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
+                                         uint32_t width, uint32_t height, PixelBounds& b) {
+    const int64_t area = int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y);
     if (area == 0) return SetupResult::kDegenerate;
-    s.front_facing = area < 0;
-    if (area < 0) {  // make the interior the positive side of every edge function
-        std::swap(v1, v2);
-        area = -area;
-    }
-
     // Pixel (px, py) has its centre at grid coordinates (px * S + S/2, py * S + S/2).
     const int32_t first_x = first_pixel_from(std::min({v0.x, v1.x, v2.x}));
     const int32_t last_x = last_pixel_to(std::max({v0.x, v1.x, v2.x}));
     const int32_t first_y = first_pixel_from(std::min({v0.y, v1.y, v2.y}));
     const int32_t last_y = last_pixel_to(std::max({v0.y, v1.y, v2.y}));
     if (first_x > last_x || first_y > last_y) return SetupResult::kDegenerate;
-    s.min_x = std::max(first_x, 0);
-    s.max_x = std::min(last_x, int32_t(width) - 1);
-    s.min_y = std::max(first_y, 0);
-    s.max_y = std::min(last_y, int32_t(height) - 1);
-    if (s.min_x > s.max_x || s.min_y > s.max_y) return SetupResult::kOffscreen;
+    b.min_x = std::max(first_x, 0);
+    b.max_x = std::min(last_x, int32_t(width) - 1);
+    b.min_y = std::max(first_y, 0);
+    b.max_y = std::min(last_y, int32_t(height) - 1);
+    if (b.min_x > b.max_x || b.min_y > b.max_y) return SetupResult::kOffscreen;
+    return SetupResult::kOk;
+}
+
+inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, uint32_t width,
+                                  uint32_t height, TriangleSetup& s) {
+    PixelBounds bounds;
+    const SetupResult result = triangle_pixel_bounds(v0, v1, v2, width, height, bounds);
+    if (result != SetupResult::kOk) return result;
+    s.min_x = bounds.min_x;
+    s.max_x = bounds.max_x;
+    s.min_y = bounds.min_y;
+    s.max_y = bounds.max_y;
+    int64_t area = int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y);
+    s.front_facing = area < 0;
+    if (area < 0) {  // make the interior the positive side of every edge function
+        std::swap(v1, v2);
+        area = -area;
+    }
 
     const WindowVertex* v[3] = {&v0, &v1, &v2};
     const int64_t origin_x = int64_t(s.min_x) * kSubpixelScale + kHalfPixel;
