@@ -26,6 +26,7 @@
 
 #include <glm/glm.hpp>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -111,17 +112,27 @@ public:
         : order_(order), boxes_(boxes), cull_backfaces_(cull_backfaces), tile_size_(tile_size),
           cull_instances_(cull_instances) {}
 
+    // Draws the pixels inside `tile` with `geometry`, a geometry stage no other tile uses meanwhile
+    // (one per thread: its vertex buffers are as long as the scene's, too large to keep one per tile).
     template <class Steps>
     void draw(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-              const PixelTile& tile, Steps& steps) {
+              const PixelTile& tile, raster::GeometryStage& geometry, Steps& steps) {
         tile_ = tile;
-        geometry_.begin_frame(scene.raw(), camera, cull_backfaces_);
+        geometry_ = &geometry;
+        geometry_->begin_frame(scene.raw(), camera, cull_backfaces_);
         width_ = int32_t(target.width());
         height_ = int32_t(target.height());
         pyramid_.reset_window(tile.x0, tile.y0, uint32_t(tile.x1 - tile.x0 + 1), uint32_t(tile.y1 - tile.y0 + 1),
                               target.width());
         pyramid_.reset_counters();
         stats_ = Stats{};
+        struct Done {  // also when a step limit ends the frame early
+            TileDrawer& tile;
+            ~Done() {
+                tile.triangle_stats_ = tile.geometry_->stats();
+                tile.geometry_ = nullptr;
+            }
+        } done{*this};
         if (target.depth_tests() == nullptr)
             draw<false>(scene, target, stats_, steps);
         else
@@ -129,7 +140,7 @@ public:
     }
 
     const Stats& stats() const { return stats_; }
-    raster::TriangleStats triangle_stats() const { return geometry_.stats(); }
+    raster::TriangleStats triangle_stats() const { return triangle_stats_; }
     uint64_t pyramid_cells_visited() const { return pyramid_.cells_visited(); }
     uint64_t pyramid_cells_updated() const { return pyramid_.cells_updated(); }
 
@@ -157,7 +168,7 @@ private:
                 continue;
             }
             const hsr::sdk::Placement placement = scene.placement(k);
-            geometry_.place(placement);
+            geometry_->place(placement);
             const uint32_t end = placement.first_triangle + placement.triangle_count;
             const uint32_t* const indices = scene.raw().indices;
             // Test feedback, per placement: while the pyramid rarely culls (the near parts of a scene,
@@ -169,8 +180,8 @@ private:
                  triangle_step(steps, t, placement.instance, stats, indices), ++t) {
                 if constexpr (Steps::enabled) begin_triangle_step(stats);
                 const uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
-                const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
-                               c2 = geometry_.vertex_outcode(i2);
+                const uint32_t c0 = geometry_->vertex_outcode(i0), c1 = geometry_->vertex_outcode(i1),
+                               c2 = geometry_->vertex_outcode(i2);
                 if (!((c0 | c1 | c2) & (raster::kNeedsClipping | raster::kNonFinite))) {
                     // Greene's triangle-level test, before triangle setup. Triangles the geometry
                     // stage rejects anyway (outside, back-facing, no pixel centre) go straight to it,
@@ -180,23 +191,23 @@ private:
                                                 true, buffers, stats, steps);
                     };
                     if (c0 & c1 & c2 & raster::kOutsideAnyPlane) {
-                        geometry_.process(t, draw_whole);
+                        geometry_->process(t, draw_whole);
                         continue;
                     }
-                    const raster::WindowVertex& a = geometry_.window_vertex(i0);
-                    const raster::WindowVertex& b = geometry_.window_vertex(i1);
-                    const raster::WindowVertex& c = geometry_.window_vertex(i2);
+                    const raster::WindowVertex& a = geometry_->window_vertex(i0);
+                    const raster::WindowVertex& b = geometry_->window_vertex(i1);
+                    const raster::WindowVertex& c = geometry_->window_vertex(i2);
                     // Clockwise in window coordinates (y down) is front-facing; the geometry stage's
                     // clip-space test is the one that counts, this only saves work.
                     const double cross = (b.exact_x - a.exact_x) * (c.exact_y - a.exact_y) -
                                          (c.exact_x - a.exact_x) * (b.exact_y - a.exact_y);
                     if (cull_backfaces_ && !(cross < 0.0)) {
-                        geometry_.process(t, draw_whole);
+                        geometry_->process(t, draw_whole);
                         continue;
                     }
                     if (--countdown > 0) {  // sampling: this one is drawn untested
                         ++stats.triangles_untested;
-                        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                        geometry_->process(t, [&](const raster::TriangleSetup& s) {
                             draw_piece<kCountTests>(s, t, placement.instance,
                                                     -std::numeric_limits<double>::infinity(), false, buffers, stats,
                                                     steps);
@@ -211,7 +222,7 @@ private:
                     const int32_t y0 = std::max(raster::first_pixel_from(std::min({a.y, b.y, c.y})), 0);
                     const int32_t y1 = std::min(raster::last_pixel_to(std::max({a.y, b.y, c.y})), height_ - 1);
                     if (x0 > x1 || y0 > y1) {  // no pixel centre in the image: degenerate or outside
-                        geometry_.process(t, draw_whole);
+                        geometry_->process(t, draw_whole);
                         continue;
                     }
                     if (misses_tile(x0, y0, x1, y1)) continue;  // another tile's
@@ -228,12 +239,12 @@ private:
                         ++stats.triangles_culled;
                         continue;
                     }
-                    geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                    geometry_->process(t, [&](const raster::TriangleSetup& s) {
                         draw_piece<kCountTests>(s, t, placement.instance, lower, false, buffers, stats, steps);
                     });
                 } else {
                     // Clipped (or non-finite): the geometry stage makes the pieces, each tested whole.
-                    geometry_.process(t, [&](const raster::TriangleSetup& s) {
+                    geometry_->process(t, [&](const raster::TriangleSetup& s) {
                         draw_piece<kCountTests>(s, t, placement.instance, -std::numeric_limits<double>::infinity(),
                                                 true, buffers, stats, steps);
                     });
@@ -354,7 +365,7 @@ private:
 
     void begin_triangle_step(const Stats& stats) {
         step_.before = stats;
-        step_.geometry_before = geometry_.stats();
+        step_.geometry_before = geometry_->stats();
         step_.query = {};
         step_.box = {};
     }
@@ -371,7 +382,7 @@ private:
     // Triangle t's outline, when it needs no clipping and lies within a pixel of the image.
     template <class Steps>
     void add_outline(Steps& steps, const uint32_t* corner) const {
-        geometry_.outline_lines(steps, corner);
+        geometry_->outline_lines(steps, corner);
     }
 
     template <class Steps>
@@ -399,7 +410,7 @@ private:
         if constexpr (Steps::enabled) {
             const Stats& b = step_.before;
             const PyramidQuery& q = step_.query;
-            const raster::TriangleStats after = geometry_.stats();
+            const raster::TriangleStats after = geometry_->stats();
             const raster::TriangleStats& before = step_.geometry_before;
             const uint64_t tested = stats.depth_tested - b.depth_tested, written = stats.written - b.written;
             const unsigned f = t;
@@ -466,8 +477,9 @@ private:
     PixelTile tile_;
     int32_t width_ = 0, height_ = 0;
     Stats stats_;
-    raster::GeometryStage geometry_;  // keeps its vertex buffers between frames
-    raster::ZPyramid pyramid_;        // likewise its levels
+    raster::GeometryStage* geometry_ = nullptr;  // the drawing thread's, for the time of draw()
+    raster::TriangleStats triangle_stats_;        // what geometry_ counted for this tile
+    raster::ZPyramid pyramid_;                    // kept between frames
 };
 
 class HierarchicalZBuffer final : public hsr::sdk::HiddenSurfaceRemover {
@@ -533,7 +545,7 @@ private:
         };
         if (count == 1) {
             try {
-                tiles_[0]->draw(scene, camera, target, tile(0), steps);
+                tiles_[0]->draw(scene, camera, target, tile(0), geometry_.local(), steps);
             } catch (const hsr::sdk::StepLimitReached&) {
                 report(counters, 1);
                 throw;
@@ -543,7 +555,7 @@ private:
             tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& range) {
                 for (size_t k = range.begin(); k != range.end(); ++k) {
                     hsr::sdk::NoSteps no_steps;
-                    tiles_[k]->draw(scene, camera, target, tile(k), no_steps);
+                    tiles_[k]->draw(scene, camera, target, tile(k), geometry_.local(), no_steps);
                 }
             });
         }
@@ -645,6 +657,7 @@ private:
     std::vector<uint32_t> order_;     // placements in drawing order
     std::vector<PlacementBox> boxes_;
     std::vector<std::unique_ptr<TileDrawer>> tiles_;  // one per screen tile, kept between frames
+    tbb::enumerable_thread_specific<raster::GeometryStage> geometry_;  // one per thread, likewise
 };
 
 }  // namespace hierarchical_zbuffer

@@ -29,6 +29,7 @@
 
 #include <glm/glm.hpp>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -100,7 +101,7 @@ private:
         };
         if (count == 1) {
             try {
-                tiles_[0]->draw(scene, camera, target, cull_backfaces_, tile(0), steps);
+                tiles_[0]->draw(scene, camera, target, cull_backfaces_, tile(0), geometry_.local(), steps);
             } catch (const hsr::sdk::StepLimitReached&) {
                 report(counters, 1);
                 throw;
@@ -110,7 +111,7 @@ private:
             tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& range) {
                 for (size_t k = range.begin(); k != range.end(); ++k) {
                     hsr::sdk::NoSteps no_steps;
-                    tiles_[k]->draw(scene, camera, target, cull_backfaces_, tile(k), no_steps);
+                    tiles_[k]->draw(scene, camera, target, cull_backfaces_, tile(k), geometry_.local(), no_steps);
                 }
             });
         }
@@ -245,8 +246,9 @@ private:
     uint64_t drawn_triangles_ = 0;
     uint64_t non_finite_triangles_ = 0;
 
-    // Per frame: one renderer per tile (each keeps its buffers between frames).
+    // Per frame: one renderer per tile, one geometry stage per thread (both kept between frames).
     std::vector<std::unique_ptr<TileRenderer>> tiles_;
+    tbb::enumerable_thread_specific<raster::GeometryStage> geometry_;
 };
 
 }  // namespace octree_zbuffer

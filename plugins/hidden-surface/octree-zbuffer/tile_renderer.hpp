@@ -113,14 +113,24 @@ public:
         : forest_(built.forest), placement_object_(built.placement_object), bvh_(built.bvh),
           leaf_scene_(built.leaf_scene) {}
 
-    // Draws the scene's pixels inside `tile` into `target`, which the other tiles share.
+    // Draws the scene's pixels inside `tile` into `target`, which the other tiles share, with
+    // `geometry`: a geometry stage no other tile uses meanwhile (one per thread: its vertex buffers
+    // are as long as the leaf mesh, too large to keep one per tile).
     template <class Steps>
     void draw(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-              bool cull_backfaces, const PixelTile& tile, Steps& steps) {
+              bool cull_backfaces, const PixelTile& tile, raster::GeometryStage& geometry, Steps& steps) {
         cull_backfaces_ = cull_backfaces;
         tile_ = tile;
+        geometry_ = &geometry;
         begin_frame(scene, camera, target);
         stats_ = FrameStats{};
+        struct Done {  // also when a step limit ends the frame early
+            TileRenderer& tile;
+            ~Done() {
+                tile.triangle_stats_ = tile.geometry_->stats();
+                tile.geometry_ = nullptr;
+            }
+        } done{*this};
         if (bvh_.empty()) return;
         if (buffers_.tests == nullptr)
             draw_instances<false>(0, steps);
@@ -129,7 +139,7 @@ public:
     }
 
     const FrameStats& stats() const { return stats_; }
-    raster::TriangleStats triangle_stats() const { return geometry_.stats(); }
+    raster::TriangleStats triangle_stats() const { return triangle_stats_; }
 
 private:
     // ------------------------------------------------------------------------------------------ //
@@ -137,7 +147,7 @@ private:
 
     void begin_frame(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target) {
         scene_ = &scene;
-        geometry_.begin_frame(leaf_scene_, camera, cull_backfaces_);
+        geometry_->begin_frame(leaf_scene_, camera, cull_backfaces_);
         pyramid_.reset_window(tile_.x0, tile_.y0, uint32_t(tile_.x1 - tile_.x0 + 1), uint32_t(tile_.y1 - tile_.y0 + 1),
                               camera.width);
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
@@ -290,7 +300,7 @@ private:
         ++stats_.leaves_drawn;
         frame.placement.first_vertex = node.first_vertex;
         frame.placement.vertex_count = node.vertex_count;
-        geometry_.place(frame.placement);  // this leaf's own vertex copies only
+        geometry_->place(frame.placement);  // this leaf's own vertex copies only
         stats_.vertices_transformed += node.vertex_count;
     }
 
@@ -374,7 +384,7 @@ private:
         }
         uint32_t pieces = 0, culled = 0;
         Rect mine;
-        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+        geometry_->process(t, [&](const raster::TriangleSetup& s) {
             ++pieces;
             if (!draw_triangle<kCountTests>(s, id, instance_id, tested, mine, steps)) ++culled;
         });
@@ -415,16 +425,16 @@ private:
     template <class Steps>
     TriangleVisibility test_triangle(const uint32_t* corner, Steps&) {
         const uint32_t i0 = corner[0], i1 = corner[1], i2 = corner[2];
-        const uint32_t c0 = geometry_.vertex_outcode(i0), c1 = geometry_.vertex_outcode(i1),
-                       c2 = geometry_.vertex_outcode(i2);
+        const uint32_t c0 = geometry_->vertex_outcode(i0), c1 = geometry_->vertex_outcode(i1),
+                       c2 = geometry_->vertex_outcode(i2);
         if (((c0 | c1 | c2) & (raster::kNeedsClipping | raster::kNonFinite)) || (c0 & c1 & c2 & raster::kOutsideAnyPlane))
             return TriangleVisibility::kUntested;
-        if (cull_backfaces_ && !raster::is_front_facing(geometry_.clip_vertex(i0), geometry_.clip_vertex(i1),
-                                                        geometry_.clip_vertex(i2)))
+        if (cull_backfaces_ && !raster::is_front_facing(geometry_->clip_vertex(i0), geometry_->clip_vertex(i1),
+                                                        geometry_->clip_vertex(i2)))
             return TriangleVisibility::kUntested;
-        const raster::WindowVertex& v0 = geometry_.window_vertex(i0);
-        const raster::WindowVertex& v1 = geometry_.window_vertex(i1);
-        const raster::WindowVertex& v2 = geometry_.window_vertex(i2);
+        const raster::WindowVertex& v0 = geometry_->window_vertex(i0);
+        const raster::WindowVertex& v1 = geometry_->window_vertex(i1);
+        const raster::WindowVertex& v2 = geometry_->window_vertex(i2);
         if (int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y) == 0)
             return TriangleVisibility::kUntested;
         const int32_t x0 = std::max(raster::first_pixel_from(std::min({v0.x, v1.x, v2.x})), 0);
@@ -559,7 +569,7 @@ private:
 
     void begin_triangle_step() {
         step_.before = stats_;
-        step_.geometry_before = geometry_.stats();
+        step_.geometry_before = geometry_->stats();
         step_.query = {};
         step_.box = Rect{};
     }
@@ -574,7 +584,7 @@ private:
     // pixel of the image.
     template <class Steps>
     void add_outline(Steps& steps, const uint32_t* corner) const {
-        geometry_.outline_lines(steps, corner);
+        geometry_->outline_lines(steps, corner);
     }
 
     // The step of a node's box test: visited (its screen box SUBJECT) or culled (REJECTED), and why.
@@ -632,7 +642,7 @@ private:
     void triangle_step(Steps& steps, uint32_t t, uint32_t face, uint32_t instance) {
         const FrameStats& b = step_.before;
         const PyramidQuery& q = step_.query;
-        const raster::TriangleStats after = geometry_.stats();
+        const raster::TriangleStats after = geometry_->stats();
         const raster::TriangleStats& before = step_.geometry_before;
         const uint64_t tested = stats_.pixels_tested - b.pixels_tested;
         const uint64_t written = stats_.pixels_written - b.pixels_written;
@@ -691,7 +701,8 @@ private:
     // Per frame
     bool cull_backfaces_ = false;
     PixelTile tile_;
-    raster::GeometryStage geometry_;  // keeps its buffers between frames
+    raster::GeometryStage* geometry_ = nullptr;  // the drawing thread's, for the time of draw()
+    raster::TriangleStats triangle_stats_;        // what geometry_ counted for this tile
     raster::ZPyramid pyramid_;
     FrameStats stats_;
     const hsr::sdk::Scene* scene_ = nullptr;
