@@ -99,14 +99,14 @@ struct TimingSettings {
 };
 
 // The process's resident memory around one measurement, in bytes (Linux /proc; 0 = unknown). The
-// FrameTimer's constructor resets the kernel's high-water mark to the current resident size
-// (writing 5 to /proc/self/clear_refs) and records that size as `before`; after each call `peak`
-// is VmHWM from /proc/self/status. So `peak` is the whole process at its largest during the
-// measurement: every scene the bench holds (all models are loaded before the first measurement),
-// the frame's buffers, the plugin's structures (its build included, made in the first call) and
-// the shading's; `peak - before` is about what the measurement added (less what the allocator
-// reused from memory freed earlier). Unknown when the mark cannot be reset (not Linux, or
-// clear_refs not writable): a peak since the process started would mislead.
+// FrameTimer's constructor returns free heap pages to the system (glibc's malloc_trim), resets the
+// kernel's high-water mark to the current resident size (writing 5 to /proc/self/clear_refs) and
+// records that size as `before`; after each call `peak` is VmHWM from /proc/self/status. So `peak`
+// is the whole process at its largest during the measurement: every scene the bench holds (all
+// models are loaded before the first measurement), the frame's buffers, the plugin's structures
+// (its build included, made in the first call) and the shading's; `peak - before` is what the
+// measurement added. Unknown when the mark cannot be reset (not Linux, or clear_refs not
+// writable): a peak since the process started would mislead.
 struct PeakMemory {
     uint64_t before = 0, peak = 0;
     bool known() const { return peak > 0; }
