@@ -28,6 +28,8 @@ std::string thousands(uint64_t n) {
     return out;
 }
 
+double megabytes(uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
+
 }  // namespace
 
 std::string csv_field(const std::string& text) {
@@ -48,7 +50,7 @@ void write_csv(std::ostream& out, const std::vector<Result>& results) {
            "depth_complexity_max,warmup,repetitions";
     for (const char* what : {"visibility", "shading", "total"})
         for (const char* stat : {"median", "min", "q1", "q3", "max"}) out << ',' << what << '_' << stat << "_ms";
-    out << ",build_ms,build_calls";
+    out << ",build_ms,build_calls,peak_memory_mb,memory_before_mb";
     for (const std::string& c : counters) out << ',' << csv_field(c);
     out << '\n';
     for (const Result& r : results) {
@@ -61,6 +63,8 @@ void write_csv(std::ostream& out, const std::vector<Result>& results) {
         for (const Summary* s : {&r.visibility, &r.shading, &r.total})
             out << fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}", s->median, s->min, s->q1, s->q3, s->max);
         out << fmt::format(",{:.4f},{}", r.build_ms, r.build_calls);
+        if (r.memory.known()) out << fmt::format(",{:.1f},{:.1f}", megabytes(r.memory.peak), megabytes(r.memory.before));
+        else out << ",,";
         for (const std::string& name : counters) {
             out << ',';
             for (const auto& [n, v] : r.counters)
@@ -146,6 +150,11 @@ std::string format_table(const std::vector<Result>& results) {
                 algorithms);
         heading("total = visibility + shading, ms (median)");
         add_row("", [](const Result& r) { return r.refused.empty() ? format_ms(r.total.median) : "n/a"; }, algorithms);
+        heading("peak memory, MB: the whole process during the measurement (+ what it added to the scenes held)");
+        add_row("", [](const Result& r) {
+            if (!r.memory.known()) return std::string(r.refused.empty() ? "-" : "n/a");
+            return fmt::format("{:.0f} (+{:.0f})", megabytes(r.memory.peak), megabytes(r.memory.added()));
+        }, algorithms);
 
         std::vector<std::size_t> width(models.size() + 1, 0);
         for (const auto& row : rows)

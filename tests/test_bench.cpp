@@ -387,6 +387,8 @@ TEST_CASE("bench: CSV has one row per measurement and every counter", "[bench][c
     b.build_calls = 1;
     b.layers = 5;
     b.instances = 40;
+    b.memory.before = uint64_t(50) << 20;
+    b.memory.peak = uint64_t(80) << 20;
 
     std::ostringstream out;
     hsr::bench::write_csv(out, {a, b});
@@ -413,6 +415,9 @@ TEST_CASE("bench: CSV has one row per measurement and every counter", "[bench][c
     CHECK(rows[1].at("layers") == "5");
     CHECK(rows[1].at("pixels-written").empty());
     CHECK(rows[1].at("octree-nodes-culled") == "17");
+    CHECK(rows[0].at("peak_memory_mb").empty());  // not measured
+    CHECK(std::stod(rows[1].at("peak_memory_mb")) == 80.0);
+    CHECK(std::stod(rows[1].at("memory_before_mb")) == 50.0);
 
     CHECK(hsr::bench::csv_field("plain") == "plain");
     CHECK(hsr::bench::csv_field("a,b") == "\"a,b\"");
@@ -425,6 +430,8 @@ TEST_CASE("bench: the table has algorithms down and models across", "[bench][tab
                                                made_up_result("octree-zbuffer", "cube", 12, 0.8),
                                                made_up_result("octree-zbuffer", "bunny", 69666, 9.0)};
     results[3].build_ms = 40.0;
+    results[3].memory.before = uint64_t(100) << 20;
+    results[3].memory.peak = uint64_t(130) << 20;
     const std::string table = hsr::bench::format_table(results);
     const std::vector<std::string> lines = lines_of(table);
     REQUIRE(lines.size() > 5);
@@ -440,6 +447,8 @@ TEST_CASE("bench: the table has algorithms down and models across", "[bench][tab
     CHECK(zrow->find("0.500") < zrow->find("12.0"));
     CHECK_THAT(table, Contains("build time"));
     CHECK_THAT(table, Contains("40.0"));
+    CHECK_THAT(table, Contains("peak memory, MB"));
+    CHECK_THAT(table, Contains("130 (+30)"));
 }
 
 TEST_CASE("bench: the plot has labelled log axes, a legend and one line per algorithm", "[bench][plot]") {
@@ -763,6 +772,43 @@ TEST_CASE("bench: a plugin's build time is reported apart from its render time",
     CHECK(timing.build_ms == timing.calls[0].build_ms);
     for (std::size_t i = 1; i < timing.calls.size(); ++i) CHECK(timing.calls[i].build_ms == 0.0);
     for (const auto& c : timing.counters) CHECK(c.first != "build-time-us");
+}
+
+TEST_CASE("bench: each measurement's peak memory, larger for a larger image", "[bench][timing][memory]") {
+    if (hsr::bench::reset_peak_memory() == 0) {
+        WARN("the peak resident size cannot be reset here (/proc/self/clear_refs): not measured");
+        return;
+    }
+    hsr::PluginRegistry registry;
+    registry.scan_directory(HSR_PLUGIN_DIR);
+    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, "lambert"), {});
+    const hsr::SceneData cube = hsr::load_model(models_dir / "cube.obj");
+    const std::vector<hsr_light> lights;
+    auto measure = [&](uint32_t size) {
+        hsr::HiddenSurfaceRemover remover(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, "zbuffer"), {});
+        hsr::CameraSettings settings;
+        settings.width = settings.height = size;
+        const hsr_camera camera = hsr::make_orbit_camera(cube.bounds_min, cube.bounds_max, settings);
+        const hsr_shading_context context = hsr::make_shading_context(camera, lights);
+        hsr::bench::TimingSettings timing_settings;
+        timing_settings.warmup = 0;
+        timing_settings.repetitions = 1;
+        const hsr::bench::Timing timing =
+            hsr::bench::time_frames(cube.view(), camera, remover, lighting, context, timing_settings);
+        return hsr::bench::make_result("zbuffer", "cube", cube.view(), camera, timing, 0, std::nullopt).memory;
+    };
+    const hsr::bench::PeakMemory small = measure(32);
+    const hsr::bench::PeakMemory large = measure(2048);
+    for (const hsr::bench::PeakMemory& m : {small, large}) {
+        REQUIRE(m.known());
+        CHECK(m.before > 0);
+        CHECK(m.peak >= m.before);
+        CHECK(m.peak < (uint64_t(16) << 30));  // a cube's frame is not 16 GB
+    }
+    // 2048 x 2048: the depth buffer alone is 16 MB, and the frame holds more per pixel than that.
+    CHECK(large.added() >= uint64_t(2048) * 2048 * sizeof(float));
+    CHECK(large.added() > small.added());
+    CHECK(large.peak > small.peak);
 }
 
 // ---------------------------------------------------------------------------------------------

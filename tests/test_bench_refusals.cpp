@@ -34,8 +34,8 @@ TEST_CASE("cli: bench shows a plugin that refuses a scene as n/a with its reason
             CHECK_THAT(line, Catch::Contains("deliberate invalid argument"));
         }
     }
-    CHECK(zbuffer_rows == 3);   // visibility, shading, total
-    CHECK(refused_rows == 3);
+    CHECK(zbuffer_rows == 4);   // visibility, shading, total, peak memory
+    CHECK(refused_rows == 4);
     CHECK(reasons == 2);        // cube and octahedron
     const std::string written = cli::slurp(csv);
     CHECK_THAT(written, Catch::Contains("\nzbuffer,cube,") && Catch::Contains("\nzbuffer,octahedron,"));

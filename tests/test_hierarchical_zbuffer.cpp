@@ -21,6 +21,7 @@
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -359,4 +360,99 @@ TEST_CASE("hierarchical-zbuffer: a deep scene is culled, and matches zbuffer", "
     const hsr::Frame tiled = render("hierarchical-zbuffer", scene, camera, {{"tile-size", "4"}});
     CHECK(compare(tiled, reference, kHierarchical).different == 0);
     CHECK(counter(tiled, "tiles-culled") > 0);
+}
+
+TEST_CASE("ZPyramid: a window over part of the image answers for its pixels only", "[zpyramid]") {
+    // A 97 x 61 depth image; pyramids over windows of it. Pixels outside the window are set nearer
+    // than anything asked, so a pyramid that looked at them would call visible rectangles hidden.
+    std::mt19937 random(5);
+    struct Window {
+        int32_t x, y, w, h;
+    };
+    for (const Window window : {Window{0, 0, 97, 61}, Window{32, 8, 40, 24}, Window{64, 32, 33, 29}, Window{5, 3, 1, 1}}) {
+        for (const bool deferred : {false, true}) {
+            INFO("window " << window.x << "," << window.y << " " << window.w << "x" << window.h
+                           << (deferred ? ", deferred" : ", immediate"));
+            DepthImage image(97, 61);
+            for (int32_t y = 0; y < image.height; ++y)
+                for (int32_t x = 0; x < image.width; ++x)
+                    if (x < window.x || x >= window.x + window.w || y < window.y || y >= window.y + window.h)
+                        image.at(x, y) = -1.0f;
+            hsr::raster::ZPyramid pyramid;
+            pyramid.set_refine_budget(1 << 30);
+            pyramid.reset_window(window.x, window.y, uint32_t(window.w), uint32_t(window.h), uint32_t(image.width));
+            std::uniform_int_distribution<int32_t> px(-5, image.width + 4), py(-5, image.height + 4);
+            std::uniform_real_distribution<float> depth(0.0f, 1.0f);
+            for (int round = 0; round < 60; ++round) {
+                // Draw a rectangle inside the window at one depth, nearer-wins.
+                int32_t x0 = px(random), x1 = px(random), y0 = py(random), y1 = py(random);
+                if (x0 > x1) std::swap(x0, x1);
+                if (y0 > y1) std::swap(y0, y1);
+                x0 = std::max(x0, window.x);
+                y0 = std::max(y0, window.y);
+                x1 = std::min(x1, window.x + window.w - 1);
+                y1 = std::min(y1, window.y + window.h - 1);
+                const float z = depth(random);
+                for (int32_t y = y0; y <= y1; ++y)
+                    for (int32_t x = x0; x <= x1; ++x) image.at(x, y) = std::min(image.at(x, y), z);
+                if (x0 <= x1 && y0 <= y1) {
+                    if (deferred)
+                        pyramid.mark_dirty(image.depth.data(), x0, y0, x1, y1);
+                    else
+                        pyramid.update(image.depth.data(), x0, y0, x1, y1);
+                }
+                // Ask about a random rectangle (image coordinates, may leave the window or the image).
+                int32_t qx0 = px(random), qx1 = px(random), qy0 = py(random), qy1 = py(random);
+                if (qx0 > qx1) std::swap(qx0, qx1);
+                if (qy0 > qy1) std::swap(qy0, qy1);
+                const float q = depth(random);
+                const float truth = image.farthest(std::max(qx0, window.x), std::max(qy0, window.y),
+                                                   std::min(qx1, window.x + window.w - 1),
+                                                   std::min(qy1, window.y + window.h - 1));
+                INFO("query " << qx0 << "," << qy0 << " - " << qx1 << "," << qy1 << " at " << q);
+                CHECK(pyramid.is_hidden(qx0, qy0, qx1, qy1, q) == (truth < q));  // unlimited budget: exact
+                CHECK(pyramid.farthest(qx0, qy0, qx1, qy1) >= truth);
+            }
+            CHECK(pyramid.width() == window.w);
+            CHECK(pyramid.height() == window.h);
+        }
+    }
+}
+
+TEST_CASE("hierarchical-zbuffer: screen tiles give zbuffer's buffers, on one thread or two",
+          "[hierarchical-zbuffer][tiles]") {
+    const hsr::SceneData deep = hsr::make_instance_grid(model("monkey.obj"), {6, 4, 8, 0.05f, 25.0f});
+    const hsr::SceneData& bunny = model("bunny.obj");
+    const glm::vec3 centre = 0.5f * (bunny.bounds_min + bunny.bounds_max);
+    const float size = glm::length(bunny.bounds_max - bunny.bounds_min);
+    for (const int threads : {1, 2}) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        for (const char* tile : {"64", "40"}) {
+            INFO(threads << " thread(s), screen-tile-size " << tile);
+            const Settings settings{{"screen-tile-size", tile}};
+            check_against_zbuffer(kHierarchical, deep.view(), orbit(deep, 0, 0, 3.2f, false, 300, 300), settings);
+            check_against_zbuffer(kHierarchical, bunny.view(), orbit(bunny, 20, 10, 1, false, 256, 200), settings);
+            check_against_zbuffer(kHierarchical, bunny.view(),
+                                  look(centre, centre + glm::vec3(1, 0.3f, -0.5f), 1e-3f * size, 4 * size, 256, 192, 90),
+                                  settings);
+        }
+    }
+    // Each pixel sees its candidate writes in zbuffer's order, less some: never more depth tests.
+    const hsr_camera camera = orbit(bunny, 20, 10, 1, false, 256, 256);
+    const hsr::Frame reference = render("zbuffer", bunny.view(), camera, {}, true);
+    const hsr::Frame tiled = render("hierarchical-zbuffer", bunny.view(), camera, {{"screen-tile-size", "64"}}, true);
+    REQUIRE(tiled.depth_tests.size() == reference.depth_tests.size());
+    bool never_more = true;
+    for (size_t p = 0; p < tiled.depth_tests.size(); ++p)
+        never_more = never_more && tiled.depth_tests[p] <= reference.depth_tests[p];
+    CHECK(never_more);
+    CHECK(counter(tiled, "triangles-in") == counter(reference, "triangles-in"));
+    // The same counters on one thread as on two.
+    auto frame_on = [&](int threads) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        return render("hierarchical-zbuffer", deep.view(), orbit(deep, 0, 0, 3.2f, false, 300, 300),
+                      {{"screen-tile-size", "64"}});
+    };
+    const hsr::Frame one = frame_on(1), two = frame_on(2);
+    for (const auto& [name, value] : one.counters) CHECK(counter(two, name) == value);
 }

@@ -17,6 +17,7 @@
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
+#include <tbb/global_control.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -358,4 +359,49 @@ TEST_CASE("octree-zbuffer: a deep scene of large triangles is culled block by bl
     const uint64_t zbuffer_tests = counter(reference, "pixels-depth-tested");
     INFO("depth tests: octree " << octree_tests << ", zbuffer " << zbuffer_tests);
     CHECK(octree_tests * 4 < zbuffer_tests);
+}
+
+TEST_CASE("octree-zbuffer: screen tiles give zbuffer's buffers, on one thread or two", "[octree-zbuffer][tiles]") {
+    // Small tiles (64 pixels, and 40: not a power of two) cut the views below into many, drawn in
+    // parallel, each with its own traversal and z-pyramid; none may show in the buffers.
+    const hsr::SceneData deep = hsr::make_instance_grid(model("monkey.obj"), {6, 4, 8, 0.05f, 25.0f});
+    const hsr::SceneData cubes = hsr::make_instance_grid(model("cube.obj"), {4, 4, 6, 0.05f, 25.0f});
+    const hsr::SceneData& bunny = model("bunny.obj");
+    const glm::vec3 centre = 0.5f * (bunny.bounds_min + bunny.bounds_max);
+    const float size = glm::length(bunny.bounds_max - bunny.bounds_min);
+    for (const int threads : {1, 2}) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        for (const char* tile : {"64", "40"}) {
+            INFO(threads << " thread(s), tile-size " << tile);
+            check_same_picture(deep.view(), orbit(deep, 0, 0, 3.2f, false, 300), {{"tile-size", tile}});
+            check_same_picture(cubes.view(), orbit(cubes, 0, 0, 2.5f, false, 256),
+                               {{"tile-size", tile}, {"leaf-triangles", "1"}});
+            check_same_picture(bunny.view(), orbit(bunny, 200, 10, 4, false, 256), {{"tile-size", tile}});
+            check_same_picture(bunny.view(), orbit(bunny, -60, -20, 1, true, 200), {{"tile-size", tile}});
+            // The eye inside the model: boxes behind the eye and across the near plane.
+            check_same_picture(bunny.view(),
+                               look(centre, centre + glm::vec3(1, 0.3f, -0.5f), 1e-3f * size, 4 * size, 256, 192),
+                               {{"tile-size", tile}});
+        }
+    }
+}
+
+TEST_CASE("octree-zbuffer: tiles count their own work, the same on any number of threads", "[octree-zbuffer][tiles]") {
+    const hsr::SceneData deep = hsr::make_instance_grid(model("monkey.obj"), {6, 4, 8, 0.05f, 25.0f});
+    const hsr_camera camera = orbit(deep, 0, 0, 3.2f, false, 300);
+    auto frame_on = [&](int threads, const char* tile) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        return render("octree-zbuffer", deep.view(), camera, {{"tile-size", tile}});
+    };
+    const hsr::Frame one = frame_on(1, "64"), two = frame_on(2, "64"), whole = frame_on(2, "0");
+    for (const auto& [name, value] : one.counters)
+        if (name != "build-time-us") CHECK(counter(two, name) == value);
+    // A triangle reaching k tiles is counted in each: every triangle at least once.
+    uint64_t accounted = counter(one, "triangles-backface-culled") + counter(one, "triangles-outside") +
+                         counter(one, "triangles-degenerate") + counter(one, "triangles-rasterized");
+    for (const char* name : kCulled) accounted += counter(one, name);
+    CHECK(accounted >= counter(one, "triangles-in"));
+    check_triangle_accounting(whole, kCulled);  // one tile: exactly once
+    CHECK(counter(one, "pixels-written") >= counter(whole, "pixels-written") / 2);
+    CHECK(counter(one, "octree-nodes-visited") > counter(whole, "octree-nodes-visited"));
 }

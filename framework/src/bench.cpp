@@ -16,6 +16,11 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <limits>
 #include <set>
 
@@ -47,7 +52,42 @@ std::string known_models(const fs::path& models_dir) {
     return list.empty() ? "none" : list;
 }
 
+// A "Name:   123 kB" line of /proc/self/status, in bytes; 0 when missing.
+uint64_t status_bytes(const char* name) {
+    std::FILE* f = std::fopen("/proc/self/status", "r");
+    if (!f) return 0;
+    char line[256];
+    uint64_t bytes = 0;
+    const std::size_t length = std::strlen(name);
+    while (std::fgets(line, sizeof line, f)) {
+        if (std::strncmp(line, name, length) != 0 || line[length] != ':') continue;
+        unsigned long long kb = 0;
+        if (std::sscanf(line + length + 1, "%llu", &kb) == 1) bytes = uint64_t(kb) * 1024;
+        break;
+    }
+    std::fclose(f);
+    return bytes;
+}
+
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Memory
+
+uint64_t reset_peak_memory() {
+#if defined(__GLIBC__)
+    // Free heap pages go back to the system first: the resident size is then what is in use, and
+    // memory an earlier measurement freed counts again when this one takes it.
+    malloc_trim(0);
+#endif
+    std::FILE* f = std::fopen("/proc/self/clear_refs", "w");
+    if (!f) return 0;
+    const bool written = std::fputs("5", f) >= 0;
+    if (std::fclose(f) != 0 || !written) return 0;
+    return status_bytes("VmRSS");
+}
+
+uint64_t peak_memory() { return status_bytes("VmHWM"); }
 
 // ---------------------------------------------------------------------------------------------
 // Statistics
@@ -270,6 +310,7 @@ FrameTimer::FrameTimer(const hsr_scene& scene, const hsr_camera& camera, HiddenS
                        LightingModel& lighting, const hsr_shading_context& context, const TimingSettings& settings)
     : scene_(scene), camera_(camera), remover_(remover), lighting_(lighting), context_(context), settings_(settings) {
     if (settings.repetitions == 0) throw Error("repetitions must be at least 1");
+    timing_.memory.before = reset_peak_memory();
     // Plugins built before instances see the copied-out triangles; done once, before any timing.
     if (needs_flat_scene(remover.plugin(), scene) || needs_flat_scene(lighting.plugin(), scene)) {
         flat_ = flatten_instances(scene);
@@ -309,6 +350,7 @@ CallTiming FrameTimer::call() {
     for (const auto& [name, value] : frame.counters)
         if (name != "build-time-us") timing_.counters.emplace_back(name, value);
     timing_.calls.push_back(call);
+    if (timing_.memory.before > 0) timing_.memory.peak = std::max(timing_.memory.peak, peak_memory());
     return call;
 }
 
@@ -348,6 +390,7 @@ Result make_result(std::string algorithm, std::string model, const hsr_scene& sc
     r.build_ms = timing.build_ms;
     r.build_calls = timing.build_calls;
     r.counters = timing.counters;
+    r.memory = timing.memory;
     return r;
 }
 

@@ -98,6 +98,25 @@ struct TimingSettings {
     FrameSettings frame;
 };
 
+// The process's resident memory around one measurement, in bytes (Linux /proc; 0 = unknown). The
+// FrameTimer's constructor returns free heap pages to the system (glibc's malloc_trim), resets the
+// kernel's high-water mark to the current resident size (writing 5 to /proc/self/clear_refs) and
+// records that size as `before`; after each call `peak` is VmHWM from /proc/self/status. So `peak`
+// is the whole process at its largest during the measurement: every scene the bench holds (all
+// models are loaded before the first measurement), the frame's buffers, the plugin's structures
+// (its build included, made in the first call) and the shading's; `peak - before` is what the
+// measurement added. Unknown when the mark cannot be reset (not Linux, or clear_refs not
+// writable): a peak since the process started would mislead.
+struct PeakMemory {
+    uint64_t before = 0, peak = 0;
+    bool known() const { return peak > 0; }
+    uint64_t added() const { return peak > before ? peak - before : 0; }
+};
+// Resets the high-water mark; returns the resident size then (0 when the mark cannot be reset).
+uint64_t reset_peak_memory();
+// VmHWM: the largest resident size since the last reset, or since the process started.
+uint64_t peak_memory();
+
 // One call: visibility (hidden-surface plugin, build time included as measured), the build time
 // the plugin reported (counter build-time-us), and shading.
 struct CallTiming {
@@ -115,6 +134,7 @@ struct Timing {
     double build_ms = 0;            // largest build time any call reported, warm-up included
     unsigned build_calls = 0;       // how many calls reported one (1 when caches persist)
     Counters counters;              // the last call's counters, without build-time-us
+    PeakMemory memory;              // of the process while this timer ran (see PeakMemory)
 };
 
 // Times one remover on one scene, one frame per call: resolve_visibility + shade_frame with the
@@ -169,6 +189,7 @@ struct Result {
     double build_ms = 0;
     unsigned build_calls = 0;
     Counters counters;
+    PeakMemory memory;
     // Not empty: the plugin refused this scene (an error from one of its calls), and this is its
     // one-line reason; nothing was timed.
     std::string refused;

@@ -37,6 +37,11 @@
 // mark_dirty) the stored levels are always exact and this proviso does not apply. A renderer whose
 // triangles are mostly small (a dense mesh) thus rarely pays for bringing the pyramid up to date.
 //
+// Window: reset_window() makes a pyramid over one rectangle of the image only (a screen tile that
+// one thread renders): it takes and answers image coordinates, clamps every query and update to its
+// rectangle, and reads the fine depths only there, so pyramids over disjoint tiles of one depth
+// buffer never touch each other's pixels.
+//
 // Depth convention: window depth, smaller is nearer, +infinity = nothing drawn yet.
 #pragma once
 
@@ -70,8 +75,16 @@ public:
 
     // Sizes the pyramid for a width x height depth buffer and sets every level to +infinity.
     // Allocates only when the total size grows. The fine level is unknown until the next update().
-    void reset(uint32_t width, uint32_t height) {
+    void reset(uint32_t width, uint32_t height) { reset_window(0, 0, width, height, width); }
+
+    // A pyramid over the width x height pixels from image pixel (x, y) on, of a fine depth buffer
+    // whose rows are `stride` pixels apart (x + width <= stride). Queries and updates still name
+    // image pixels; whatever lies outside the window is clamped off.
+    void reset_window(int32_t x, int32_t y, uint32_t width, uint32_t height, uint32_t stride) {
         fine_ = nullptr;
+        origin_x_ = x;
+        origin_y_ = y;
+        stride_ = stride;
         if (int32_t(width) != width_ || int32_t(height) != height_ || requested_base_ != base_) {
             width_ = int32_t(width);
             height_ = int32_t(height);
@@ -106,6 +119,7 @@ public:
     // already holds a depth strictly nearer than nearest_depth: anything whose depth over that
     // rectangle is >= nearest_depth is hidden. An empty rectangle (after clamping) is hidden.
     bool is_hidden(int32_t x0, int32_t y0, int32_t x1, int32_t y1, float nearest_depth) const {
+        to_window(x0, y0, x1, y1);
         x0 = std::max(x0, 0);
         y0 = std::max(y0, 0);
         x1 = std::min(x1, width_ - 1);
@@ -125,6 +139,7 @@ public:
     // the at most 2 x 2 cells of the coarsest level that covers it (flushing deferred marks first).
     // O(1): "farthest(rectangle) < z" is a coarse, never refined is_hidden.
     float farthest(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const {
+        to_window(x0, y0, x1, y1);
         x0 = std::max(x0, 0);
         y0 = std::max(y0, 0);
         x1 = std::min(x1, width_ - 1);
@@ -145,7 +160,8 @@ public:
     // width * height; the same array every time until the next reset): recomputes the farthest depth
     // upward through the levels over that rectangle, stopping at the first level that did not change.
     void update(const float* depth, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-        fine_ = depth;
+        fine_ = window_of(depth);
+        to_window(x0, y0, x1, y1);
         x0 = std::max(x0, 0);
         y0 = std::max(y0, 0);
         x1 = std::min(x1, width_ - 1);
@@ -166,7 +182,9 @@ public:
     // update() when many small writes land in the same cells between large queries. Only valid
     // while depths never increase (see the top of this file).
     void mark_dirty(const float* depth, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-        fine_ = depth;
+        fine_ = window_of(depth);
+        to_window(x0, y0, x1, y1);
+        if (x1 < 0 || y1 < 0 || x0 >= width_ || y0 >= height_) return;
         x0 = std::max(x0, 0) >> base_;
         y0 = std::max(y0, 0) >> base_;
         x1 = std::min(x1, width_ - 1) >> base_;
@@ -209,6 +227,7 @@ public:
     // The level a query of the rectangle (clamped, non-empty) starts at: the coarsest whose cells
     // are as large as the rectangle, where it meets at most 2 x 2 of them.
     int query_level(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const {
+        to_window(x0, y0, x1, y1);
         return start_level(std::max(x0, 0), std::max(y0, 0), std::min(x1, width_ - 1), std::min(y1, height_ - 1));
     }
 
@@ -219,6 +238,7 @@ public:
     int answering_level(int32_t x0, int32_t y0, int32_t x1, int32_t y1, float nearest_depth, bool hidden) const {
         const int level = query_level(x0, y0, x1, y1);
         if (!hidden) return level;
+        to_window(x0, y0, x1, y1);
         const int32_t cx0 = std::max(x0, 0) >> level, cy0 = std::max(y0, 0) >> level;
         const int32_t cx1 = std::min(x1, width_ - 1) >> level, cy1 = std::min(y1, height_ - 1) >> level;
         for (int32_t cy = cy0; cy <= cy1; ++cy)
@@ -255,6 +275,17 @@ public:
     void reset_counters() { cells_visited_ = cells_updated_ = 0; }
 
 private:
+    // Image coordinates to the window's.
+    void to_window(int32_t& x0, int32_t& y0, int32_t& x1, int32_t& y1) const {
+        x0 -= origin_x_;
+        x1 -= origin_x_;
+        y0 -= origin_y_;
+        y1 -= origin_y_;
+    }
+    const float* window_of(const float* depth) const {
+        return depth + size_t(origin_y_) * size_t(stride_) + size_t(origin_x_);
+    }
+
     // is_hidden() of a large rectangle (clamped, non-empty): flush, then refine from the start level.
     // Out of line, so that the small-rectangle path inlines into its callers.
     [[gnu::noinline]] bool refined_is_hidden(int32_t x0, int32_t y0, int32_t x1, int32_t y1, float z) const {
@@ -291,7 +322,7 @@ private:
         if (w >= 4) {
             const __m128 limit = _mm_set1_ps(z);
             for (int32_t y = y0; y <= y1; ++y) {
-                const float* row = fine_ + size_t(y) * size_t(width_) + size_t(x0);
+                const float* row = fine_ + size_t(y) * size_t(stride_) + size_t(x0);
                 bool nearer = true;
                 for (int32_t x = 0; x + 4 <= w && nearer; x += 4)
                     nearer = _mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(row + x), limit)) == 0xF;
@@ -307,7 +338,7 @@ private:
         }
 #endif
         for (int32_t y = y0; y <= y1; ++y) {
-            const float* row = fine_ + size_t(y) * size_t(width_);
+            const float* row = fine_ + size_t(y) * size_t(stride_);
             for (int32_t x = x0; x <= x1; ++x) {
                 if (!(row[x] < z)) {
                     cells_visited_ += uint64_t(y - y0) * uint64_t(w) + uint64_t(x - x0 + 1);
@@ -356,13 +387,13 @@ private:
     float base_cell_max(int32_t cx, int32_t cy) const {
         constexpr int32_t n = int32_t(1) << B;
         const int32_t px = cx << B, py = cy << B;
-        const float* p = fine_ + size_t(py) * size_t(width_) + size_t(px);
+        const float* p = fine_ + size_t(py) * size_t(stride_) + size_t(px);
         if (px + n <= width_ && py + n <= height_) {
             // A whole block: lane-wise maxima over the rows (vectorizes), then across the lanes.
             float lanes[n];
             for (int32_t i = 0; i < n; ++i) lanes[i] = p[i];
             for (int32_t r = 1; r < n; ++r) {
-                const float* row = p + size_t(r) * size_t(width_);
+                const float* row = p + size_t(r) * size_t(stride_);
                 for (int32_t i = 0; i < n; ++i) lanes[i] = lanes[i] < row[i] ? row[i] : lanes[i];
             }
             float m = lanes[0];
@@ -372,7 +403,7 @@ private:
         const int32_t w = std::min(n, width_ - px), h = std::min(n, height_ - py);
         float m = -std::numeric_limits<float>::infinity();
         for (int32_t r = 0; r < h; ++r) {
-            const float* row = p + size_t(r) * size_t(width_);
+            const float* row = p + size_t(r) * size_t(stride_);
             for (int32_t i = 0; i < w; ++i) m = std::max(m, row[i]);
         }
         return m;
@@ -455,7 +486,9 @@ private:
                                       [&](int32_t x, int32_t y) { return parent_of(k, x, y); });
     }
 
-    int32_t width_ = -1, height_ = -1;
+    int32_t width_ = -1, height_ = -1;  // of the window
+    int32_t origin_x_ = 0, origin_y_ = 0;  // the window's first pixel in the image
+    size_t stride_ = 0;                    // of the fine depth buffer's rows
     int base_ = 3, requested_base_ = 3;
     int top_ = 3;
     int32_t level_width_[kMaxLevels] = {};
