@@ -28,7 +28,7 @@ fi
 # --- install, build, list -----------------------------------------------------------------------
 
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
-for header in abi.h sdk.hpp raster.hpp triangle_setup.hpp bounds.hpp zpyramid.hpp shading.hpp; do
+for header in abi.h sdk.hpp raster.hpp triangle_setup.hpp bounds.hpp zpyramid.hpp shading.hpp parallel.hpp; do
     test -f "$work/prefix/include/hsr/$header" || fail "the install has no include/hsr/$header"
 done
 cmake -S "$src/docs/example-plugin" -B "$work/example" -DCMAKE_PREFIX_PATH="$work/prefix" \
