@@ -3,8 +3,10 @@
 // face of the opposite half-edge).
 //
 // Text files are checked before OpenMesh sees them (malformed_models.hpp), OpenMesh's own messages
-// are captured instead of printed, and what it loaded is checked again. OBJ and ASCII OFF go to
-// OpenMesh as the checks re-write them.
+// are captured instead of printed, and what it loaded is checked again. The checks of an OBJ file
+// also parse it, and its mesh is built here as OpenMesh's OBJ reader builds it (through OpenMesh's
+// importer), without that reader's two iostream passes; ASCII OFF goes to OpenMesh as the checks
+// re-write it, PLY as the checks convert it.
 #include "model_reader.hpp"
 
 #include "hsr/error.hpp"
@@ -12,6 +14,7 @@
 #include "malformed_models.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/ImporterT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -163,6 +166,29 @@ Object object_from_mesh(const TriMesh& mesh) {
     return object;
 }
 
+// The mesh OpenMesh's OBJ reader makes of the text: every vertex first, then each face with its
+// repeated corners left out (keeping the first), if 3 remain, through OpenMesh's importer (which
+// splits a polygon into a fan and gives a face that would make the mesh non-manifold vertices of
+// its own).
+void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
+    const std::size_t corners = contents.corners.size();  // at least 3 a face
+    mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
+                 static_cast<unsigned>(corners - 2 * contents.face_ends.size()));
+    OpenMesh::IO::ImporterT<TriMesh> importer(mesh);
+    for (const std::array<float, 3>& p : contents.positions) mesh.add_vertex(TriMesh::Point(p[0], p[1], p[2]));
+    OpenMesh::IO::BaseImporter::VHandles face;
+    uint32_t begin = 0;
+    for (uint32_t end : contents.face_ends) {
+        face.clear();
+        for (uint32_t c = begin; c < end; ++c) {
+            const TriMesh::VertexHandle v(contents.corners[c]);
+            if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
+        }
+        begin = end;
+        if (face.size() > 2) importer.add_face(face);
+    }
+}
+
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
@@ -170,10 +196,11 @@ bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && st
 Object read_model_object(const std::filesystem::path& file) {
     Format format = format_of(file);
     std::optional<std::string> cleaned;
+    std::optional<ObjContents> obj;
     {
         std::string text = read_whole_file(file);
         switch (format) {
-        case Format::obj: cleaned = check_obj_text(file, std::move(text)); break;
+        case Format::obj: obj = check_obj_text(file, text); break;
         case Format::off: cleaned = check_off_text(file, text); break;
         case Format::ply: cleaned = check_ply_text(file, text); break;
         case Format::stl: check_stl_text(file, text); break;
@@ -187,7 +214,11 @@ Object read_model_object(const std::filesystem::path& file) {
     {
         OpenMeshCapture capture;
         try {
-            if (cleaned) {
+            if (obj) {
+                build_obj_mesh(*obj, mesh);
+                obj.reset();
+                read = true;
+            } else if (cleaned) {
                 std::istringstream stream(std::move(*cleaned));
                 cleaned.reset();
                 OpenMesh::IO::Options options;
