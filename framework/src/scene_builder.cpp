@@ -16,7 +16,6 @@
 #include <cmath>
 #include <limits>
 #include <tuple>
-#include <unordered_set>
 
 namespace hsr {
 namespace {
@@ -36,16 +35,40 @@ TriangleKey triangle_key(const std::vector<glm::vec3>& positions, const uint32_t
     return key;
 }
 
-struct TriangleKeyHash {
-    std::size_t operator()(const TriangleKey& key) const {
-        uint64_t hash = 0;
-        for (const glm::vec3& p : key)
-            for (int k = 0; k < 3; ++k) {
-                const float value = p[k] == 0.0f ? 0.0f : p[k];  // -0 and +0 are equal: one hash
-                hash = (hash ^ std::bit_cast<uint32_t>(value)) * 0x100000001b3ull;
-            }
-        return static_cast<std::size_t>(hash ^ (hash >> 29));
+std::size_t triangle_key_hash(const TriangleKey& key) {
+    uint64_t hash = 0;
+    for (const glm::vec3& p : key)
+        for (int k = 0; k < 3; ++k) {
+            const float value = p[k] == 0.0f ? 0.0f : p[k];  // -0 and +0 are equal: one hash
+            hash = (hash ^ std::bit_cast<uint32_t>(value)) * 0x100000001b3ull;
+        }
+    return static_cast<std::size_t>(hash ^ (hash >> 29));
+}
+
+// The triangles of one object met so far, by key: open addressing with linear probing in a
+// power-of-two table of kept-triangle numbers, the keys beside them in the order kept.
+class SeenTriangles {
+public:
+    explicit SeenTriangles(std::size_t triangles) : slots_(std::bit_ceil(2 * triangles + 2), empty) {
+        keys_.reserve(triangles);
     }
+    // False if an equal key was met before; otherwise remembers this one.
+    bool insert(const TriangleKey& key) {
+        const std::size_t mask = slots_.size() - 1;
+        for (std::size_t slot = triangle_key_hash(key) & mask;; slot = (slot + 1) & mask) {
+            if (slots_[slot] == empty) {
+                slots_[slot] = static_cast<uint32_t>(keys_.size());
+                keys_.push_back(key);
+                return true;
+            }
+            if (keys_[slots_[slot]] == key) return false;
+        }
+    }
+
+private:
+    static constexpr uint32_t empty = ~0u;
+    std::vector<uint32_t> slots_;
+    std::vector<TriangleKey> keys_;
 };
 
 using Object = SceneBuilder::Object;
@@ -139,8 +162,8 @@ SceneData SceneBuilder::build() const {
         const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
         std::vector<int32_t> new_triangle(triangle_count, -1);
         std::vector<glm::dvec3> kept_normals;
-        std::unordered_set<TriangleKey, TriangleKeyHash> seen;
-        seen.reserve(triangle_count);
+        kept_normals.reserve(triangle_count);
+        SeenTriangles seen(triangle_count);
         uint32_t kept = 0, without_area = 0, repeated = 0;
         for (std::size_t t = 0; t < triangle_count; ++t) {
             const glm::dvec3& a = local_world[object.indices[3 * t]];
@@ -154,7 +177,7 @@ SceneData SceneBuilder::build() const {
                 ++without_area;
                 continue;
             }
-            if (!seen.insert(triangle_key(object.positions, &object.indices[3 * t])).second) {
+            if (!seen.insert(triangle_key(object.positions, &object.indices[3 * t]))) {
                 ++repeated;
                 continue;
             }
@@ -231,20 +254,28 @@ SceneData SceneBuilder::build() const {
         for (int k = 0; k < 3; ++k)
             angle[3 * t + k] = corner_angle(world[scene.indices[3 * t + k]], world[scene.indices[3 * t + (k + 1) % 3]],
                                             world[scene.indices[3 * t + (k + 2) % 3]]);
-    scene.corner_normals.reserve(9 * triangles);
-    for (std::size_t t = 0; t < triangles; ++t) {
-        const glm::dvec3& own = normals[t];
-        const double limit = static_cast<double>(crease_cosines[scene.face_object[t]]) - 1e-6;
-        for (int k = 0; k < 3; ++k) {
-            uint32_t v = scene.indices[3 * t + k];
+    // Vertex by vertex: the normals and angles of its corners side by side, then each of its
+    // corners' sums over them (in the order of `around`, whichever corner is summed for).
+    scene.corner_normals.resize(9 * triangles);
+    std::vector<glm::dvec3> fan_normals;
+    std::vector<double> fan_angles;
+    for (std::size_t v = 0; v < world.size(); ++v) {
+        fan_normals.clear();
+        fan_angles.clear();
+        for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
+            fan_normals.push_back(normals[around[i] / 3]);
+            fan_angles.push_back(angle[around[i]]);
+        }
+        for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
+            const uint32_t corner = around[i];
+            const glm::dvec3& own = normals[corner / 3];
+            const double limit = static_cast<double>(crease_cosines[scene.face_object[corner / 3]]) - 1e-6;
             glm::dvec3 sum(0.0);
-            for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
-                uint32_t corner = around[i];
-                const glm::dvec3& other = normals[corner / 3];
-                if (glm::dot(own, other) >= limit) sum += angle[corner] * other;
-            }
+            for (std::size_t j = 0; j < fan_normals.size(); ++j)
+                if (glm::dot(own, fan_normals[j]) >= limit) sum += fan_angles[j] * fan_normals[j];
             double length = glm::length(sum);
-            push3(scene.corner_normals, length > 1e-12 ? sum / length : own);
+            const glm::dvec3 n = length > 1e-12 ? sum / length : own;
+            for (int k = 0; k < 3; ++k) scene.corner_normals[3 * std::size_t(corner) + k] = static_cast<float>(n[k]);
         }
     }
     return scene;
