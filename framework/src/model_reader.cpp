@@ -4,7 +4,7 @@
 //
 // Text files are checked before OpenMesh sees them (malformed_models.hpp), OpenMesh's own messages
 // are captured instead of printed, and what it loaded is checked again. The checks of an OBJ file
-// also parse it, and its mesh is built here as OpenMesh's OBJ reader builds it (through OpenMesh's
+// also parse it, and its mesh is built here as OpenMesh's OBJ reader builds it (as OpenMesh's
 // importer), without that reader's two iostream passes; ASCII OFF goes to OpenMesh as the checks
 // re-write it, PLY as the checks convert it.
 #include "model_reader.hpp"
@@ -14,7 +14,6 @@
 #include "malformed_models.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/IO/importer/ImporterT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -167,16 +166,17 @@ Object object_from_mesh(const TriMesh& mesh) {
 }
 
 // The mesh OpenMesh's OBJ reader makes of the text: every vertex first, then each face with its
-// repeated corners left out (keeping the first), if 3 remain, through OpenMesh's importer (which
-// splits a polygon into a fan and gives a face that would make the mesh non-manifold vertices of
-// its own).
+// repeated corners left out (keeping the first), if 3 remain, added as OpenMesh's importer
+// (ImporterT::add_face) adds it: TriMesh::add_face splits a polygon into a fan, and when it fails
+// (the last triangle would make the mesh non-manifold) the whole face is added again on vertices of
+// its own, and that last triangle marked. The importer's checks for invalid and repeated vertices
+// are left out: check_obj_text and the loop here have done them.
 void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
     const std::size_t corners = contents.corners.size();  // at least 3 a face
     mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
                  static_cast<unsigned>(corners - 2 * contents.face_ends.size()));
-    OpenMesh::IO::ImporterT<TriMesh> importer(mesh);
     for (const std::array<float, 3>& p : contents.positions) mesh.add_vertex(TriMesh::Point(p[0], p[1], p[2]));
-    OpenMesh::IO::BaseImporter::VHandles face;
+    std::vector<TriMesh::VertexHandle> face;
     uint32_t begin = 0;
     for (uint32_t end : contents.face_ends) {
         face.clear();
@@ -185,7 +185,13 @@ void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
             if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
         }
         begin = end;
-        if (face.size() > 2) importer.add_face(face);
+        if (face.size() < 3) continue;
+        TriMesh::FaceHandle added =
+            face.size() == 3 ? mesh.add_face(face[0], face[1], face[2]) : mesh.add_face(face);
+        if (added.is_valid()) continue;
+        for (TriMesh::VertexHandle& v : face) v = mesh.add_vertex(TriMesh::Point(mesh.point(v)));
+        added = mesh.add_face(face);
+        mesh.status(added).set_fixed_nonmanifold(true);
     }
 }
 
