@@ -18,6 +18,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
+#include <algorithm>
+#include <array>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -147,6 +150,46 @@ TEST_CASE("OBJ: polygons, relative and forward references, repeated corners, non
     require_same_load(write_file("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n"
                                             "f 1 2 3\nf 2 1 4\nf 1 2 5\nf 2 1 5\nf 1 2 3\n"));
     require_same_load(write_file("fan-fails-last.obj", grid + "f 1 2 5\nf 1 2 5 4\nf 5 2 1 4\n"));
+}
+
+TEST_CASE("OBJ: random triangle soups and shuffled grids, non-manifold and re-linked, as OpenMesh adds them",
+          "[model-loading]") {
+    std::mt19937 random(18);
+    for (int soup = 0; soup < 300; ++soup) {
+        const int vertices = 4 + static_cast<int>(random() % 9);
+        std::string text;
+        for (int v = 0; v < vertices; ++v)
+            text += fmt::format("v {} {} {}\n", random() % 7, random() % 7, random() % 7);
+        const int faces = 3 + static_cast<int>(random() % 40);
+        for (int f = 0; f < faces; ++f) {
+            const int corners = random() % 8 == 0 ? 4 : 3;
+            text += "f";
+            for (int c = 0; c < corners; ++c) text += fmt::format(" {}", 1 + random() % vertices);
+            text += "\n";
+        }
+        require_same_load(write_file(fmt::format("soup-{}.obj", soup), text));
+    }
+    // A grid's triangles in random order and orientation: faces meet their neighbours along every
+    // kind of boundary (fans closing around a vertex, patches re-linked).
+    for (int grid = 0; grid < 40; ++grid) {
+        const int side = 3 + grid % 6;
+        std::string text;
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) text += fmt::format("v {} {} 0\n", x, y);
+        std::vector<std::array<int, 3>> triangles;
+        for (int y = 0; y + 1 < side; ++y)
+            for (int x = 0; x + 1 < side; ++x) {
+                const int a = 1 + y * side + x, b = a + 1, c = a + side, d = c + 1;
+                triangles.push_back({a, b, d});
+                triangles.push_back({a, d, c});
+            }
+        std::shuffle(triangles.begin(), triangles.end(), random);
+        for (std::array<int, 3> t : triangles) {
+            if (random() % 5 == 0) std::swap(t[1], t[2]);
+            text += fmt::format("f {} {} {}\n", t[0], t[1], t[2]);
+        }
+        require_same_load(write_file(fmt::format("grid-{}.obj", grid), text));
+    }
 }
 
 TEST_CASE("OBJ: comments, keywords hsr does not use, byte-order mark, CRLF and lines OpenMesh skips",
