@@ -13,6 +13,8 @@
 #include <boost/program_options.hpp>
 
 #include <charconv>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -366,10 +368,21 @@ int hsr::host::run_render(const std::vector<std::string>& args) {
         throw UsageError("{}", e.what());
     }
     check_render_options(options);
+    // Loading's phases, for --stats (rendering prints its own).
+    using Clock = std::chrono::steady_clock;
+    const auto since = [](Clock::time_point start) {
+        return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    };
+    const Clock::time_point plugins_start = Clock::now();
     const hsr::PluginRegistry registry = scan_plugins(options.plugin_dirs);
     RenderPlugins plugins = make_render_plugins(options, registry);
+    const double plugins_ms = since(plugins_start);
     const fs::path output = check_render_outputs(options, plugins.line_drawing.has_value());
+    const Clock::time_point scene_start = Clock::now();
     RenderScene scene = load_render_scene(options);
+    if (options.stats)
+        std::fprintf(stderr, "load time: plugins %.2f ms, scene %.2f ms (read, checked, normals and adjacency)\n",
+                     plugins_ms, since(scene_start));
     if (plugins.line_drawing)
         render_line_drawing(options, std::move(scene), *plugins.line_drawing, output);
     else
