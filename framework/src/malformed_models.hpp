@@ -2,6 +2,7 @@
 // header without end_header or an OFF face claiming a billion corners makes them spin, and an
 // unparsable number silently shifts every later vertex. These checks walk the text (structure,
 // finite coordinates, index ranges) and throw hsr::Error "file:line: message" at the first problem.
+// An OBJ file's checks also keep what they parse, which model_reader.cpp builds the mesh from.
 #pragma once
 
 #include <array>
