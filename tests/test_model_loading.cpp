@@ -2,7 +2,7 @@
 // independent answer: the same vertices in the same order, the same triangles, neighbours and
 // non-manifold faces, for every model, every fuzz-corpus file and hand-written cases of number
 // formats, relative indices, polygons, repeated corners and lines OpenMesh skips; and the same
-// one-line refusals.
+// one-line refusals, for OFF and PLY too.
 #include "hsr/error.hpp"
 #include "hsr/scene_builder.hpp"
 
@@ -26,6 +26,8 @@
 #include <string>
 #include <variant>
 #include <vector>
+
+#include <sys/resource.h>
 
 namespace fs = std::filesystem;
 
@@ -240,5 +242,39 @@ TEST_CASE("OBJ: refusals are one line naming the file and the line, before anyth
         CHECK(message == file.string() + c.message);
         CHECK(message.find('\n') == std::string::npos);
         require_same_load(file);
+    }
+}
+
+TEST_CASE("OFF and PLY: a claim of 2^40 faces or a NaN is refused in one line, without a large allocation",
+          "[model-loading]") {
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* message;
+    };
+    const std::string ply_header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                   "property float z\n";
+    const std::vector<Case> cases = {
+        {"claims.off", "OFF\n3 1099511627776 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         ": ends early: the header promises 3 vertices and 1099511627776 faces"},
+        {"claims.ply", ply_header + "element face 1099511627776\nproperty list uchar int vertex_indices\nend_header\n"
+                                    "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         ": ends early while reading the 'face' elements"},
+        {"nan.off", "OFF\n3 1\n0 nan 0\n1 0 0\n0 1 0\n3 0 1 2\n", ":3: vertex coordinate 'nan' is not a finite number"},
+        {"nan.ply", ply_header + "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                 "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
+         ":11: vertex 1 has a coordinate that is not a finite number"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        const fs::path file = write_file(c.name, c.text);
+        rusage before{};
+        getrusage(RUSAGE_SELF, &before);
+        const Loaded loaded = load_with_hsr(file);
+        rusage after{};
+        getrusage(RUSAGE_SELF, &after);
+        REQUIRE(std::holds_alternative<std::string>(loaded));
+        CHECK(std::get<std::string>(loaded) == file.string() + c.message);
+        CHECK(after.ru_maxrss - before.ru_maxrss < 64 * 1024);  // kilobytes
     }
 }
