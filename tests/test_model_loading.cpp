@@ -15,13 +15,13 @@
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <random>
-#include <algorithm>
-#include <array>
 #include <iostream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <variant>
