@@ -111,6 +111,9 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
                     throw;
                 }
                 const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - start;
+                if (job.options.stats)
+                    std::fprintf(stderr, "load time: scene %.2f ms (read, checked, normals and adjacency)\n",
+                                 took.count());
                 if (failures == JobFailures::kReportAndGoOn)
                     std::fprintf(stderr, "loaded %s once for %zu job%s (%llu triangles, %.1f ms)\n",
                                  model_path(job.options).string().c_str(), shared.jobs_left,

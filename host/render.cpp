@@ -15,6 +15,8 @@
 #include <boost/program_options.hpp>
 
 #include <charconv>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <iostream>
 #include <optional>

@@ -9,6 +9,9 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -16,26 +19,6 @@
 #include <vector>
 
 namespace hsr {
-
-void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels) {
-    if (pixels.size() != size_t(width) * height * channels)
-        throw Error("write_png: {} bytes for a {}x{}x{} image", pixels.size(), width, height, channels);
-    png_image image{};
-    image.version = PNG_IMAGE_VERSION;
-    image.width = width;
-    image.height = height;
-    switch (channels) {
-    case 1: image.format = PNG_FORMAT_GRAY; break;
-    case 3: image.format = PNG_FORMAT_RGB; break;
-    case 4: image.format = PNG_FORMAT_RGBA; break;
-    default: throw Error("write_png: {} channels are not supported", channels);
-    }
-    if (!png_image_write_to_stdio(&image, file.stdio(), 0, pixels.data(), 0, nullptr)) {
-        std::string why = image.message;
-        png_image_free(&image);
-        throw Error("cannot write {}: {}", file.target().string(), why);
-    }
-}
 
 void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
                std::span<const uint8_t> pixels) {
@@ -68,7 +51,7 @@ void png_warning_ignored(png_structp, png_const_charp) {}
 // The libpng calls of encode_png, apart so that no C++ object with a destructor lives in the frame
 // that longjmp leaves. Returns false on failure (writer.error says why).
 bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, int color_type, int zlib_level,
-                    const png_bytep* rows) {
+                    bool srgb, const png_bytep* rows) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &writer, png_failed, png_warning_ignored);
     if (png == nullptr) return false;
     png_infop info = png_create_info_struct(png);
@@ -82,6 +65,7 @@ bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, in
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_set_IHDR(png, info, width, height, 8, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
+    if (srgb) png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
     png_write_info(png, info);
     png_write_image(png, const_cast<png_bytepp>(rows));
     png_write_end(png, nullptr);
@@ -89,10 +73,8 @@ bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, in
     return true;
 }
 
-}  // namespace
-
-std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
-                                int zlib_level) {
+std::vector<uint8_t> encode_png_image(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
+                                      int zlib_level, bool srgb) {
     if (pixels.size() != size_t(width) * height * channels)
         throw Error("encode_png: {} bytes for a {}x{}x{} image", pixels.size(), width, height, channels);
     int color_type = PNG_COLOR_TYPE_RGB;
@@ -109,9 +91,23 @@ std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, s
     std::vector<uint8_t> out;
     out.reserve(pixels.size() / 4 + 1024);
     PngMemoryWriter writer{&out, {}};
-    if (!write_png_rows(writer, width, height, color_type, std::clamp(zlib_level, 0, 9), rows.data()))
+    if (!write_png_rows(writer, width, height, color_type, std::clamp(zlib_level, 0, 9), srgb, rows.data()))
         throw Error("cannot encode a PNG: {}", writer.error.empty() ? "out of memory" : writer.error);
     return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
+                                int zlib_level) {
+    return encode_png_image(width, height, channels, pixels, zlib_level, false);
+}
+
+// Encoded as encode_png does (zlib level 1, Sub filter), tagged sRGB: the pixels are sRGB values.
+void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels) {
+    const std::vector<uint8_t> png = encode_png_image(width, height, channels, pixels, 1, true);
+    if (std::fwrite(png.data(), 1, png.size(), file.stdio()) != png.size())
+        throw Error("cannot write {}: {}", file.target().string(), std::strerror(errno));
 }
 
 Image read_png_rgb(const std::filesystem::path& path) {

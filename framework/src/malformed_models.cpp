@@ -13,6 +13,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <span>
@@ -24,8 +25,13 @@ namespace {
 
 struct Line {
     std::size_t number;  // 1-based
+    std::string_view text;  // the whole line, without its '\n'
     std::vector<std::string_view> tokens;
 };
+
+// std::isspace in the "C" locale (hsr never changes the locale), inline: the checks call it for
+// every byte of a model.
+constexpr bool is_space(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 
 // The lines of a text one at a time, as whitespace-separated tokens: text from `comment` to the end
 // of a line is dropped ('\0' for none) and lines without tokens are skipped. Only the current line
@@ -33,7 +39,7 @@ struct Line {
 class LineReader {
 public:
     LineReader(std::string_view text, char comment, std::size_t lines_before = 0)
-        : text_(text), comment_(comment), line_{lines_before, {}} {}
+        : text_(text), comment_(comment), line_{lines_before, {}, {}} {}
 
     // The next line with tokens, or nullptr at the end of the text; valid until the next call.
     const Line* next() {
@@ -43,14 +49,16 @@ public:
             std::string_view line = text_.substr(pos_, end - pos_);
             pos_ = end + 1;
             ++line_.number;
+            line_.text = line;
             if (comment_ != '\0') line = line.substr(0, line.find(comment_));
             line_.tokens.clear();
-            std::size_t i = 0;
-            while (i < line.size()) {
-                while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-                std::size_t start = i;
-                while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-                if (i > start) line_.tokens.push_back(line.substr(start, i - start));
+            const char* c = line.data();
+            const char* const line_end = c + line.size();
+            while (c < line_end) {
+                while (c < line_end && is_space(*c)) ++c;
+                const char* start = c;
+                while (c < line_end && !is_space(*c)) ++c;
+                if (c > start) line_.tokens.emplace_back(start, static_cast<std::size_t>(c - start));
             }
             if (!line_.tokens.empty()) return &line_;
         }
@@ -65,6 +73,7 @@ private:
 };
 
 std::optional<double> parse_number(std::string_view token) {
+    if (token.starts_with("+-")) return std::nullopt;  // the readers take no second sign
     if (!token.empty() && token.front() == '+') token.remove_prefix(1);
     double value = 0;
     auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
@@ -75,11 +84,21 @@ std::optional<double> parse_number(std::string_view token) {
 }
 
 std::optional<long long> parse_integer(std::string_view token) {
+    if (token.starts_with("+-")) return std::nullopt;
     if (!token.empty() && token.front() == '+') token.remove_prefix(1);
     long long value = 0;
     auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
     if (ec != std::errc() || end != token.data() + token.size() || token.empty()) return std::nullopt;
     return value;
+}
+
+// The float that OpenMesh's reader (operator>>, which calls strtof) makes of a token that
+// parse_number accepts; from_chars rounds as strtof does, and leaves underflow to it.
+float openmesh_float(std::string_view token) {
+    if (token.starts_with('+')) token.remove_prefix(1);
+    float value = 0;
+    if (std::from_chars(token.data(), token.data() + token.size(), value).ec == std::errc()) return value;
+    return std::strtof(std::string(token).c_str(), nullptr);
 }
 
 // OpenMesh splits a polygon into a fan in time quadratic in its corners (each new triangle
@@ -126,27 +145,34 @@ public:
         }
     }
 
-    // Returns the text for OpenMesh's reader: material-library lines become comments, as OpenMesh
-    // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
-    // so do texture coordinates, which hsr does not use and OpenMesh refuses with one value (`vt u`,
-    // which the format allows); comments after data on a line become spaces, as OpenMesh would read
-    // them as data.
-    std::string check_obj(std::string text) {
-        const std::size_t mark = byte_order_mark(text);
-        text.replace(0, mark, mark, ' ');
+    // Checks the text and returns what OpenMesh's OBJ reader reads from it once rewritten as
+    // rewrite_obj does. That reader skips a line that starts with a vertical tab or form feed (it
+    // trims only " \t\r\n"), which the checks read as any other line, so the vertices it counts
+    // can fall behind theirs: its own count resolves relative references.
+    ObjContents check_obj(std::string_view text) {
+        text.remove_prefix(byte_order_mark(text));
         LineReader lines(text, '#');
+        ObjContents contents;
         long long vertices = 0;
         long long largest = 0;
         std::size_t largest_line = 0;
-        std::vector<std::size_t> unused_lines;  // byte offsets of the keyword of mtllib and vt lines
+        long long openmesh_vertices = 0;  // the vertices as OpenMesh's reader counts them
+        bool missing_vertex = false;      // a face refers to one OpenMesh's reader does not have
         while (const Line* next_line = lines.next()) {
             const Line& line = *next_line;
             std::string_view kind = line.tokens[0];
+            const bool openmesh_skips = is_space(line.text[line.text.find_first_not_of(" \t\r\n")]);
             if (kind == "v") {
-                coordinates(line, 1);
+                std::array<float, 3> position;
+                if (!obj_coordinates(line, position)) {
+                    coordinates(line, 1);  // the message, or the value parsed the slow way
+                    for (int k = 0; k < 3; ++k) position[k] = openmesh_float(line.tokens[1 + k]);
+                }
                 ++vertices;
-            } else if (kind == "mtllib" || kind == "vt") {
-                unused_lines.push_back(static_cast<std::size_t>(kind.data() - text.data()));
+                if (!openmesh_skips) {
+                    contents.positions.push_back(position);
+                    ++openmesh_vertices;
+                }
             } else if (kind == "f") {
                 if (line.tokens.size() < 4) fail(line.number, "a face needs at least 3 vertices");
                 if (line.tokens.size() - 1 > max_face_corners) fail(line.number, too_many_corners);
@@ -166,13 +192,53 @@ public:
                         largest = *index;
                         largest_line = line.number;
                     }
+                    if (openmesh_skips) continue;
+                    const long long corner = (*index < 0 ? openmesh_vertices + *index + 1 : *index) - 1;
+                    missing_vertex = missing_vertex || corner < 0;
+                    contents.corners.push_back(static_cast<int32_t>(std::max(corner, -1LL)));
                 }
+                if (!openmesh_skips) contents.face_ends.push_back(static_cast<uint32_t>(contents.corners.size()));
             }
         }
         if (largest > vertices)
             fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                            largest, vertices));
-        for (std::size_t offset : unused_lines) text[offset] = '#';
+        for (int32_t corner : contents.corners) missing_vertex = missing_vertex || corner >= openmesh_vertices;
+        if (missing_vertex) fail("some faces refer to vertices that do not exist");
+        return contents;
+    }
+
+    // The three coordinates of a v line parsed straight to float, when that settles the checks of
+    // coordinates(): a finite float below FLT_MAX in size comes from a decimal whose double value is
+    // finite and at most FLT_MAX. False when coordinates() must decide.
+    static bool obj_coordinates(const Line& line, std::array<float, 3>& position) {
+        if (line.tokens.size() < 4) return false;
+        for (int k = 0; k < 3; ++k) {
+            std::string_view token = line.tokens[1 + k];
+            if (token.starts_with("+-")) return false;
+            if (token.starts_with('+')) token.remove_prefix(1);
+            const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), position[k]);
+            if (ec != std::errc() || end != token.data() + token.size() || token.empty() ||
+                !(std::fabs(position[k]) < FLT_MAX))
+                return false;
+        }
+        return true;
+    }
+
+    // Returns the text for OpenMesh's reader: material-library lines become comments, as OpenMesh
+    // would open any path named there (a device or a pipe reads forever) and hsr uses no materials;
+    // so do texture coordinates, which hsr does not use and OpenMesh refuses with one value (`vt u`,
+    // which the format allows); comments after data on a line become spaces, as OpenMesh would read
+    // them as data.
+    std::string rewrite_obj(std::string text) {
+        const std::size_t mark = byte_order_mark(text);
+        text.replace(0, mark, mark, ' ');
+        {
+            LineReader lines(text, '#');
+            while (const Line* line = lines.next())
+                if (line->tokens[0] == "mtllib" || line->tokens[0] == "vt")
+                    text[static_cast<std::size_t>(line->tokens[0].data() - text.data())] = '#';
+        }
         LineReader again(text, '#');
         while (const Line* next_line = again.next()) {
             const Line& line = *next_line;
@@ -514,8 +580,14 @@ private:
 
 }  // namespace
 
-std::string check_obj_text(const std::filesystem::path& file, std::string text) {
-    return TextChecker(file).check_obj(std::move(text));
+ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text) {
+    return TextChecker(file).check_obj(text);
+}
+
+std::string obj_text_for_openmesh(const std::filesystem::path& file, std::string text) {
+    TextChecker checker(file);
+    checker.check_obj(text);
+    return checker.rewrite_obj(std::move(text));
 }
 
 std::string check_off_text(const std::filesystem::path& file, std::string_view text) {

@@ -2,17 +2,31 @@
 // header without end_header or an OFF face claiming a billion corners makes them spin, and an
 // unparsable number silently shifts every later vertex. These checks walk the text (structure,
 // finite coordinates, index ranges) and throw hsr::Error "file:line: message" at the first problem.
+// An OBJ file's checks also keep what they parse, which model_reader.cpp builds the mesh from.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace hsr {
 
-// Returns the text for OpenMesh's OBJ reader, with lines that would make it open other files
-// commented out.
-std::string check_obj_text(const std::filesystem::path& file, std::string text);
+// An OBJ file's vertex positions and faces, as OpenMesh's OBJ reader reads the text that
+// obj_text_for_openmesh returns (same vertices in the same order, same numbers).
+struct ObjContents {
+    std::vector<std::array<float, 3>> positions;
+    std::vector<int32_t> corners;     // each face's vertices as listed (0-based), face after face
+    std::vector<uint32_t> face_ends;  // where each face's corners end
+};
+
+// Checks an OBJ file and returns what it holds.
+ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text);
+// Checks an OBJ file and returns its text for OpenMesh's OBJ reader, with lines that would make it
+// open other files commented out (the reference that tests compare check_obj_text with).
+std::string obj_text_for_openmesh(const std::filesystem::path& file, std::string text);
 // Returns the text re-written for OpenMesh's OFF reader, which accepts neither comment lines nor
 // the counts on the header line, and reads a face's colour as the next face.
 std::string check_off_text(const std::filesystem::path& file, std::string_view text);

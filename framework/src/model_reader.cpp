@@ -3,8 +3,10 @@
 // face of the opposite half-edge).
 //
 // Text files are checked before OpenMesh sees them (malformed_models.hpp), OpenMesh's own messages
-// are captured instead of printed, and what it loaded is checked again. OBJ and ASCII OFF go to
-// OpenMesh as the checks re-write them.
+// are captured instead of printed, and what it loaded is checked again. The checks of an OBJ file
+// also parse it, and its mesh is built here as OpenMesh's OBJ reader builds it (as OpenMesh's
+// importer), without that reader's two iostream passes; ASCII OFF goes to OpenMesh as the checks
+// re-write it, PLY as the checks convert it.
 #include "model_reader.hpp"
 
 #include "hsr/error.hpp"
@@ -163,6 +165,112 @@ Object object_from_mesh(const TriMesh& mesh) {
     return object;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Adding triangles as OpenMesh's PolyConnectivity::add_face adds them (OpenMesh 9.0,
+// PolyConnectivity.cc), compiled here: the distributions build OpenMesh with its assertions, which
+// turn every handle access in its add_face into a call (is_valid_handle), half the time of adding
+// the bunny's faces. Only the common case is done here, a triangle that needs no patch of faces
+// re-linked; every other goes to OpenMesh's own add_face, which then does the same tests (nothing
+// is changed before them) and the rest.
+
+TriMesh::HalfedgeHandle find_halfedge(const TriMesh& mesh, TriMesh::VertexHandle from, TriMesh::VertexHandle to) {
+    for (auto h = mesh.cvoh_iter(from); h.is_valid(); ++h)
+        if (mesh.to_vertex_handle(*h) == to) return *h;
+    return TriMesh::HalfedgeHandle();
+}
+
+TriMesh::FaceHandle add_triangle(TriMesh& mesh, TriMesh::VertexHandle a, TriMesh::VertexHandle b,
+                                 TriMesh::VertexHandle c) {
+    using Halfedge = TriMesh::HalfedgeHandle;
+    const TriMesh::VertexHandle v[3] = {a, b, c};
+    Halfedge edge[3];
+    bool is_new[3];
+    for (int i = 0; i < 3; ++i) {
+        if (!mesh.is_boundary(v[i])) return mesh.add_face(a, b, c);  // a complex vertex
+        edge[i] = find_halfedge(mesh, v[i], v[(i + 1) % 3]);
+        is_new[i] = !edge[i].is_valid();
+        if (!is_new[i] && !mesh.is_boundary(edge[i])) return mesh.add_face(a, b, c);  // a complex edge
+    }
+    for (int i = 0; i < 3; ++i)
+        if (!is_new[i] && !is_new[(i + 1) % 3] && mesh.next_halfedge_handle(edge[i]) != edge[(i + 1) % 3])
+            return mesh.add_face(a, b, c);  // a patch to re-link
+    for (int i = 0; i < 3; ++i)
+        if (is_new[i]) edge[i] = mesh.new_edge(v[i], v[(i + 1) % 3]);
+    const TriMesh::FaceHandle face = mesh.new_face();
+    mesh.set_halfedge_handle(face, edge[2]);
+    std::array<std::pair<Halfedge, Halfedge>, 18> next_links;  // set after the loop, as OpenMesh does
+    std::size_t links = 0;
+    bool needs_adjust[3] = {false, false, false};
+    for (int i = 0; i < 3; ++i) {
+        const int ii = (i + 1) % 3;
+        const TriMesh::VertexHandle vh = v[ii];
+        const Halfedge inner_prev = edge[i], inner_next = edge[ii];
+        const int id = (is_new[i] ? 1 : 0) | (is_new[ii] ? 2 : 0);
+        if (id != 0) {
+            const Halfedge outer_prev = mesh.opposite_halfedge_handle(inner_next);
+            const Halfedge outer_next = mesh.opposite_halfedge_handle(inner_prev);
+            switch (id) {
+            case 1:  // prev is new, next is old
+                next_links[links++] = {mesh.prev_halfedge_handle(inner_next), outer_next};
+                mesh.set_halfedge_handle(vh, outer_next);
+                break;
+            case 2:  // next is new, prev is old
+                next_links[links++] = {outer_prev, mesh.next_halfedge_handle(inner_prev)};
+                mesh.set_halfedge_handle(vh, mesh.next_halfedge_handle(inner_prev));
+                break;
+            default:  // both are new
+                if (!mesh.halfedge_handle(vh).is_valid()) {
+                    mesh.set_halfedge_handle(vh, outer_next);
+                    next_links[links++] = {outer_prev, outer_next};
+                } else {
+                    const Halfedge boundary_next = mesh.halfedge_handle(vh);
+                    next_links[links++] = {mesh.prev_halfedge_handle(boundary_next), outer_next};
+                    next_links[links++] = {outer_prev, boundary_next};
+                }
+                break;
+            }
+            next_links[links++] = {inner_prev, inner_next};
+        } else {
+            needs_adjust[ii] = mesh.halfedge_handle(vh) == inner_next;
+        }
+        mesh.set_face_handle(edge[i], face);
+    }
+    for (std::size_t i = 0; i < links; ++i) mesh.set_next_halfedge_handle(next_links[i].first, next_links[i].second);
+    for (int i = 0; i < 3; ++i)
+        if (needs_adjust[i]) mesh.adjust_outgoing_halfedge(v[i]);
+    return face;
+}
+
+// The mesh OpenMesh's OBJ reader makes of the text: every vertex first, then each face with its
+// repeated corners left out (keeping the first), if 3 remain, added as OpenMesh's importer
+// (ImporterT::add_face) adds it: TriMesh::add_face splits a polygon into a fan, and when it fails
+// (the last triangle would make the mesh non-manifold) the whole face is added again on vertices of
+// its own, and that last triangle marked. The importer's checks for invalid and repeated vertices
+// are left out: check_obj_text and the loop here have done them.
+void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
+    const std::size_t corners = contents.corners.size();  // at least 3 a face
+    mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
+                 static_cast<unsigned>(corners - 2 * contents.face_ends.size()));
+    for (const std::array<float, 3>& p : contents.positions) mesh.add_vertex(TriMesh::Point(p[0], p[1], p[2]));
+    std::vector<TriMesh::VertexHandle> face;
+    uint32_t begin = 0;
+    for (uint32_t end : contents.face_ends) {
+        face.clear();
+        for (uint32_t c = begin; c < end; ++c) {
+            const TriMesh::VertexHandle v(contents.corners[c]);
+            if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
+        }
+        begin = end;
+        if (face.size() < 3) continue;
+        TriMesh::FaceHandle added =
+            face.size() == 3 ? add_triangle(mesh, face[0], face[1], face[2]) : mesh.add_face(face);
+        if (added.is_valid()) continue;
+        for (TriMesh::VertexHandle& v : face) v = mesh.add_vertex(TriMesh::Point(mesh.point(v)));
+        added = mesh.add_face(face);
+        mesh.status(added).set_fixed_nonmanifold(true);
+    }
+}
+
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
@@ -170,10 +278,11 @@ bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && st
 Object read_model_object(const std::filesystem::path& file) {
     Format format = format_of(file);
     std::optional<std::string> cleaned;
+    std::optional<ObjContents> obj;
     {
         std::string text = read_whole_file(file);
         switch (format) {
-        case Format::obj: cleaned = check_obj_text(file, std::move(text)); break;
+        case Format::obj: obj = check_obj_text(file, text); break;
         case Format::off: cleaned = check_off_text(file, text); break;
         case Format::ply: cleaned = check_ply_text(file, text); break;
         case Format::stl: check_stl_text(file, text); break;
@@ -187,7 +296,11 @@ Object read_model_object(const std::filesystem::path& file) {
     {
         OpenMeshCapture capture;
         try {
-            if (cleaned) {
+            if (obj) {
+                build_obj_mesh(*obj, mesh);
+                obj.reset();
+                read = true;
+            } else if (cleaned) {
                 std::istringstream stream(std::move(*cleaned));
                 cleaned.reset();
                 OpenMesh::IO::Options options;

@@ -16,7 +16,6 @@
 #include <cmath>
 #include <limits>
 #include <tuple>
-#include <unordered_set>
 
 namespace hsr {
 namespace {
@@ -36,16 +35,46 @@ TriangleKey triangle_key(const std::vector<glm::vec3>& positions, const uint32_t
     return key;
 }
 
-struct TriangleKeyHash {
-    std::size_t operator()(const TriangleKey& key) const {
-        uint64_t hash = 0;
-        for (const glm::vec3& p : key)
-            for (int k = 0; k < 3; ++k) {
-                const float value = p[k] == 0.0f ? 0.0f : p[k];  // -0 and +0 are equal: one hash
-                hash = (hash ^ std::bit_cast<uint32_t>(value)) * 0x100000001b3ull;
-            }
-        return static_cast<std::size_t>(hash ^ (hash >> 29));
+uint64_t triangle_key_hash(const TriangleKey& key) {
+    uint64_t hash = 0;
+    for (const glm::vec3& p : key)
+        for (int k = 0; k < 3; ++k) {
+            const float value = p[k] == 0.0f ? 0.0f : p[k];  // -0 and +0 are equal: one hash
+            hash = (hash ^ std::bit_cast<uint32_t>(value)) * 0x100000001b3ull;
+        }
+    return hash ^ (hash >> 29);
+}
+
+// The triangles of one object met so far, by key: open addressing with linear probing in a
+// power-of-two table whose slots hold the upper half of a key's hash beside its number in the order
+// kept, so that a probe reads a stored key only when the hashes agree.
+class SeenTriangles {
+public:
+    explicit SeenTriangles(std::size_t triangles) : slots_(std::bit_ceil(2 * triangles + 2), empty) {
+        keys_.reserve(triangles);
     }
+    // Asks the processor to fetch the slot where a key with this hash starts probing: each insert
+    // of a large object would otherwise wait for its slot to come from memory.
+    void prefetch(uint64_t hash) const { __builtin_prefetch(&slots_[hash & (slots_.size() - 1)]); }
+    // False if an equal key (whose hash this is) was met before; otherwise remembers this one.
+    bool insert(const TriangleKey& key, uint64_t hash) {
+        const uint64_t tag = hash & 0xffffffff00000000ull;
+        const std::size_t mask = slots_.size() - 1;
+        for (std::size_t slot = hash & mask;; slot = (slot + 1) & mask) {
+            const uint64_t stored = slots_[slot];
+            if (stored == empty) {
+                slots_[slot] = tag | keys_.size();
+                keys_.push_back(key);
+                return true;
+            }
+            if ((stored & 0xffffffff00000000ull) == tag && keys_[stored & 0xffffffffu] == key) return false;
+        }
+    }
+
+private:
+    static constexpr uint64_t empty = ~0ull;  // no key has number 2^32 - 1 (at most 2^32 / 3 triangles)
+    std::vector<uint64_t> slots_;
+    std::vector<TriangleKey> keys_;
 };
 
 using Object = SceneBuilder::Object;
@@ -104,7 +133,11 @@ SceneData SceneBuilder::build() const {
     scene.face_colors.reserve(3 * total_triangles);
     scene.face_object.reserve(total_triangles);
     std::vector<glm::dvec3> world;      // all kept vertices, double precision for normals
+    std::size_t total_positions = 0;
+    for (const Object& object : objects_) total_positions += object.positions.size();
+    world.reserve(total_positions);
     std::vector<glm::dvec3> normals;    // per kept triangle
+    normals.reserve(total_triangles);
 
     for (std::size_t o = 0; o < objects_.size(); ++o) {
         const Object& object = objects_[o];
@@ -139,10 +172,18 @@ SceneData SceneBuilder::build() const {
         const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
         std::vector<int32_t> new_triangle(triangle_count, -1);
         std::vector<glm::dvec3> kept_normals;
-        std::unordered_set<TriangleKey, TriangleKeyHash> seen;
-        seen.reserve(triangle_count);
+        kept_normals.reserve(triangle_count);
+        SeenTriangles seen(triangle_count);
+        std::vector<TriangleKey> keys(triangle_count);
+        std::vector<uint64_t> hashes(triangle_count);
+        for (std::size_t t = 0; t < triangle_count; ++t) {
+            keys[t] = triangle_key(object.positions, &object.indices[3 * t]);
+            hashes[t] = triangle_key_hash(keys[t]);
+        }
+        constexpr std::size_t prefetch_ahead = 16;
         uint32_t kept = 0, without_area = 0, repeated = 0;
         for (std::size_t t = 0; t < triangle_count; ++t) {
+            if (t + prefetch_ahead < triangle_count) seen.prefetch(hashes[t + prefetch_ahead]);
             const glm::dvec3& a = local_world[object.indices[3 * t]];
             const glm::dvec3& b = local_world[object.indices[3 * t + 1]];
             const glm::dvec3& c = local_world[object.indices[3 * t + 2]];
@@ -154,7 +195,7 @@ SceneData SceneBuilder::build() const {
                 ++without_area;
                 continue;
             }
-            if (!seen.insert(triangle_key(object.positions, &object.indices[3 * t])).second) {
+            if (!seen.insert(keys[t], hashes[t])) {
                 ++repeated;
                 continue;
             }
@@ -231,20 +272,58 @@ SceneData SceneBuilder::build() const {
         for (int k = 0; k < 3; ++k)
             angle[3 * t + k] = corner_angle(world[scene.indices[3 * t + k]], world[scene.indices[3 * t + (k + 1) % 3]],
                                             world[scene.indices[3 * t + (k + 2) % 3]]);
-    scene.corner_normals.reserve(9 * triangles);
-    for (std::size_t t = 0; t < triangles; ++t) {
-        const glm::dvec3& own = normals[t];
-        const double limit = static_cast<double>(crease_cosines[scene.face_object[t]]) - 1e-6;
-        for (int k = 0; k < 3; ++k) {
-            uint32_t v = scene.indices[3 * t + k];
-            glm::dvec3 sum(0.0);
-            for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
-                uint32_t corner = around[i];
-                const glm::dvec3& other = normals[corner / 3];
-                if (glm::dot(own, other) >= limit) sum += angle[corner] * other;
+    // Vertex by vertex (its corners all belong to one object, so share one crease limit): the
+    // normals and angles of its corners side by side, which pairs of them are within the crease
+    // angle (each pair tested once, the test being symmetric), and the sum over all of them, which
+    // is each corner's sum unless some face is beyond its crease. Every sum adds its terms in the
+    // order of `around`.
+    scene.corner_normals.resize(9 * triangles);
+    std::vector<glm::dvec3> fan_normals;
+    std::vector<double> fan_angles;
+    std::vector<uint64_t> beyond_crease;  // per corner of the fan: bit j for corner j (fans up to 64)
+    for (std::size_t v = 0; v < world.size(); ++v) {
+        const uint32_t first = start[v], count = start[v + 1] - start[v];
+        if (count == 0) continue;
+        if (fan_normals.size() < count) {
+            fan_normals.resize(count);
+            fan_angles.resize(count);
+        }
+        for (uint32_t i = 0; i < count; ++i) {
+            fan_normals[i] = normals[around[first + i] / 3];
+            fan_angles[i] = angle[around[first + i]];
+        }
+        const double limit = static_cast<double>(crease_cosines[scene.face_object[around[first] / 3]]) - 1e-6;
+        auto store = [&](uint32_t corner, glm::dvec3 sum) {
+            const double length = glm::length(sum);
+            const glm::dvec3 n = length > 1e-12 ? sum / length : normals[corner / 3];
+            for (int k = 0; k < 3; ++k) scene.corner_normals[3 * std::size_t(corner) + k] = static_cast<float>(n[k]);
+        };
+        if (count > 64) {
+            for (uint32_t i = 0; i < count; ++i) {
+                glm::dvec3 sum(0.0);
+                for (uint32_t j = 0; j < count; ++j)
+                    if (glm::dot(fan_normals[i], fan_normals[j]) >= limit) sum += fan_angles[j] * fan_normals[j];
+                store(around[first + i], sum);
             }
-            double length = glm::length(sum);
-            push3(scene.corner_normals, length > 1e-12 ? sum / length : own);
+            continue;
+        }
+        beyond_crease.assign(count, 0);
+        for (uint32_t i = 0; i < count; ++i)
+            for (uint32_t j = i; j < count; ++j)
+                if (!(glm::dot(fan_normals[i], fan_normals[j]) >= limit)) {
+                    beyond_crease[i] |= uint64_t(1) << j;
+                    beyond_crease[j] |= uint64_t(1) << i;
+                }
+        glm::dvec3 all(0.0);
+        for (uint32_t j = 0; j < count; ++j) all += fan_angles[j] * fan_normals[j];
+        for (uint32_t i = 0; i < count; ++i) {
+            glm::dvec3 sum = all;
+            if (beyond_crease[i] != 0) {
+                sum = glm::dvec3(0.0);
+                for (uint32_t j = 0; j < count; ++j)
+                    if (!(beyond_crease[i] >> j & 1)) sum += fan_angles[j] * fan_normals[j];
+            }
+            store(around[first + i], sum);
         }
     }
     return scene;

@@ -11,8 +11,8 @@ namespace hsr {
 
 class AtomicFile;
 
-// channels: 1 (grey), 3 (RGB) or 4 (RGBA); rows top to bottom. Throws hsr::Error if the file cannot
-// be written.
+// channels: 1 (grey), 3 (RGB) or 4 (RGBA); rows top to bottom; compressed as encode_png compresses,
+// marked as sRGB. Throws hsr::Error if the file cannot be written.
 void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels);
 void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
                std::span<const uint8_t> pixels);
