@@ -123,10 +123,11 @@ void ColorsToBytes(const float* color, size_t count, uint8_t* bytes) {
     const size_t lanes = Lanes(df);
     size_t i = 0;
     for (; i + lanes <= count; i += lanes) {
+        // Held to [0, 1] first (NaN to 0), so that the conversion never sees a value out of range:
+        // 1 becomes 255.5, which truncates to 255, and 0 becomes 0.5, which truncates to 0.
         const auto v = LoadU(df, color + i);
-        auto b = ConvertTo(di, Add(Mul(v, Set(df, 255.0f)), Set(df, 0.5f)));
-        b = IfThenElse(RebindMask(di, Ge(v, Set(df, 1.0f))), Set(di, 255), b);
-        b = IfThenZeroElse(RebindMask(di, Not(Gt(v, Zero(df)))), b);
+        const auto held = Min(IfThenElseZero(Gt(v, Zero(df)), v), Set(df, 1.0f));
+        const auto b = ConvertTo(di, Add(Mul(held, Set(df, 255.0f)), Set(df, 0.5f)));
         StoreU(DemoteTo(d8, b), d8, bytes + i);
     }
     for (; i < count; ++i) bytes[i] = color_to_byte(color[i]);
