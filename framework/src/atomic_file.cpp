@@ -5,6 +5,7 @@
 #include "hsr/error.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -32,12 +33,50 @@ struct TemporarySlot {
 };
 TemporarySlot temporary_slots[32];
 
+// The handler runs on any thread while the others go on, so a temporary created on another thread
+// between the handler's look at the slots and the end of the process would be left behind. Creating
+// a temporary and arming its slot is therefore one step the handler waits for (`creating`), and once
+// the handler has begun (`terminating`) no thread creates another.
+std::atomic<bool> terminating{false};
+std::atomic<int> creating{0};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free);
+
 void remove_temporaries_and_reraise(int signal_number) {
+    terminating.store(true);
+    while (creating.load() != 0) {
+    }
     for (TemporarySlot& slot : temporary_slots)
         if (slot.state.load() == slot_armed) ::unlink(slot.path);
     ::signal(signal_number, SIG_DFL);
     ::raise(signal_number);  // delivered on return: the process ends as the signal asked
 }
+
+// Blocks the handled signals on this thread (so the handler, which waits for `creating`, never runs
+// on it) and counts it in `creating` for the lifetime of the guard. When the process is already
+// ending by a signal, it waits for that end instead.
+class CreatingTemporary {
+public:
+    CreatingTemporary() {
+        sigset_t handled;
+        sigemptyset(&handled);
+        for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&handled, signal_number);
+        ::pthread_sigmask(SIG_BLOCK, &handled, &previous_);
+        creating.fetch_add(1);
+        if (terminating.load()) {
+            creating.fetch_sub(1);
+            for (;;) ::pause();  // another thread's handler is ending the process
+        }
+    }
+    ~CreatingTemporary() {
+        creating.fetch_sub(1);
+        ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+    }
+    CreatingTemporary(const CreatingTemporary&) = delete;
+    CreatingTemporary& operator=(const CreatingTemporary&) = delete;
+
+private:
+    sigset_t previous_;
+};
 
 void install_signal_handlers() {
     static std::once_flag once;
@@ -127,6 +166,7 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)), destinatio
             throw Error("cannot write {}: {}", target_.string(), why);
         }
     } else {
+        const CreatingTemporary creating_temporary;
         for (int attempt = 0; fd < 0 && attempt < 16; ++attempt) {
             temporary_ = temporary_name(destination_);
             fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
