@@ -4,6 +4,7 @@
 // formats, relative indices, polygons, repeated corners and lines OpenMesh skips; and the same
 // one-line refusals, for OFF and PLY too.
 #include "hsr/error.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/scene_builder.hpp"
 
 #include "../framework/src/malformed_models.hpp"
@@ -231,7 +232,8 @@ TEST_CASE("OBJ: refusals are one line naming the file and the line, before anyth
         {"hex.obj", "v 0x10 0 0\n", ":1: vertex coordinate '0x10' is not a number"},
         {"short-face.obj", triangle + "f 1 2\n", ":4: a face needs at least 3 vertices"},
         {"no-faces.obj", triangle + "# nothing else\n", ": the model has no faces"},
-        {"long-line.obj", triangle + "f 1 2" + std::string(5'000'000, ' ') + "3 x\n", ":4: 'x' is not a vertex reference"},
+        {"long-line-refused.obj", triangle + "f 1 2" + std::string(5'000'000, ' ') + "3 x\n",
+         ":4: 'x' is not a vertex reference"},
     };
     for (const Case& c : cases) {
         const fs::path file = write_file(c.name, c.text);
@@ -243,6 +245,91 @@ TEST_CASE("OBJ: refusals are one line naming the file and the line, before anyth
         CHECK(message.find('\n') == std::string::npos);
         require_same_load(file);
     }
+}
+
+// The contents, or the refusal, of checking `text` in pieces of piece_bytes.
+std::variant<hsr::ObjContents, std::string> check_in_pieces(const fs::path& file, const std::string& text,
+                                                            std::size_t piece_bytes) {
+    try {
+        return hsr::check_obj_text(file, text, piece_bytes);
+    } catch (const hsr::Error& e) {
+        return std::string(e.what());
+    }
+}
+
+TEST_CASE("OBJ: checked in pieces of any size, the contents or the first refusal are a whole check's",
+          "[model-loading]") {
+    std::vector<std::pair<fs::path, std::string>> files;
+    for (const fs::path& dir : {fs::path(HSR_MODELS_DIR), fs::path(HSR_SOURCE_DIR) / "fuzz" / "corpus" / "obj",
+                                fs::path(HSR_SOURCE_DIR) / "tests" / "data" / "bad"})
+        for (const fs::directory_entry& e : fs::directory_iterator(dir))
+            if (e.path().extension() == ".obj") {
+                std::ifstream in(e.path(), std::ios::binary);
+                files.emplace_back(e.path(), std::string(std::istreambuf_iterator<char>(in), {}));
+            }
+    // Each of these goes wrong, or counts differently, only late in the file, so that pieces after
+    // the first must know what the lines before them held.
+    const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    const std::vector<std::string> texts = {
+        "\xEF\xBB\xBF" + triangle + "f 1 2 3\n" + triangle + "f -3 -2 -1\nf 1 5 -1\n",
+        triangle + "f 1 2 3\n \vv 5 5 5\n\ff 9 9 9\nv 1 1 0\nf -3 -1 -2\n# c\n\n\tf 1 2 4 # quad\r\n",
+        triangle + "f 1 2 3\n" + triangle + "f 1 2 7\n",                  // out of range, found at the end
+        triangle + "f 1 2 3\n" + triangle + "f 1 2 3\nf 1 2 -7\n",      // before the first vertex
+        triangle + "f 1 2 3\n" + triangle + "f 1 2 3\nf 1 2 -6\n",      // just not before it
+        triangle + "f 1 2 3\n" + triangle + "f 1 2 x\nf 1 2 9\n",       // the first of two errors
+        triangle + "f 1 2 3\n" + triangle + "f 9 2 3\nf 1 2 0\n",       // out of range, then a bad line
+        triangle + "\vv 1 1 1\nf 1 2 3\nf 2 3 4\n",                      // a vertex OpenMesh does not have
+        triangle + "f 1 2 3 1 2 3\nv 1 1 1\nf 1 2 3 4\nfx 1 2\nv# 2 2 2\nf#\nf 1 2 4",
+    };
+    for (std::size_t k = 0; k < texts.size(); ++k) files.emplace_back(fmt::format("case-{}.obj", k), texts[k]);
+    for (const auto& [file, text] : files) {
+        INFO(file.string());
+        const auto whole = check_in_pieces(file, text, std::size_t(-1));
+        if (const auto* message = std::get_if<std::string>(&whole)) {  // the refusal of the reference check
+            try {
+                hsr::obj_text_for_openmesh(file, text);
+                FAIL("the reference check takes it");
+            } catch (const hsr::Error& e) {
+                CHECK(*message == e.what());
+            }
+        }
+        for (std::size_t piece_bytes : {1, 2, 3, 17, 100, 4096}) {
+            INFO("pieces of " << piece_bytes << " bytes");
+            const auto pieces = check_in_pieces(file, text, piece_bytes);
+            REQUIRE(pieces.index() == whole.index());
+            if (const auto* message = std::get_if<std::string>(&whole)) {
+                CHECK(std::get<std::string>(pieces) == *message);
+                continue;
+            }
+            const hsr::ObjContents& a = std::get<hsr::ObjContents>(pieces);
+            const hsr::ObjContents& b = std::get<hsr::ObjContents>(whole);
+            REQUIRE(a.positions.size() == b.positions.size());
+            CHECK(std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof a.positions[0]) == 0);
+            CHECK(a.corners == b.corners);
+            CHECK(a.face_ends == b.face_ends);
+        }
+    }
+}
+
+TEST_CASE("OBJ: the stored-triangles limit stops the check at the same line in pieces as whole",
+          "[model-loading]") {
+    std::string text;
+    for (int k = 0; k < 50; ++k) text += fmt::format("v {} 0 0\nv {} 1 0\nv {} 0 1\nf -3 -2 -1\nf -1 -2 -3 -1\n", k, k, k);
+    const hsr::Limits defaults = hsr::limits();
+    hsr::Limits small = defaults;
+    for (uint64_t limit : {uint64_t(1), uint64_t(2), uint64_t(37), uint64_t(149), uint64_t(150)}) {
+        INFO("at most " << limit << " triangles");
+        small.stored_triangles = limit;
+        hsr::set_limits(small);
+        const auto whole = check_in_pieces("limit.obj", text, std::size_t(-1));
+        CHECK(std::holds_alternative<std::string>(whole) == (limit < 150));
+        for (std::size_t piece_bytes : {1, 5, 64, 333}) {
+            const auto pieces = check_in_pieces("limit.obj", text, piece_bytes);
+            REQUIRE(pieces.index() == whole.index());
+            if (const auto* message = std::get_if<std::string>(&whole)) CHECK(std::get<std::string>(pieces) == *message);
+        }
+    }
+    hsr::set_limits(defaults);
 }
 
 TEST_CASE("OFF and PLY: a claim of 2^40 faces or a NaN is refused in one line, without a large allocation",
