@@ -5,6 +5,8 @@
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -15,6 +17,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <optional>
 #include <span>
 #include <utility>
@@ -151,17 +154,118 @@ public:
     // can fall behind theirs: its own count resolves relative references.
     ObjContents check_obj(std::string_view text) {
         text.remove_prefix(byte_order_mark(text));
-        LineReader lines(text, '#');
-        ObjContents contents;
+        std::vector<ObjPiece> pieces(1);
+        check_obj_lines(text, ObjCounts{}, pieces[0]);
+        return finish_obj(pieces);
+    }
+
+    // check_obj on pieces of about piece_bytes, cut after a line end, on the threads oneTBB allows.
+    // A first pass counts each piece's lines, vertices and stored triangles (a scan for the first
+    // word of each line); with those sums, each piece is checked as if every line before it had been
+    // (the line numbers, the vertex counts relative references resolve against, the triangles the
+    // limit counts). The first piece that fails fails the whole: every line before its first bad line
+    // is good, so its counts, and so its message, are those of a check line by line.
+    ObjContents check_obj_in_pieces(std::string_view text, std::size_t piece_bytes) {
+        text.remove_prefix(byte_order_mark(text));
+        std::vector<std::string_view> parts;
+        while (!text.empty()) {
+            std::size_t end = text.size();
+            if (text.size() > piece_bytes) {
+                const std::size_t line_end = text.find('\n', piece_bytes - 1);
+                if (line_end != std::string_view::npos) end = line_end + 1;
+            }
+            parts.push_back(text.substr(0, end));
+            text.remove_prefix(end);
+        }
+        if (parts.empty()) parts.emplace_back();
+        std::vector<ObjCounts> counts(parts.size() + 1);  // counts[k + 1]: of part k alone, then before part k + 1
+        tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t k) { counts[k + 1] = count_obj_lines(parts[k]); });
+        for (std::size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
+        std::vector<ObjPiece> pieces(parts.size());
+        tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t k) {
+            try {
+                TextChecker(file_).check_obj_lines(parts[k], counts[k], pieces[k]);
+            } catch (...) {
+                pieces[k].error = std::current_exception();
+            }
+        });
+        for (const ObjPiece& piece : pieces)
+            if (piece.error) std::rethrow_exception(piece.error);
+        return finish_obj(pieces);
+    }
+
+private:
+    // What checking an OBJ text carries from line to line.
+    struct ObjCounts {
+        std::size_t lines = 0;
         long long vertices = 0;
-        long long largest = 0;
-        std::size_t largest_line = 0;
         long long openmesh_vertices = 0;  // the vertices as OpenMesh's reader counts them
-        bool missing_vertex = false;      // a face refers to one OpenMesh's reader does not have
+        uint64_t triangles = 0;           // the faces' stored triangles, which the limit counts
+
+        ObjCounts& operator+=(const ObjCounts& other) {
+            lines += other.lines;
+            vertices += other.vertices;
+            openmesh_vertices += other.openmesh_vertices;
+            triangles += other.triangles;
+            return *this;
+        }
+    };
+    // What the lines of a piece of an OBJ text hold.
+    struct ObjPiece {
+        ObjContents contents;
+        long long vertices_after = 0;  // the file's vertices up to the piece's end, and OpenMesh's count
+        long long openmesh_vertices_after = 0;
+        long long largest = 0;  // the largest vertex reference, and the line of its first use
+        std::size_t largest_line = 0;
+        bool missing_vertex = false;  // a face refers to one OpenMesh's reader does not have
+        std::exception_ptr error;
+    };
+
+    // Whether OpenMesh's OBJ reader skips the line (it trims only " \t\r\n", then sees no keyword).
+    static bool openmesh_skips(std::string_view line) {
+        const std::size_t first = line.find_first_not_of(" \t\r\n");
+        return first != std::string_view::npos && is_space(line[first]);
+    }
+
+    // The counts of check_obj_lines for text whose lines are all good, from each line's first word
+    // and, for a face, its number of words.
+    static ObjCounts count_obj_lines(std::string_view text) {
+        ObjCounts counts;
+        std::size_t pos = 0;
+        while (pos < text.size()) {
+            std::size_t end = text.find('\n', pos);
+            if (end == std::string_view::npos) end = text.size();
+            std::string_view line = text.substr(pos, end - pos);
+            pos = end + 1;
+            ++counts.lines;
+            const std::string_view data = line.substr(0, line.find('#'));
+            std::size_t c = 0;
+            while (c < data.size() && is_space(data[c])) ++c;
+            if (c + 1 > data.size() || (c + 1 < data.size() && !is_space(data[c + 1]))) continue;  // not one letter
+            if (data[c] == 'v') {
+                ++counts.vertices;
+                if (!openmesh_skips(line)) ++counts.openmesh_vertices;
+            } else if (data[c] == 'f') {
+                uint64_t words = 0;
+                for (std::size_t k = c; k < data.size(); ++k)
+                    if (!is_space(data[k]) && (k == 0 || is_space(data[k - 1]))) ++words;
+                if (words >= 4) counts.triangles += words - 3;
+            }
+        }
+        return counts;
+    }
+
+    // Checks the lines of text, `before` being what the lines before it held, into piece.
+    void check_obj_lines(std::string_view text, const ObjCounts& before, ObjPiece& piece) {
+        LineReader lines(text, '#', before.lines);
+        ObjContents& contents = piece.contents;
+        long long vertices = before.vertices;
+        long long openmesh_vertices = before.openmesh_vertices;
+        triangles_ = before.triangles;
         while (const Line* next_line = lines.next()) {
             const Line& line = *next_line;
             std::string_view kind = line.tokens[0];
-            const bool openmesh_skips = is_space(line.text[line.text.find_first_not_of(" \t\r\n")]);
+            const bool skipped = openmesh_skips(line.text);
             if (kind == "v") {
                 std::array<float, 3> position;
                 if (!obj_coordinates(line, position)) {
@@ -169,7 +273,7 @@ public:
                     for (int k = 0; k < 3; ++k) position[k] = openmesh_float(line.tokens[1 + k]);
                 }
                 ++vertices;
-                if (!openmesh_skips) {
+                if (!skipped) {
                     contents.positions.push_back(position);
                     ++openmesh_vertices;
                 }
@@ -188,26 +292,66 @@ public:
                         fail(line.number, fmt::format("{} is not a vertex reference", in_quotes(ref)));
                     if (*index < -vertices)
                         fail(line.number, fmt::format("vertex reference {} goes before the first vertex", *index));
-                    if (*index > largest) {
-                        largest = *index;
-                        largest_line = line.number;
+                    if (*index > piece.largest) {
+                        piece.largest = *index;
+                        piece.largest_line = line.number;
                     }
-                    if (openmesh_skips) continue;
+                    if (skipped) continue;
                     const long long corner = (*index < 0 ? openmesh_vertices + *index + 1 : *index) - 1;
-                    missing_vertex = missing_vertex || corner < 0;
+                    piece.missing_vertex = piece.missing_vertex || corner < 0;
                     contents.corners.push_back(static_cast<int32_t>(std::max(corner, -1LL)));
                 }
-                if (!openmesh_skips) contents.face_ends.push_back(static_cast<uint32_t>(contents.corners.size()));
+                if (!skipped) contents.face_ends.push_back(static_cast<uint32_t>(contents.corners.size()));
             }
         }
+        piece.vertices_after = vertices;
+        piece.openmesh_vertices_after = openmesh_vertices;
+    }
+
+    // The checks of the whole file once its lines are checked, and the pieces' contents as one.
+    ObjContents finish_obj(std::vector<ObjPiece>& pieces) const {
+        long long largest = 0;
+        std::size_t largest_line = 0;
+        bool missing_vertex = false;
+        std::size_t positions = 0, corners = 0, faces = 0;
+        for (const ObjPiece& piece : pieces) {
+            if (piece.largest > largest) {
+                largest = piece.largest;
+                largest_line = piece.largest_line;
+            }
+            missing_vertex = missing_vertex || piece.missing_vertex;
+            positions += piece.contents.positions.size();
+            corners += piece.contents.corners.size();
+            faces += piece.contents.face_ends.size();
+        }
+        const long long vertices = pieces.back().vertices_after;
+        const long long openmesh_vertices = pieces.back().openmesh_vertices_after;
         if (largest > vertices)
             fail(largest_line, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                            largest, vertices));
+        if (pieces.size() == 1) {
+            for (int32_t corner : pieces[0].contents.corners)
+                missing_vertex = missing_vertex || corner >= openmesh_vertices;
+            if (missing_vertex) fail("some faces refer to vertices that do not exist");
+            return std::move(pieces[0].contents);
+        }
+        ObjContents contents;
+        contents.positions.reserve(positions);
+        contents.corners.reserve(corners);
+        contents.face_ends.reserve(faces);
+        for (const ObjPiece& piece : pieces) {
+            const auto offset = static_cast<uint32_t>(contents.corners.size());
+            contents.positions.insert(contents.positions.end(), piece.contents.positions.begin(),
+                                      piece.contents.positions.end());
+            contents.corners.insert(contents.corners.end(), piece.contents.corners.begin(), piece.contents.corners.end());
+            for (uint32_t face_end : piece.contents.face_ends) contents.face_ends.push_back(offset + face_end);
+        }
         for (int32_t corner : contents.corners) missing_vertex = missing_vertex || corner >= openmesh_vertices;
         if (missing_vertex) fail("some faces refer to vertices that do not exist");
         return contents;
     }
 
+public:
     // The three coordinates of a v line parsed straight to float, when that settles the checks of
     // coordinates(): a finite float below FLT_MAX in size comes from a decimal whose double value is
     // finite and at most FLT_MAX. False when coordinates() must decide.
@@ -580,8 +724,8 @@ private:
 
 }  // namespace
 
-ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text) {
-    return TextChecker(file).check_obj(text);
+ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text, std::size_t piece_bytes) {
+    return TextChecker(file).check_obj_in_pieces(text, piece_bytes);
 }
 
 std::string obj_text_for_openmesh(const std::filesystem::path& file, std::string text) {

@@ -22,8 +22,10 @@ struct ObjContents {
     std::vector<uint32_t> face_ends;  // where each face's corners end
 };
 
-// Checks an OBJ file and returns what it holds.
-ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text);
+// Checks an OBJ file and returns what it holds: the same contents, or the same first error, as a
+// check line by line, with pieces of about piece_bytes checked in parallel.
+ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text,
+                           std::size_t piece_bytes = std::size_t(1) << 18);
 // Checks an OBJ file and returns its text for OpenMesh's OBJ reader, with lines that would make it
 // open other files commented out (the reference that tests compare check_obj_text with).
 std::string obj_text_for_openmesh(const std::filesystem::path& file, std::string text);
