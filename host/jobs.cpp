@@ -105,6 +105,7 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
                 check(writer.wait());  // the messages of the frame before come first
                 const auto start = std::chrono::steady_clock::now();
                 try {
+                    const ThreadBound thread_bound(job.options.threads);
                     shared.scene = std::make_shared<LoadedScene>(load_scene(job.options));
                 } catch (const std::exception& e) {
                     shared.error = e.what();

@@ -134,7 +134,7 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "picture as that step left it; prints what the step did")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
         ("threads", po::value(&o.threads)->default_value(0),
-         fmt::format("threads for visibility and shading, at most {} (0 = one per core)", max_threads).c_str())
+         fmt::format("threads for loading, visibility and shading, at most {} (0 = one per core)", max_threads).c_str())
         ("limit", po::value(&o.limits)->composing(), hsr::describe_limit_option().c_str())
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
     return general;

@@ -9,7 +9,6 @@
 #include "hsr/image.hpp"
 #include "hsr/pipeline.hpp"
 
-#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -122,12 +121,11 @@ hsr::host::RenderedPicture hsr::host::render_picture(const RenderOptions& o, con
     picture.samples = frame_settings.samples;
     picture.scene_view = scene.scene.view();
     const hsr_shading_context context = hsr::make_shading_context(scene.camera, lights);
-    // --threads bounds every parallel thing of the render, the plugins' oneTBB work included.
-    std::optional<tbb::global_control> thread_bound;
-    if (o.threads > 0) thread_bound.emplace(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
-    picture.frame = hsr::render_supersampled_frame(picture.scene_view, scene.camera, *plugins.remover,
-                                                   *plugins.lighting, context, frame_settings);
-    thread_bound.reset();
+    {
+        const ThreadBound thread_bound(o.threads);
+        picture.frame = hsr::render_supersampled_frame(picture.scene_view, scene.camera, *plugins.remover,
+                                                       *plugins.lighting, context, frame_settings);
+    }
     if (o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty())
         picture.depth_complexity = hsr::measure_depth_complexity(picture.scene_view, scene.camera);
     return picture;

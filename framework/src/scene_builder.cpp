@@ -9,6 +9,9 @@
 #include "model_reader.hpp"
 #include "polygon_triangulation.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -78,6 +81,15 @@ private:
 };
 
 using Object = SceneBuilder::Object;
+
+// work(begin, end) over [0, count) in pieces of at least `grain` items, on the threads oneTBB allows
+// (the host bounds them with --threads). Each item's result depends on that item alone, so the scene
+// is the same for any number of threads.
+template <class Work>
+void in_parallel(std::size_t count, std::size_t grain, Work&& work) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, grain),
+                      [&](const tbb::blocked_range<std::size_t>& range) { work(range.begin(), range.end()); });
+}
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -176,10 +188,12 @@ SceneData SceneBuilder::build() const {
         SeenTriangles seen(triangle_count);
         std::vector<TriangleKey> keys(triangle_count);
         std::vector<uint64_t> hashes(triangle_count);
-        for (std::size_t t = 0; t < triangle_count; ++t) {
-            keys[t] = triangle_key(object.positions, &object.indices[3 * t]);
-            hashes[t] = triangle_key_hash(keys[t]);
-        }
+        in_parallel(triangle_count, 4096, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t t = begin; t < end; ++t) {
+                keys[t] = triangle_key(object.positions, &object.indices[3 * t]);
+                hashes[t] = triangle_key_hash(keys[t]);
+            }
+        });
         constexpr std::size_t prefetch_ahead = 16;
         uint32_t kept = 0, without_area = 0, repeated = 0;
         for (std::size_t t = 0; t < triangle_count; ++t) {
@@ -268,64 +282,70 @@ SceneData SceneBuilder::build() const {
         for (uint32_t corner = 0; corner < scene.indices.size(); ++corner) around[fill[scene.indices[corner]]++] = corner;
     }
     std::vector<double> angle(scene.indices.size());
-    for (std::size_t t = 0; t < triangles; ++t)
-        for (int k = 0; k < 3; ++k)
-            angle[3 * t + k] = corner_angle(world[scene.indices[3 * t + k]], world[scene.indices[3 * t + (k + 1) % 3]],
-                                            world[scene.indices[3 * t + (k + 2) % 3]]);
+    in_parallel(triangles, 4096, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t t = begin; t < end; ++t)
+            for (int k = 0; k < 3; ++k)
+                angle[3 * t + k] = corner_angle(world[scene.indices[3 * t + k]],
+                                                world[scene.indices[3 * t + (k + 1) % 3]],
+                                                world[scene.indices[3 * t + (k + 2) % 3]]);
+    });
     // Vertex by vertex (its corners all belong to one object, so share one crease limit): the
     // normals and angles of its corners side by side, which pairs of them are within the crease
     // angle (each pair tested once, the test being symmetric), and the sum over all of them, which
     // is each corner's sum unless some face is beyond its crease. Every sum adds its terms in the
     // order of `around`.
     scene.corner_normals.resize(9 * triangles);
-    std::vector<glm::dvec3> fan_normals;
-    std::vector<double> fan_angles;
-    std::vector<uint64_t> beyond_crease;  // per corner of the fan: bit j for corner j (fans up to 64)
-    for (std::size_t v = 0; v < world.size(); ++v) {
-        const uint32_t first = start[v], count = start[v + 1] - start[v];
-        if (count == 0) continue;
-        if (fan_normals.size() < count) {
-            fan_normals.resize(count);
-            fan_angles.resize(count);
-        }
-        for (uint32_t i = 0; i < count; ++i) {
-            fan_normals[i] = normals[around[first + i] / 3];
-            fan_angles[i] = angle[around[first + i]];
-        }
-        const double limit = static_cast<double>(crease_cosines[scene.face_object[around[first] / 3]]) - 1e-6;
-        auto store = [&](uint32_t corner, glm::dvec3 sum) {
-            const double length = glm::length(sum);
-            const glm::dvec3 n = length > 1e-12 ? sum / length : normals[corner / 3];
-            for (int k = 0; k < 3; ++k) scene.corner_normals[3 * std::size_t(corner) + k] = static_cast<float>(n[k]);
-        };
-        if (count > 64) {
+    in_parallel(world.size(), 2048, [&](std::size_t begin, std::size_t end) {
+        std::vector<glm::dvec3> fan_normals;
+        std::vector<double> fan_angles;
+        std::vector<uint64_t> beyond_crease;  // per corner of the fan: bit j for corner j (fans up to 64)
+        for (std::size_t v = begin; v < end; ++v) {
+            const uint32_t first = start[v], count = start[v + 1] - start[v];
+            if (count == 0) continue;
+            if (fan_normals.size() < count) {
+                fan_normals.resize(count);
+                fan_angles.resize(count);
+            }
             for (uint32_t i = 0; i < count; ++i) {
-                glm::dvec3 sum(0.0);
-                for (uint32_t j = 0; j < count; ++j)
-                    if (glm::dot(fan_normals[i], fan_normals[j]) >= limit) sum += fan_angles[j] * fan_normals[j];
+                fan_normals[i] = normals[around[first + i] / 3];
+                fan_angles[i] = angle[around[first + i]];
+            }
+            const double limit = static_cast<double>(crease_cosines[scene.face_object[around[first] / 3]]) - 1e-6;
+            auto store = [&](uint32_t corner, glm::dvec3 sum) {
+                const double length = glm::length(sum);
+                const glm::dvec3 n = length > 1e-12 ? sum / length : normals[corner / 3];
+                for (int k = 0; k < 3; ++k)
+                    scene.corner_normals[3 * std::size_t(corner) + k] = static_cast<float>(n[k]);
+            };
+            if (count > 64) {
+                for (uint32_t i = 0; i < count; ++i) {
+                    glm::dvec3 sum(0.0);
+                    for (uint32_t j = 0; j < count; ++j)
+                        if (glm::dot(fan_normals[i], fan_normals[j]) >= limit) sum += fan_angles[j] * fan_normals[j];
+                    store(around[first + i], sum);
+                }
+                continue;
+            }
+            beyond_crease.assign(count, 0);
+            for (uint32_t i = 0; i < count; ++i)
+                for (uint32_t j = i; j < count; ++j)
+                    if (!(glm::dot(fan_normals[i], fan_normals[j]) >= limit)) {
+                        beyond_crease[i] |= uint64_t(1) << j;
+                        beyond_crease[j] |= uint64_t(1) << i;
+                    }
+            glm::dvec3 all(0.0);
+            for (uint32_t j = 0; j < count; ++j) all += fan_angles[j] * fan_normals[j];
+            for (uint32_t i = 0; i < count; ++i) {
+                glm::dvec3 sum = all;
+                if (beyond_crease[i] != 0) {
+                    sum = glm::dvec3(0.0);
+                    for (uint32_t j = 0; j < count; ++j)
+                        if (!(beyond_crease[i] >> j & 1)) sum += fan_angles[j] * fan_normals[j];
+                }
                 store(around[first + i], sum);
             }
-            continue;
         }
-        beyond_crease.assign(count, 0);
-        for (uint32_t i = 0; i < count; ++i)
-            for (uint32_t j = i; j < count; ++j)
-                if (!(glm::dot(fan_normals[i], fan_normals[j]) >= limit)) {
-                    beyond_crease[i] |= uint64_t(1) << j;
-                    beyond_crease[j] |= uint64_t(1) << i;
-                }
-        glm::dvec3 all(0.0);
-        for (uint32_t j = 0; j < count; ++j) all += fan_angles[j] * fan_normals[j];
-        for (uint32_t i = 0; i < count; ++i) {
-            glm::dvec3 sum = all;
-            if (beyond_crease[i] != 0) {
-                sum = glm::dvec3(0.0);
-                for (uint32_t j = 0; j < count; ++j)
-                    if (!(beyond_crease[i] >> j & 1)) sum += fan_angles[j] * fan_normals[j];
-            }
-            store(around[first + i], sum);
-        }
-    }
+    });
     return scene;
 }
 
