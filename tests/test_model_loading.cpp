@@ -29,6 +29,7 @@
 #include <vector>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -108,10 +109,20 @@ void require_same_load(const fs::path& file) {
     CHECK(a.separated_faces == b.separated_faces);
 }
 
+// A scratch folder of each test process's own, removed at its end: ctest runs the cases side by side,
+// and other checkouts' tests may run at the same time.
+struct ScratchFolder {
+    fs::path dir = fs::temp_directory_path() / fmt::format("hsr-test-model-loading-{}", ::getpid());
+    ScratchFolder() { fs::create_directories(dir); }
+    ~ScratchFolder() {
+        std::error_code ignored;
+        fs::remove_all(dir, ignored);
+    }
+};
+
 fs::path write_file(const std::string& name, const std::string& text) {
-    const fs::path dir = fs::temp_directory_path() / "hsr-test-model-loading";
-    fs::create_directories(dir);
-    const fs::path file = dir / name;
+    static const ScratchFolder scratch;
+    const fs::path file = scratch.dir / name;
     std::ofstream(file, std::ios::binary) << text;
     return file;
 }
