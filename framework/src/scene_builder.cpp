@@ -49,35 +49,34 @@ uint64_t triangle_key_hash(const TriangleKey& key) {
 }
 
 // The triangles of one object met so far, by key: open addressing with linear probing in a
-// power-of-two table whose slots hold the upper half of a key's hash beside its number in the order
-// kept, so that a probe reads a stored key only when the hashes agree.
+// power-of-two table whose slots hold the upper half of a key's hash beside the triangle's number.
+// Keys are not stored: when the hashes agree, the stored triangle's key is made again (key_of), which
+// a table of 70,000 triangles does a handful of times, against 2.5 MB of keys kept.
 class SeenTriangles {
 public:
-    explicit SeenTriangles(std::size_t triangles) : slots_(std::bit_ceil(2 * triangles + 2), empty) {
-        keys_.reserve(triangles);
-    }
+    explicit SeenTriangles(std::size_t triangles) : slots_(std::bit_ceil(2 * triangles + 2), empty) {}
     // Asks the processor to fetch the slot where a key with this hash starts probing: each insert
     // of a large object would otherwise wait for its slot to come from memory.
     void prefetch(uint64_t hash) const { __builtin_prefetch(&slots_[hash & (slots_.size() - 1)]); }
-    // False if an equal key (whose hash this is) was met before; otherwise remembers this one.
-    bool insert(const TriangleKey& key, uint64_t hash) {
+    // False if a triangle with an equal key (whose hash this is) was met before; otherwise remembers
+    // this one.
+    template <class KeyOf>
+    bool insert(uint32_t triangle, uint64_t hash, const KeyOf& key_of) {
         const uint64_t tag = hash & 0xffffffff00000000ull;
         const std::size_t mask = slots_.size() - 1;
         for (std::size_t slot = hash & mask;; slot = (slot + 1) & mask) {
             const uint64_t stored = slots_[slot];
             if (stored == empty) {
-                slots_[slot] = tag | keys_.size();
-                keys_.push_back(key);
+                slots_[slot] = tag | triangle;
                 return true;
             }
-            if ((stored & 0xffffffff00000000ull) == tag && keys_[stored & 0xffffffffu] == key) return false;
+            if ((stored & 0xffffffff00000000ull) == tag && key_of(uint32_t(stored)) == key_of(triangle)) return false;
         }
     }
 
 private:
-    static constexpr uint64_t empty = ~0ull;  // no key has number 2^32 - 1 (at most 2^32 / 3 triangles)
+    static constexpr uint64_t empty = ~0ull;  // no triangle has number 2^32 - 1 (at most 2^32 / 3 triangles)
     std::vector<uint64_t> slots_;
-    std::vector<TriangleKey> keys_;
 };
 
 using Object = SceneBuilder::Object;
@@ -183,16 +182,11 @@ SceneData SceneBuilder::build() const {
         const std::size_t triangle_count = object.indices.size() / 3;
         const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
         std::vector<int32_t> new_triangle(triangle_count, -1);
-        std::vector<glm::dvec3> kept_normals;
-        kept_normals.reserve(triangle_count);
         SeenTriangles seen(triangle_count);
-        std::vector<TriangleKey> keys(triangle_count);
+        const auto key_of = [&](uint32_t t) { return triangle_key(object.positions, &object.indices[3 * std::size_t(t)]); };
         std::vector<uint64_t> hashes(triangle_count);
         in_parallel(triangle_count, 4096, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t t = begin; t < end; ++t) {
-                keys[t] = triangle_key(object.positions, &object.indices[3 * t]);
-                hashes[t] = triangle_key_hash(keys[t]);
-            }
+            for (std::size_t t = begin; t < end; ++t) hashes[t] = triangle_key_hash(key_of(uint32_t(t)));
         });
         constexpr std::size_t prefetch_ahead = 16;
         uint32_t kept = 0, without_area = 0, repeated = 0;
@@ -209,12 +203,12 @@ SceneData SceneBuilder::build() const {
                 ++without_area;
                 continue;
             }
-            if (!seen.insert(keys[t], hashes[t])) {
+            if (!seen.insert(uint32_t(t), hashes[t], key_of)) {
                 ++repeated;
                 continue;
             }
             new_triangle[t] = static_cast<int32_t>(first_triangle + kept++);
-            kept_normals.push_back(n / length);
+            normals.push_back(n / length);
         }
         if (without_area > 0)
             scene.warnings.push_back(fmt::format("{}: {} triangle{} without area dropped", object.source,
@@ -252,10 +246,7 @@ SceneData SceneBuilder::build() const {
             scene.face_object.push_back(static_cast<uint32_t>(o));
             scene.face_colors.insert(scene.face_colors.end(), {options.color.r, options.color.g, options.color.b});
         }
-        for (const glm::dvec3& n : kept_normals) {
-            normals.push_back(n);
-            push3(scene.face_normals, n);
-        }
+        for (std::size_t t = first_triangle; t < normals.size(); ++t) push3(scene.face_normals, normals[t]);
         scene.object_names.push_back(name);
         crease_cosines.push_back(static_cast<float>(std::cos(glm::radians(double(options.crease_angle_degrees)))));
     }
@@ -281,14 +272,11 @@ SceneData SceneBuilder::build() const {
         std::vector<uint32_t> fill(start.begin(), start.end() - 1);
         for (uint32_t corner = 0; corner < scene.indices.size(); ++corner) around[fill[scene.indices[corner]]++] = corner;
     }
-    std::vector<double> angle(scene.indices.size());
-    in_parallel(triangles, 4096, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t t = begin; t < end; ++t)
-            for (int k = 0; k < 3; ++k)
-                angle[3 * t + k] = corner_angle(world[scene.indices[3 * t + k]],
-                                                world[scene.indices[3 * t + (k + 1) % 3]],
-                                                world[scene.indices[3 * t + (k + 2) % 3]]);
-    });
+    const auto angle_at = [&](uint32_t corner) {
+        const std::size_t t = corner / 3, k = corner % 3;
+        return corner_angle(world[scene.indices[3 * t + k]], world[scene.indices[3 * t + (k + 1) % 3]],
+                            world[scene.indices[3 * t + (k + 2) % 3]]);
+    };
     // Vertex by vertex (its corners all belong to one object, so share one crease limit): the
     // normals and angles of its corners side by side, which pairs of them are within the crease
     // angle (each pair tested once, the test being symmetric), and the sum over all of them, which
@@ -308,7 +296,7 @@ SceneData SceneBuilder::build() const {
             }
             for (uint32_t i = 0; i < count; ++i) {
                 fan_normals[i] = normals[around[first + i] / 3];
-                fan_angles[i] = angle[around[first + i]];
+                fan_angles[i] = angle_at(around[first + i]);
             }
             const double limit = static_cast<double>(crease_cosines[scene.face_object[around[first] / 3]]) - 1e-6;
             auto store = [&](uint32_t corner, glm::dvec3 sum) {
