@@ -14,6 +14,8 @@
 
 #include <boost/program_options.hpp>
 
+#include <malloc.h>
+
 #include <charconv>
 #include <chrono>
 #include <cstdio>
@@ -440,7 +442,23 @@ hsr::host::RenderJob hsr::host::prepare_render_job(const std::vector<std::string
     return job;
 }
 
+namespace {
+
+// A render allocates and frees tens of megabytes once each: the model's text, what is parsed from it,
+// the mesh, the scene, the frame's buffers. Served from the heap instead of a fresh mapping each, a
+// freed block is used again and the heap grows in large steps, with fewer new pages to fault in:
+// about a sixth of the bunny's load time in a new process (docs/speed/loading.md). Bench and view
+// keep glibc's defaults, which give memory back (bench measures peak memory).
+void reuse_freed_memory() {
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
+    mallopt(M_TRIM_THRESHOLD, 256 << 20);
+    mallopt(M_TOP_PAD, 64 << 20);
+}
+
+}  // namespace
+
 int hsr::host::run_render(const std::vector<std::string>& args) {
+    reuse_freed_memory();
     const RenderOptions options = parse_render_options(args);
     if (options.help) {
         print_render_help(options.plugin_dirs);
