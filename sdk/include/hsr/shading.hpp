@@ -21,14 +21,16 @@
 // Speed: per-fragment (Phong) interpolation runs a SIMD kernel (hsr/shading_kernels-inl.h) compiled
 // for every instruction set Google Highway targets and chosen at run time; its colours equal the
 // scalar code's bit for bit (tests/test_shading_simd.cpp checks every target). The host calls shade()
-// on oneTBB's threads, one band of rows per call, as many at once as --threads allows; a plugin that
-// parallelises work of its own with oneTBB is bounded by the same --threads (docs/abi.md, section 7).
-// Header-only and installed with the SDK; depends on abi.h, sdk.hpp, GLM and Highway (link hwy::hwy;
-// this header defines HWY_TARGET_INCLUDE, so a plugin that includes it uses foreach_target.h only
-// in a file of its own).
+// on oneTBB's threads, one band of rows per call, as many at once as --threads allows; prepare()
+// computes flat and Gouraud colours in chunks on the same threads (hsr/parallel.hpp), bounded by the
+// same --threads (docs/abi.md, section 7).
+// Header-only and installed with the SDK; depends on abi.h, sdk.hpp, parallel.hpp, GLM, oneTBB and
+// Highway (link hsr::sdk_simd; this header defines HWY_TARGET_INCLUDE, so a plugin that includes it
+// uses foreach_target.h only in a file of its own).
 #pragma once
 
 #include "hsr/abi.h"
+#include "hsr/parallel.hpp"
 #include "hsr/sdk.hpp"
 
 #include <glm/glm.hpp>
@@ -449,32 +451,36 @@ private:
 
     // color[k] = the model at point k as shade_phong evaluates a fragment, for k < count;
     // point(k, position, normal) sets point k's position and shading normal and returns its face.
-    // In chunks, through the SIMD kernel and the scalar loop as fragments go.
+    // In chunks spread over the threads the host allows, each through the SIMD kernel and the scalar
+    // loop as fragments go (a point's colour depends on that point alone).
     template <class Point>
     void shade_points(const sdk::Scene& scene, size_t count, Point point, glm::vec3* color) {
-        const Specular specular{};
         constexpr size_t kChunk = 4096;
-        point_face_.resize(kChunk);
-        point_position_.resize(3 * kChunk);
-        point_normal_.resize(3 * kChunk);
-        for (size_t first = 0; first < count; first += kChunk) {
+        const auto chunks = uint32_t((count + kChunk - 1) / kChunk);
+        sdk::parallel_for_each(chunks, [&](uint32_t chunk) {
+            PointArrays& arrays = point_arrays_.local();
+            arrays.face.resize(kChunk);
+            arrays.position.resize(3 * kChunk);
+            arrays.normal.resize(3 * kChunk);
+            const size_t first = chunk * kChunk;
             const uint32_t n = uint32_t(std::min(kChunk, count - first));
             for (uint32_t i = 0; i < n; ++i) {
                 glm::vec3 position, normal;
-                point_face_[i] = point(first + i, position, normal);
+                arrays.face[i] = point(first + i, position, normal);
                 for (int k = 0; k < 3; ++k) {
-                    point_position_[3 * size_t{i} + k] = position[k];
-                    point_normal_[3 * size_t{i} + k] = normal[k];
+                    arrays.position[3 * size_t{i} + k] = position[k];
+                    arrays.normal[3 * size_t{i} + k] = normal[k];
                 }
             }
             hsr_fragment_batch batch{};
             batch.struct_size = sizeof batch;
             batch.count = n;
-            batch.face = point_face_.data();
-            batch.position = point_position_.data();
-            batch.normal = point_normal_.data();
+            batch.face = arrays.face.data();
+            batch.position = arrays.position.data();
+            batch.normal = arrays.normal.data();
             batch.color = &color[first].x;
             const uint32_t done = shade_phong_simd(kernel_input_, batch, n);
+            const Specular specular{};
             for (uint32_t i = done; i < n; ++i) {
                 const float* pos = batch.position + 3 * size_t{i};
                 const float* nrm = batch.normal + 3 * size_t{i};
@@ -483,7 +489,7 @@ private:
                 const glm::vec3 nv = facing_normal({nrm[0], nrm[1], nrm[2]}, scene.face_normal(batch.face[i]), v);
                 color[first + i] = lights_.reflect(material_, specular, scene.face_color(batch.face[i]), p, nv, v);
             }
-        }
+        });
     }
 
     PhongKernelInput phong_kernel_input(const hsr_scene& raw) const {
@@ -596,8 +602,11 @@ private:
     std::vector<glm::vec3> face_color_;   // flat: one per triangle
     std::vector<glm::vec3> corner_color_; // gouraud: three per triangle
     PhongKernelInput kernel_input_;
-    std::vector<uint32_t> point_face_;  // prepare(): flat and Gouraud points in chunks
-    std::vector<float> point_position_, point_normal_;
+    struct PointArrays {  // prepare(): flat and Gouraud points, a chunk at a time on each thread
+        std::vector<uint32_t> face;
+        std::vector<float> position, normal;
+    };
+    sdk::PerThread<PointArrays> point_arrays_;
 };
 
 }  // namespace hsr::shading
