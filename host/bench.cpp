@@ -4,6 +4,7 @@
 #include "bench_plot.hpp"
 #include "bench_report.hpp"
 #include "commands.hpp"
+#include "threads.hpp"
 
 #include "hsr/atomic_file.hpp"
 #include "hsr/bench.hpp"
@@ -18,7 +19,6 @@
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/program_options.hpp>
-#include <tbb/global_control.h>
 #include <fmt/format.h>
 
 #include <sys/ioctl.h>
@@ -211,7 +211,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
         ("png", po::value(&png_path), "the same plot as a PNG image")
         ("quick", po::bool_switch(&quick),
          "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
-        ("threads", po::value(&threads)->default_value(0), "threads for visibility and shading (0 = one per core)")
+        ("threads", po::value(&threads)->default_value(0), "threads for loading, visibility and shading (0 = one per core)")
         ("vs-llvmpipe", po::bool_switch(&vs_llvmpipe),
          "also draw each scene with Mesa's llvmpipe (build/hsr-llvmpipe, -DHSR_LLVMPIPE=ON) and print both "
          "frame times and their ratio (zbuffer + blinn-phong; default algorithm zbuffer only)")
@@ -236,7 +236,8 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     }
     if (repetitions < 1 || repetitions > 100000) throw UsageError("--repetitions must be between 1 and 100000");
     if (warmup < 0 || warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
-    if (threads < 0 || threads > 1024) throw UsageError("--threads must be between 0 and 1024");
+    if (threads < 0 || threads > hsr::host::kMaxThreads)
+        throw UsageError("--threads must be between 0 and {}", hsr::host::kMaxThreads);
     try {
         hsr::set_limits(hsr::limits_from_settings(limit_settings));
     } catch (const hsr::Error& e) {
@@ -283,9 +284,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     timing_settings.warmup = unsigned(warmup);
     timing_settings.repetitions = unsigned(repetitions);
     timing_settings.frame.threads = unsigned(threads);
-    // --threads bounds every parallel thing of the run, the plugins' oneTBB work included.
-    std::optional<tbb::global_control> thread_bound;
-    if (threads > 0) thread_bound.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    const hsr::host::ThreadBound thread_bound(threads);
     const std::size_t rows = models.size() * sizes.size() * algorithms.size();
     Progress progress(rows * (timing_settings.warmup + timing_settings.repetitions));
     std::vector<hsr::bench::Result> results;

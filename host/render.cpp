@@ -33,8 +33,8 @@ namespace {
 
 using hsr::host::RenderOptions;
 using hsr::host::UsageError;
+using hsr::host::kMaxThreads;
 
-constexpr int64_t max_threads = 1024;
 
 // The options shown by --help; parsing stores their values into o.
 po::options_description render_option_descriptions(RenderOptions& o) {
@@ -136,7 +136,7 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "picture as that step left it; prints what the step did")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
         ("threads", po::value(&o.threads)->default_value(0),
-         fmt::format("threads for loading, visibility and shading, at most {} (0 = one per core)", max_threads).c_str())
+         fmt::format("threads for loading, visibility and shading, at most {} (0 = one per core)", kMaxThreads).c_str())
         ("limit", po::value(&o.limits)->composing(), hsr::describe_limit_option().c_str())
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)");
     return general;
@@ -193,8 +193,8 @@ void check_render_options(const RenderOptions& o) {
     if (o.was_given("width") || o.was_given("height"))  // else a .scene file may set it (load_render_scene)
         hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(o.width) * uint64_t(o.height),
                          fmt::format("image size {}x{}", o.width, o.height));
-    if (o.threads < 0 || o.threads > max_threads)
-        throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, max_threads);
+    if (o.threads < 0 || o.threads > kMaxThreads)
+        throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, kMaxThreads);
     if (o.was_given("step") && o.step < 1) throw UsageError("--step {}: steps count from 1", o.step);
     hsr::check_limit(&hsr::Limits::lights, o.lights.size(), "--light");
     for (const auto& [option, value] :

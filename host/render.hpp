@@ -5,6 +5,7 @@
 #pragma once
 
 #include "frames.hpp"
+#include "threads.hpp"
 
 #include "hsr/abi.h"
 #include "hsr/limits.hpp"
@@ -16,7 +17,6 @@
 #include "hsr/scene_file.hpp"
 
 #include <glm/glm.hpp>
-#include <tbb/global_control.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -147,18 +147,6 @@ struct RenderedPicture {
     std::optional<hsr::DepthComplexity> depth_complexity;  // when the options ask for it
     uint32_t samples = 1;
     hsr_scene scene_view{};  // of a scene that outlives the writing
-};
-
-// --threads as the bound on every oneTBB loop of the process while it lives (loading the scene,
-// visibility, shading, the plugins' own loops); no bound for 0.
-class ThreadBound {
-public:
-    explicit ThreadBound(int64_t threads) {
-        if (threads > 0) bound_.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
-    }
-
-private:
-    std::optional<tbb::global_control> bound_;
 };
 
 // Renders the picture, and the depth complexity when the options ask for it.

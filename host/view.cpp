@@ -1,6 +1,7 @@
 // hsr view: a local web server with the viewer page and its JSON API (view_server.hpp,
 // docs/viewer.md): its options, the folders it serves, and a clean stop on SIGINT or SIGTERM.
 #include "commands.hpp"
+#include "threads.hpp"
 #include "view_server.hpp"
 
 #include "hsr/error.hpp"
@@ -35,6 +36,7 @@ struct ViewOptions {
     std::vector<std::string> model_dirs;
     std::vector<std::string> plugin_dirs;
     std::vector<std::string> limits;
+    int64_t threads = 0;
     bool open = false;
 };
 
@@ -50,6 +52,9 @@ po::options_description view_option_descriptions(ViewOptions& o) {
          "folder of models to offer (repeatable), besides the source tree's models/ and MODEL's folder")
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
         ("limit", po::value(&o.limits)->composing(), hsr::describe_limit_option().c_str())
+        ("threads", po::value(&o.threads)->default_value(0),
+         fmt::format("threads for loading, visibility and shading of all requests together, at most {} (0 = one "
+                     "per core)", hsr::host::kMaxThreads).c_str())
         ("open", po::bool_switch(&o.open), "open the page in the default browser (xdg-open)");
     return options;
 }
@@ -113,6 +118,9 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
         throw UsageError("{}", e.what());
     }
     const auto [host, port] = parse_listen(o.listen);
+    if (o.threads < 0 || o.threads > hsr::host::kMaxThreads)
+        throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, hsr::host::kMaxThreads);
+    const hsr::host::ThreadBound thread_bound(o.threads);
 
     ViewConfig config;
     std::error_code ec;

@@ -567,6 +567,10 @@ TEST_CASE("cli: --threads must be 0 or more, and a long direction is fine", "[li
                            "--threads -1: expected 0 (one per core) to 1024");
     require_one_line_error(run_hsr("render " + cube + " --threads 5000" + out_png("th"), "threads-many"), "--threads 5000");
     require_success(run_hsr("render " + cube + " --threads 2 --width 16 --height 16" + out_png("th"), "threads-2"));
+    require_one_line_error(run_hsr("view --threads -1 --listen 127.0.0.1:0", "view-threads-negative"),
+                           "--threads -1: expected 0 (one per core) to 1024");
+    require_one_line_error(run_hsr("bench --threads 1025", "bench-threads-many"),
+                           "--threads must be between 0 and 1024");
     require_success(run_hsr("render " + cube + " --light dir:3e38,3e38,3e38 --width 16 --height 16" + out_png("dir"),
                             "long-direction"));
     // An option's text with a control byte comes back escaped.

@@ -1,7 +1,8 @@
 // A client for the real `hsr view` binary on 127.0.0.1 (started here on a free port, stopped with
 // SIGTERM, which must end it with status 0):
 //   view_client load  HSR MODELS_DIR [sanitized]
-//                                      8 threads x 200 requests, mixed valid and invalid: every valid
+//                                      8 threads x 200 requests, mixed valid and invalid, to a server
+//                                      bounded to one rendering thread (--threads 1): every valid
 //                                      one answered 200, every invalid one 4xx, the server alive after,
 //                                      its resident memory back within bounds of where it was after
 //                                      warm-up (the figures are printed; not checked for a sanitized
@@ -38,10 +39,11 @@ struct Server {
     int port = 0;
 };
 
-Server start_server(const std::string& hsr, const std::string& model) {
+Server start_server(const std::string& hsr, const std::string& model, const std::vector<std::string>& options = {}) {
     int out[2];
     if (pipe(out) != 0) throw std::runtime_error("pipe");
     std::vector<std::string> args{hsr, "view", model, "--listen", "127.0.0.1:0"};
+    args.insert(args.end(), options.begin(), options.end());
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -139,7 +141,7 @@ int run_load(const std::string& hsr, const std::string& models, bool check_memor
         std::printf("models not fetched: run models/fetch-models.sh\n");
         return 0;
     }
-    const Server server = start_server(hsr, (fs::path(models) / "cube.obj").string());
+    const Server server = start_server(hsr, (fs::path(models) / "cube.obj").string(), {"--threads", "1"});
     httplib::Client probe("127.0.0.1", server.port);
     probe.set_read_timeout(60, 0);
     std::vector<std::string> algorithms;
