@@ -36,6 +36,15 @@ struct Line {
 // every byte of a model.
 constexpr bool is_space(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 
+// The line of text that starts at pos, without its '\n'; moves pos past it. pos < text.size().
+std::string_view take_line(std::string_view text, std::size_t& pos) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    return line;
+}
+
 // The lines of a text one at a time, as whitespace-separated tokens: text from `comment` to the end
 // of a line is dropped ('\0' for none) and lines without tokens are skipped. Only the current line
 // is held, so checking a file takes memory for its longest line, not for the whole file in tokens.
@@ -47,10 +56,7 @@ public:
     // The next line with tokens, or nullptr at the end of the text; valid until the next call.
     const Line* next() {
         while (pos_ < text_.size()) {
-            std::size_t end = text_.find('\n', pos_);
-            if (end == std::string_view::npos) end = text_.size();
-            std::string_view line = text_.substr(pos_, end - pos_);
-            pos_ = end + 1;
+            std::string_view line = take_line(text_, pos_);
             ++line_.number;
             line_.text = line;
             if (comment_ != '\0') line = line.substr(0, line.find(comment_));
@@ -233,10 +239,7 @@ private:
         ObjCounts counts;
         std::size_t pos = 0;
         while (pos < text.size()) {
-            std::size_t end = text.find('\n', pos);
-            if (end == std::string_view::npos) end = text.size();
-            std::string_view line = text.substr(pos, end - pos);
-            pos = end + 1;
+            const std::string_view line = take_line(text, pos);
             ++counts.lines;
             const std::string_view data = line.substr(0, line.find('#'));
             std::size_t c = 0;
