@@ -179,6 +179,16 @@ TriMesh::HalfedgeHandle find_halfedge(const TriMesh& mesh, TriMesh::VertexHandle
     return TriMesh::HalfedgeHandle();
 }
 
+// PolyConnectivity::adjust_outgoing_halfedge, compiled here for the same reason: makes a boundary
+// halfedge, if the vertex has one, its outgoing halfedge.
+void adjust_outgoing_halfedge(TriMesh& mesh, TriMesh::VertexHandle v) {
+    for (auto h = mesh.cvoh_iter(v); h.is_valid(); ++h)
+        if (mesh.is_boundary(*h)) {
+            mesh.set_halfedge_handle(v, *h);
+            return;
+        }
+}
+
 TriMesh::FaceHandle add_triangle(TriMesh& mesh, TriMesh::VertexHandle a, TriMesh::VertexHandle b,
                                  TriMesh::VertexHandle c) {
     using Halfedge = TriMesh::HalfedgeHandle;
@@ -237,7 +247,7 @@ TriMesh::FaceHandle add_triangle(TriMesh& mesh, TriMesh::VertexHandle a, TriMesh
     }
     for (std::size_t i = 0; i < links; ++i) mesh.set_next_halfedge_handle(next_links[i].first, next_links[i].second);
     for (int i = 0; i < 3; ++i)
-        if (needs_adjust[i]) mesh.adjust_outgoing_halfedge(v[i]);
+        if (needs_adjust[i]) adjust_outgoing_halfedge(mesh, v[i]);
     return face;
 }
 
