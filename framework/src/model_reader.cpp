@@ -253,10 +253,10 @@ TriMesh::FaceHandle add_triangle(TriMesh& mesh, TriMesh::VertexHandle a, TriMesh
 
 // The mesh OpenMesh's OBJ reader makes of the text: every vertex first, then each face with its
 // repeated corners left out (keeping the first), if 3 remain, added as OpenMesh's importer
-// (ImporterT::add_face) adds it: TriMesh::add_face splits a polygon into a fan, and when it fails
-// (the last triangle would make the mesh non-manifold) the whole face is added again on vertices of
-// its own, and that last triangle marked. The importer's checks for invalid and repeated vertices
-// are left out: check_obj_text and the loop here have done them.
+// (ImporterT::add_face) adds it: TriMesh::add_face splits a polygon into a fan (done here with
+// add_triangle), and when it fails (the last triangle would make the mesh non-manifold) the whole
+// face is added again on vertices of its own, and that last triangle marked. The importer's checks
+// for invalid and repeated vertices are left out: check_obj_text and the loop here have done them.
 void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
     const std::size_t corners = contents.corners.size();  // at least 3 a face
     mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
@@ -272,8 +272,10 @@ void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
         }
         begin = end;
         if (face.size() < 3) continue;
-        TriMesh::FaceHandle added =
-            face.size() == 3 ? add_triangle(mesh, face[0], face[1], face[2]) : mesh.add_face(face);
+        // TriMesh::add_face: a fan from the first corner, each triangle added on its own; the face
+        // is the last one's.
+        TriMesh::FaceHandle added;
+        for (std::size_t k = 1; k + 1 < face.size(); ++k) added = add_triangle(mesh, face[0], face[k], face[k + 1]);
         if (added.is_valid()) continue;
         for (TriMesh::VertexHandle& v : face) v = mesh.add_vertex(TriMesh::Point(mesh.point(v)));
         added = mesh.add_face(face);
