@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cctype>
 #include <cfloat>
@@ -188,11 +189,16 @@ public:
         tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t k) { counts[k + 1] = count_obj_lines(parts[k]); });
         for (std::size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
         std::vector<ObjPiece> pieces(parts.size());
+        std::atomic<std::size_t> first_failed{parts.size()};  // pieces after it need not be checked
         tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t k) {
+            if (k > first_failed.load()) return;
             try {
                 TextChecker(file_).check_obj_lines(parts[k], counts[k], pieces[k]);
             } catch (...) {
                 pieces[k].error = std::current_exception();
+                std::size_t failed = first_failed.load();
+                while (k < failed && !first_failed.compare_exchange_weak(failed, k)) {
+                }
             }
         });
         for (const ObjPiece& piece : pieces)
