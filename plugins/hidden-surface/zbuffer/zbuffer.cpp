@@ -56,12 +56,17 @@ private:
         raster::TriangleSetup setup;
         uint32_t face;
     };
+    // A triangle in a bin: its number and, unless it is a clipped piece, its vertices.
+    struct BinEntry {
+        uint32_t entry;
+        uint32_t corner[3];
+    };
     // Consecutive triangles of one placement, binned by one task.
     struct Chunk {
         uint32_t instance = 0;
         // Per tile, in scene order: a triangle that needs no clipping (its index), or, with
         // kPieceBit set, one of `pieces`.
-        std::vector<std::vector<uint32_t>> bins;
+        std::vector<std::vector<BinEntry>> bins;
         std::vector<ClippedPiece> pieces;
         raster::TriangleStats stats;
     };
@@ -160,6 +165,7 @@ private:
     template <bool kKeepNearest, bool kCountTests>
     void draw_tiled(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
         grid_ = hsr::sdk::TileGrid{target.width(), target.height(), kTileSize};
+        indices_ = scene.raw().indices;
         const raster::PixelBuffers buffers(target);
         raster::TriangleStats triangles;
         uint32_t pending = 0;  // chunks binned, not drawn yet
@@ -215,7 +221,7 @@ private:
         chunk.pieces.clear();
         chunk.stats = {};
         const uint32_t across = grid_.across();
-        auto add = [&](uint32_t entry, const raster::PixelBounds& b, const auto& may_cover) {
+        auto add = [&](const BinEntry& entry, const raster::PixelBounds& b, const auto& may_cover) {
             const uint32_t tx0 = uint32_t(b.min_x) / kTileSize, tx1 = uint32_t(b.max_x) / kTileSize;
             const uint32_t ty0 = uint32_t(b.min_y) / kTileSize, ty1 = uint32_t(b.max_y) / kTileSize;
             if (tx0 == tx1 && ty0 == ty1) {
@@ -239,14 +245,15 @@ private:
                 const bool large = bounds.max_x - bounds.min_x >= int32_t(kTileSize) ||
                                    bounds.max_y - bounds.min_y >= int32_t(kTileSize);
                 if (large) geometry_.setup_unclipped(t, setup);  // to skip tiles of its box it misses
-                add(t, bounds, [&](const raster::PixelBounds& r) {
+                add(BinEntry{t, {indices_[3 * size_t(t)], indices_[3 * size_t(t) + 1], indices_[3 * size_t(t) + 2]}},
+                    bounds, [&](const raster::PixelBounds& r) {
                     return !large || !raster::misses(setup, r.min_x, r.min_y, r.max_x, r.max_y);
                 });
                 continue;
             }
             geometry_.process(t, chunk.stats, [&](const raster::TriangleSetup& s) {
                 chunk.pieces.push_back({s, t});
-                add(uint32_t(chunk.pieces.size() - 1) | kPieceBit, {s.min_x, s.min_y, s.max_x, s.max_y},
+                add(BinEntry{uint32_t(chunk.pieces.size() - 1) | kPieceBit, {}}, {s.min_x, s.min_y, s.max_x, s.max_y},
                     [&](const raster::PixelBounds& r) { return !raster::misses(s, r.min_x, r.min_y, r.max_x, r.max_y); });
             });
         }
@@ -261,7 +268,8 @@ private:
         raster::TriangleSetup unclipped;
         for (uint32_t c = 0; c < pending; ++c) {
             Chunk& chunk = chunks_[c];
-            for (const uint32_t entry : chunk.bins[k]) {
+            for (const BinEntry& binned : chunk.bins[k]) {
+                const uint32_t entry = binned.entry;
                 const raster::TriangleSetup* setup = &unclipped;
                 uint32_t face = entry;
                 if (entry & kPieceBit) {
@@ -269,7 +277,7 @@ private:
                     setup = &piece.setup;
                     face = piece.face;
                 } else {
-                    geometry_.setup_unclipped(entry, unclipped);
+                    geometry_.setup_unclipped_corners(binned.corner[0], binned.corner[1], binned.corner[2], unclipped);
                 }
                 const raster::TriangleSetup& s = *setup;
                 raster::DepthTest<rule, kCountTests> test(buffers, face, chunk.instance);
@@ -292,6 +300,7 @@ private:
     hsr::sdk::TileGrid grid_;
     std::vector<Chunk> chunks_;  // kept between frames, with their capacity
     std::vector<PixelStats> tile_stats_;
+    const uint32_t* indices_ = nullptr;  // the scene's, for the frame being drawn
 };
 
 }  // namespace

@@ -368,7 +368,11 @@ public:
         return true;
     }
     void setup_unclipped(uint32_t t, TriangleSetup& setup) const {
-        WindowVertex v0 = window_[indices_[3 * t]], v1 = window_[indices_[3 * t + 1]], v2 = window_[indices_[3 * t + 2]];
+        setup_unclipped_corners(indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], setup);
+    }
+    // setup_unclipped for the triangle with these vertex indices (its corners, in order).
+    void setup_unclipped_corners(uint32_t i0, uint32_t i1, uint32_t i2, TriangleSetup& setup) const {
+        WindowVertex v0 = window_[i0], v1 = window_[i1], v2 = window_[i2];
         v1.b1 = 1.0;
         v2.b2 = 1.0;
         setup_triangle(v0, v1, v2, width_, height_, setup);
