@@ -293,10 +293,11 @@ RenderPlugins make_render_plugins(const RenderOptions& o, const hsr::PluginRegis
     return plugins;
 }
 
-// "dir/name-%03d.ext" for "dir/name.ext": where a frame number could go.
-std::string numbered_name(const std::string& text) {
+// "name-%03d.ext" for "dir/name.ext": where a frame number could go. The folder is left out, as the
+// message quotes it already and a long one would cut the example short.
+std::string numbered_file_name(const std::string& text) {
     const fs::path path(text);
-    return (path.parent_path() / (path.stem().string() + "-%03d" + path.extension().string())).string();
+    return path.stem().string() + "-%03d" + path.extension().string();
 }
 
 // The file names of the job's options, each with a frame number when there are several frames; a
@@ -320,7 +321,7 @@ void set_output_templates(hsr::host::RenderJob& job, bool line_drawing) {
         name = hsr::host::OutputTemplate(text, option);
         if (frames > 1 && !name.has_number())
             throw UsageError("--{} '{}': {} frames need a frame number in the name, e.g. '{}' (frames count from 0)",
-                             option, hsr::printable(text), frames, hsr::printable(numbered_name(text)));
+                             option, hsr::printable(text), frames, hsr::printable(numbered_file_name(text)));
     }
 }
 
