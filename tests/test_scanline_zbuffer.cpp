@@ -15,8 +15,11 @@
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -77,6 +80,67 @@ Comparison check_same_picture(const hsr_scene& scene, const hsr_camera& camera, 
     return c;
 }
 
+// A camera whose near plane cuts a triangle of the model and its neighbours: the eye just above
+// the middle triangle, looking along it.
+hsr_camera skimming_camera(const hsr::SceneData& data) {
+    const float size = glm::length(data.bounds_max - data.bounds_min);
+    const uint32_t t = data.triangle_count() / 2;
+    glm::vec3 corner[3];
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t v = data.indices[3 * t + k];
+        corner[k] = {data.positions[3 * v], data.positions[3 * v + 1], data.positions[3 * v + 2]};
+    }
+    const glm::vec3 normal(data.face_normals[3 * t], data.face_normals[3 * t + 1], data.face_normals[3 * t + 2]);
+    const glm::vec3 eye = (corner[0] + corner[1] + corner[2]) / 3.0f + 1e-4f * size * normal;
+    const glm::vec3 along = glm::normalize(corner[1] - corner[0]) + 0.2f * normal;
+    return look(eye, eye + along, 1e-3f * size, 4 * size, 256, 256, 80.0f);
+}
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+// The sweep over bands of rows in parallel (two threads, bands of 1, 5 and 64 rows) against one
+// sweep from the top (band-rows=0) and the sweep run step by step: every buffer byte for byte and
+// every counter the same, with and without per-pixel depth-test counts.
+void check_bands_equal_one_sweep(const hsr_scene& scene, const hsr_camera& camera, const Settings& settings = {}) {
+    const tbb::global_control two_threads(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::task_arena arena(2);
+    arena.execute([&] {
+        for (const bool count_tests : {false, true}) {
+            Settings one_sweep = settings;
+            one_sweep.push_back({"band-rows", "0"});
+            const hsr::Frame sweep = render("scanline-zbuffer", scene, camera, one_sweep, count_tests);
+            hsr::HiddenSurfaceRemover stepwise(plugin("scanline-zbuffer"), settings);
+            hsr::Frame steps;
+            hsr::resolve_visibility_steps(scene, camera, stepwise, steps, 0, count_tests);
+            std::vector<std::pair<std::string, hsr::Frame>> frames;
+            frames.emplace_back("steps", std::move(steps));
+            for (const char* rows : {"1", "5", "64"}) {
+                Settings banded = settings;
+                banded.push_back({"band-rows", rows});
+                hsr::HiddenSurfaceRemover remover(plugin("scanline-zbuffer"), banded);
+                for (int k = 0; k < 2; ++k)  // a second frame reuses the bands
+                    frames.emplace_back(std::string("bands of ") + rows, render(remover, scene, camera, count_tests));
+            }
+            for (const auto& [label, frame] : frames) {
+                INFO(camera.width << "x" << camera.height << ", " << label << ", depth tests counted: " << count_tests);
+                CHECK(same_bytes(frame.depth, sweep.depth));
+                CHECK(same_bytes(frame.face, sweep.face));
+                CHECK(same_bytes(frame.instance, sweep.instance));
+                CHECK(same_bytes(frame.bary, sweep.bary));
+                CHECK(same_bytes(frame.depth_tests, sweep.depth_tests));
+                for (const auto& [name, value] : sweep.counters) {  // a step run has the host's step count too
+                    INFO(name);
+                    CHECK(counter(frame, name) == value);
+                }
+                CHECK(frame.counters.size() == sweep.counters.size() + (label == "steps" ? 1 : 0));
+            }
+        }
+    });
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------- //
@@ -86,10 +150,13 @@ TEST_CASE("scanline-zbuffer: descriptor lists its parameters", "[scanline-zbuffe
     REQUIRE(std::string(d.name) == "scanline-zbuffer");
     CHECK(d.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER);
     CHECK(d.abi_minor >= 1);  // writes instance ids
-    REQUIRE(d.param_count == 1);
+    REQUIRE(d.param_count == 2);
     CHECK(std::string(d.params[0].name) == "cull-backfaces");
     CHECK(d.params[0].type == HSR_PARAM_BOOL);
     CHECK(std::string(d.params[0].default_value) == "false");
+    CHECK(std::string(d.params[1].name) == "band-rows");
+    CHECK(d.params[1].type == HSR_PARAM_INT);
+    CHECK(std::string(d.params[1].default_value) == "64");
 }
 
 TEST_CASE("scanline-zbuffer: two intersecting triangles, answered by hand", "[scanline-zbuffer]") {
@@ -224,20 +291,28 @@ TEST_CASE("scanline-zbuffer: the near plane cuts through the model", "[scanline-
                                    look(centre, centre + glm::vec3(1, 0.3f, -0.5f), 1e-3f * size, 4 * size, 256, 192));
             check_same_picture(data.view(), look(lo + 0.15f * (hi - lo), centre, 2e-2f * size, 4 * size, 200, 256, 90.0f),
                                settings);
-            const uint32_t t = data.triangle_count() / 2;
-            glm::vec3 corner[3];
-            for (int k = 0; k < 3; ++k) {
-                const uint32_t v = data.indices[3 * t + k];
-                corner[k] = {data.positions[3 * v], data.positions[3 * v + 1], data.positions[3 * v + 2]};
-            }
-            const glm::vec3 normal(data.face_normals[3 * t], data.face_normals[3 * t + 1], data.face_normals[3 * t + 2]);
-            const glm::vec3 eye = (corner[0] + corner[1] + corner[2]) / 3.0f + 1e-4f * size * normal;
-            const glm::vec3 along = glm::normalize(corner[1] - corner[0]) + 0.2f * normal;
-            const hsr_camera skimming = look(eye, eye + along, 1e-3f * size, 4 * size, 256, 256, 80.0f);
+            const hsr_camera skimming = skimming_camera(data);
             check_same_picture(data.view(), skimming, settings);
             CHECK(counter(render("scanline-zbuffer", data.view(), skimming, settings, true), "triangles-clipped") > 0);
         }
     }
+}
+
+TEST_CASE("scanline-zbuffer: bands swept in parallel give the one sweep's buffers and counters",
+          "[scanline-zbuffer][bands]") {
+    const hsr::SceneData& bunny = model("bunny.obj");
+    check_bands_equal_one_sweep(bunny.view(), orbit(bunny, 30, 15, 1, false, 640, 480));
+    check_bands_equal_one_sweep(bunny.view(), orbit(bunny, -60, -20, 1.2f, true, 301, 333), {{"cull-backfaces", "true"}});
+    const hsr::SceneData& monkey = model("monkey.obj");
+    check_bands_equal_one_sweep(monkey.view(), orbit(monkey, 145, -30, 1.5f, false, 256, 300));
+    check_bands_equal_one_sweep(monkey.view(), orbit(monkey, 10, 5, 6, false, 97, 65));  // mostly off the image
+    // Pieces of triangles the near plane cuts (kept whole in the polygon table) crossing bands.
+    const hsr_camera skimming = skimming_camera(monkey);
+    CHECK(counter(render("scanline-zbuffer", monkey.view(), skimming), "triangles-clipped") > 0);
+    check_bands_equal_one_sweep(monkey.view(), skimming);
+    // One and two rows: fewer rows than a band, and bands of one row each.
+    check_bands_equal_one_sweep(monkey.view(), orbit(monkey, 0, 0, 1, false, 64, 1));
+    check_bands_equal_one_sweep(monkey.view(), orbit(monkey, 0, 0, 1, false, 3, 2));
 }
 
 TEST_CASE("scanline-zbuffer: counters and buffers reused between frames", "[scanline-zbuffer]") {

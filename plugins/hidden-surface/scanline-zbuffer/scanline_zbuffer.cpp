@@ -15,15 +15,20 @@
 // follows what is pending near the sweep, not the triangles drawn. Polygons covering at most 2 x 2
 // pixel centres are given by their spans (no edge DDA), and those covering none are left out.
 //
+// A scene without instances is swept in bands of scanlines on every core (scan_bands): a band
+// takes over the polygons that started above it, started directly on its first row, in the order
+// the one sweep has them there, so every buffer and counter is the one sweep's.
+//
 // Transform, clipping, culling and triangle setup are raster::GeometryStage's, as in zbuffer; the
 // edges step with exact integer DDAs derived from the snapped corners, so every scanline covers
 // exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
 // docs/algorithms/scanline-zbuffer.md describes the steps, the data structures and the counters.
 //
-// Where to read: scan() below is the sweep (the active-edge-list loop); edge_walk.hpp starts and
-// steps an edge pair; record_pool.hpp is the memory polygons wait in for their first scanline
-// (blocks, streaming stores, huge pages). The rest of this file fills the y-sorted polygon table
-// and moves its buckets onto the active list. It is over 600 lines because those two share one
+// Where to read: scan() below is the sweep (the active-edge-list loop, draw_spans for one row) and
+// scan_bands() the same over bands in parallel; edge_walk.hpp starts and steps an edge pair;
+// record_pool.hpp is the memory polygons wait in for their first scanline (blocks, streaming
+// stores, huge pages). The rest of this file fills the y-sorted polygon table
+// and moves its buckets onto the active list. It is over 800 lines because those two share one
 // class's state (the active list and its slots, the table, the geometry stage) with the sweep, in
 // one translation unit so that activation inlines into it; the sweep's steps (render_steps, the
 // scanlines as a viewer sees them) read that state too.
@@ -31,6 +36,7 @@
 #include "record_pool.hpp"
 
 #include "hsr/bounds.hpp"
+#include "hsr/parallel.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 
@@ -100,9 +106,12 @@ public:
         "one-row depth buffer"};
     static inline const ParamSpec params[] = {
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+        ParamSpec::integer("band-rows", "64", 0, 16384,
+                           "scanlines per band swept in parallel, for a scene without instances (0: one sweep)"),
     };
 
-    explicit ScanlineZBuffer(const hsr::sdk::Params& p) : cull_backfaces_(p.boolean("cull-backfaces")) {}
+    explicit ScanlineZBuffer(const hsr::sdk::Params& p)
+        : cull_backfaces_(p.boolean("cull-backfaces")), band_rows_(int32_t(p.integer("band-rows"))) {}
 
     // render_steps (from StepwiseRemover) takes one step per scanline, top to bottom, empty ones included:
     // step k leaves rows 0 .. k-1 drawn.
@@ -114,6 +123,37 @@ private:
         uint64_t scanlines = 0;   // scanlines with at least one active polygon
         uint64_t edge_pairs = 0;  // (polygon, scanline) pairs: spans computed
         uint64_t active_max = 0;
+        Stats& operator+=(const Stats& o) {
+            depth_tested += o.depth_tested;
+            written += o.written;
+            scanlines += o.scanlines;
+            edge_pairs += o.edge_pairs;
+            active_max = std::max(active_max, o.active_max);
+            return *this;
+        }
+    };
+
+    // What one sweep works on, over the whole image or over a band of its rows: the active polygon
+    // list with its slots, and the one-row depth buffer.
+    struct Sweep {
+        std::vector<TableEntry> staged;              // one bucket's entries, fetched together
+        std::vector<ActivePolygon> active;           // the active polygon list (edge pairs)
+        std::vector<ActiveInfo> infos;               // of the active polygons, by slot
+        std::vector<ActivePlanes> planes;            // of the active polygons, by slot
+        std::vector<uint32_t> free_slots, released;  // released: free once the row is resolved
+        std::vector<uint64_t> row;                   // the one-row depth buffer
+        raster::TriangleStats triangles;             // what activating triangles counted
+
+        void start(int32_t width, uint32_t largest_bucket) {
+            row.assign(size_t(width), kEmpty);
+            if (staged.size() < largest_bucket) staged.resize(largest_bucket);
+            active.clear();
+            infos.clear();
+            planes.clear();
+            free_slots.clear();
+            released.clear();
+            triangles = {};
+        }
     };
 
     friend class hsr::sdk::StepwiseRemover<ScanlineZBuffer>;
@@ -146,10 +186,13 @@ private:
             table_.clear();
             records_.clear();
             first_row_.clear();
+            last_row_bound_.clear();
             table_.reserve(placement.triangle_count);
             first_row_.reserve(placement.triangle_count);
+            last_row_bound_.reserve(placement.triangle_count);
             bucket_start_.assign(size_t(height_) + 1, 0);
-            geometry_.place(placement);
+            geometry_.place_in_chunks(placement,
+                                      [](uint32_t count, auto&& work) { hsr::sdk::parallel_for_each(count, work); });
             placement_instance_[0] = placement.instance;
             bucket_triangles(placement);
 
@@ -164,18 +207,24 @@ private:
             for (uint32_t id = 0; id < uint32_t(first_row_.size()); ++id) order_[bucket_start_[first_row_[id]]++] = id;
             for (int32_t y = height_ - 1; y > 0; --y) bucket_start_[y] = bucket_start_[y - 1];  // back to starts
             bucket_start_[0] = 0;
-            if (staged_.size() < largest_bucket) staged_.resize(largest_bucket);
+            largest_bucket_ = largest_bucket;
+            order_last_row_bound_.resize(order_.size());
+            for (size_t k = 0; k < order_.size(); ++k) order_last_row_bound_[k] = last_row_bound_[order_[k]];
             polygons_ = first_row_.size();
         } else {
             // 1-2. Several placements: each is bucketed by the top scanline of its projected bounds,
             //      and transformed and set up only when the sweep gets there (activate_placement).
             bucket_placements(scene);
+            largest_bucket_ = 0;
         }
 
         // 3. The scanlines, top to bottom.
         Stats stats;
         auto report = [&] {
-            geometry_.stats().report(counters);
+            raster::TriangleStats triangles = geometry_.stats();
+            triangles += sweep_.triangles;
+            triangles += activated_;
+            triangles.report(counters);
             counters.set("pixels-depth-tested", stats.depth_tested);
             counters.set("pixels-written", stats.written);
             counters.set("polygons-in-table", polygons_);
@@ -187,8 +236,16 @@ private:
             counters.set("polygon-records-max",
                          records_only_ ? pending_.records_max() : uint64_t(records_.size()));
         };
+        activated_ = {};
+        sweep_.triangles = {};
         try {
-            if (target.depth_tests() == nullptr)
+            const bool bands = !Steps::enabled && !records_only_ && band_rows_ > 0 && height_ > band_rows_ &&
+                               hsr::sdk::allowed_threads() > 1;
+            if (bands && target.depth_tests() == nullptr)
+                scan_bands<false>(target, stats);
+            else if (bands)
+                scan_bands<true>(target, stats);
+            else if (target.depth_tests() == nullptr)
                 scan<false>(target, stats, steps);
             else
                 scan<true>(target, stats, steps);
@@ -216,30 +273,29 @@ private:
                                                                                geometry_.clip_vertex(i2)));
             if (!rejected && !(codes & (raster::kNeedsClipping | raster::kNonFinite))) {
                 // The first pixel-centre row at or below the top corner, as setup_triangle finds it.
-                const int32_t top = std::min({geometry_.window_vertex(i0).y, geometry_.window_vertex(i1).y,
-                                              geometry_.window_vertex(i2).y});
-                const int32_t first = std::max(raster::first_pixel_from(top), 0);
+                const int32_t y0 = geometry_.window_vertex(i0).y, y1 = geometry_.window_vertex(i1).y,
+                              y2 = geometry_.window_vertex(i2).y;
+                const int32_t first = std::max(raster::first_pixel_from(std::min({y0, y1, y2})), 0);
                 if (first < height_) {
-                    add_to_table({t, 0}, first);
+                    add_to_table({t, 0}, first, raster::last_pixel_to(std::max({y0, y1, y2})));
                     continue;
                 }
             }
             geometry_.process(t, [&](const raster::TriangleSetup& s) {
-                add_to_table({uint32_t(records_.size()), 1}, s.min_y);
+                add_to_table({uint32_t(records_.size()), 1}, s.min_y, s.max_y);
                 fill_record(records_.emplace_back(), s, t, 0);
             });
         }
     }
 
-    void add_to_table(TableEntry e, int32_t first_row) {
-        table_.push_back(e);
-        count_polygon(first_row);
-    }
-
-    void count_polygon(int32_t first_row) {
+    // A polygon of the table: its first scanline, and one it cannot reach below (for a sweep over
+    // a band of rows, which takes over the polygons that started above it).
+    void add_to_table(TableEntry e, int32_t first_row, int32_t last_row_bound) {
         if (first_row_.size() >= std::numeric_limits<uint32_t>::max())
             throw hsr::sdk::Unsupported("scanline-zbuffer: more than 2^32 - 1 polygons in one frame");
+        table_.push_back(e);
         first_row_.push_back(uint16_t(first_row));
+        last_row_bound_.push_back(uint16_t(std::clamp(last_row_bound, first_row, height_ - 1)));
         ++bucket_start_[size_t(first_row) + 1];
     }
 
@@ -346,7 +402,7 @@ private:
     // in the bucket of their first scanline. Those that cover no pixel centre are left out.
     // Flattened, so that setup_triangle is inlined and the compiler leaves out the planes the
     // records do not keep; a triangle to clip goes through process, out of line.
-    [[gnu::flatten]] void activate_placement(const hsr::sdk::Scene& scene, uint32_t k, int32_t y) {
+    [[gnu::flatten]] void activate_placement(Sweep& sweep, const hsr::sdk::Scene& scene, uint32_t k, int32_t y) {
         const hsr::sdk::Placement placement = scene.placement(k);
         geometry_.place(placement);
         const uint32_t end = placement.first_triangle + placement.triangle_count;
@@ -378,28 +434,28 @@ private:
                 if (first > y)
                     store_streaming(pending_.new_record(first), r);
                 else
-                    activate_record(r, r.id, y);
+                    activate_record(sweep, r, r.id, y);
             });
             if (!unclipped) [[unlikely]]
-                process_clipped(t, k, id_base + t, y);
+                process_clipped(sweep, t, k, id_base + t, y);
         }
         end_streaming();
     }
 
     // A triangle to clip (or to skip as non-finite): GeometryStage::process, kept out of line, or
     // the compiler merges its setup with activate_placement's and makes the planes there too.
-    [[gnu::noinline, gnu::flatten]] void process_clipped(uint32_t t, uint32_t k, uint32_t id, int32_t y) {
+    [[gnu::noinline, gnu::flatten]] void process_clipped(Sweep& sweep, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
         geometry_.process(t, [&](const raster::TriangleSetup& s) {
             if (small_coverage(s) == 0)
                 ++polygons_empty_;
             else
-                add_piece(s, t, k, id, y);
+                add_piece(sweep, s, t, k, id, y);
         });
     }
 
     // A piece of clipped triangle t of placement k, on scanline y: the same, with its setup kept
     // (clipping is not repeated).
-    void add_piece(const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
+    void add_piece(Sweep& sweep, const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
         ++polygons_;
         assert(s.min_y >= y && "top_row is conservative");
         PolygonRecord r;
@@ -415,18 +471,18 @@ private:
             pending_.new_record(s.min_y) = r;
             return;
         }
-        const uint32_t slot = start_polygon(r.x, r.y, depth_at_row_start(s), s.depth.dx, s.depth.dy, y);
+        const uint32_t slot = start_polygon(sweep, r.x, r.y, depth_at_row_start(s), s.depth.dx, s.depth.dy, y);
         if (slot == kNone) return;
-        set_info(slot, id, t, placement_instance_[k], kNone);
-        set_planes(planes_[slot], s);
+        set_info(sweep, slot, id, t, placement_instance_[k], kNone);
+        set_planes(sweep.planes[slot], s);
     }
 
     // Placements whose bounds start on scanline y are set up; then the records of y join the active
     // list. Out of line, so that it does not change how scan's span loop is compiled.
-    [[gnu::noinline]] void activate_instanced(const hsr::sdk::Scene& scene, int32_t y) {
+    [[gnu::noinline]] void activate_instanced(Sweep& sweep, const hsr::sdk::Scene& scene, int32_t y) {
         for (uint32_t i = placement_start_[y]; i < placement_start_[y + 1]; ++i)
-            activate_placement(scene, placement_order_[i], y);
-        pending_.drain(y, [&](const PolygonRecord& r) { activate_record(r, r.id, y); });
+            activate_placement(sweep, scene, placement_order_[i], y);
+        pending_.drain(y, [&](const PolygonRecord& r) { activate_record(sweep, r, r.id, y); });
     }
 
     // The snapped corners of an unclipped triangle in the setup's order.
@@ -438,39 +494,58 @@ private:
 
     // Makes triangle t active on its first scanline (one placement): culled, clipped (never: see
     // bucket_triangles) and set up now, with its planes.
-    [[gnu::flatten]] void activate_triangle(uint32_t t, uint32_t id, int32_t first) {
-        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+    // Counting into `stats`; a polygon that a band takes over from above joins on the band's first
+    // row (`row` > `first`), as it stands on that row in a sweep from the top.
+    [[gnu::flatten]] void activate_triangle(Sweep& sweep, raster::TriangleStats& stats, uint32_t t, uint32_t id,
+                                            int32_t first, int32_t row) {
+        geometry_.process(t, stats, [&](const raster::TriangleSetup& s) {
             int32_t x[3], y[3];
             corners_of(s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], x, y);
-            const uint32_t slot = start_polygon(x, y, depth_at_row_start(s), s.depth.dx, s.depth.dy, first);
+            const uint32_t slot = start_polygon(sweep, x, y, depth_on_row(depth_at_row_start(s), s.depth.dy, first, row),
+                                                s.depth.dx, s.depth.dy, row);
             if (slot == kNone) return;
-            set_info(slot, id, t, placement_instance_[0], kNone);
-            set_planes(planes_[slot], s);
+            set_info(sweep, slot, id, t, placement_instance_[0], kNone);
+            set_planes(sweep.planes[slot], s);
         });
     }
 
-    // Makes a record active on its first scanline. A piece's planes come from its setup; those of a
-    // triangle are made when it first wins a pixel (make_planes).
-    void activate_record(const PolygonRecord& r, uint32_t id, int32_t first) {
-        if (r.piece == kSmall) {
-            const uint32_t slot = start_small(r.x[0], r.x[1], r.x[2], r.y[0], r.y[1], r.z_row, r.dzdx, r.dzdy);
-            set_info(slot, id, r.face, placement_instance_[r.placement], r.placement);
-            return;
-        }
-        const uint32_t slot = start_polygon(r.x, r.y, r.z_row, r.dzdx, r.dzdy, first);
-        if (r.piece != kNoPiece) [[unlikely]] {
-            if (slot != kNone) {
-                set_info(slot, id, r.face, placement_instance_[r.placement], kNone);
-                set_planes(planes_[slot], pieces_[r.piece]);
-            }
-            free_pieces_.push_back(r.piece);
-        } else if (slot != kNone) {
-            set_info(slot, id, r.face, placement_instance_[r.placement], r.placement);
-        }
+    // The depth of a polygon at the start of scanline `row`, from its depth there on scanline
+    // `first`, stepped by dz/dy one scanline at a time as a sweep steps it (the same rounding).
+    static double depth_on_row(double z_row, double dzdy, int32_t first, int32_t row) {
+        for (int32_t y = first; y < row; ++y) z_row += dzdy;
+        return z_row;
     }
 
-    void set_info(uint32_t slot, uint32_t id, uint32_t face, uint32_t instance, uint32_t placement) {
-        ActiveInfo& info = infos_[slot];
+    // Makes a record active on its first scanline, or on a band's first row (`row`) when it started
+    // above. A piece's planes come from its setup; those of a triangle are made when it first wins
+    // a pixel (make_planes). Pieces are recycled only with instances (one sweep, records made as it
+    // goes).
+    void activate_record(Sweep& sweep, const PolygonRecord& r, uint32_t id, int32_t first, int32_t row) {
+        if (r.piece == kSmall) {
+            const uint32_t slot =
+                start_small(sweep, r.x[0], r.x[1], r.x[2], r.y[0], r.y[1], r.z_row, r.dzdx, r.dzdy);
+            set_info(sweep, slot, id, r.face, placement_instance_[r.placement], r.placement);
+            return;
+        }
+        const uint32_t slot =
+            start_polygon(sweep, r.x, r.y, depth_on_row(r.z_row, r.dzdy, first, row), r.dzdx, r.dzdy, row);
+        if (r.piece != kNoPiece) [[unlikely]] {
+            if (slot != kNone) {
+                set_info(sweep, slot, id, r.face, placement_instance_[r.placement], kNone);
+                set_planes(sweep.planes[slot], pieces_[r.piece]);
+            }
+            if (records_only_) free_pieces_.push_back(r.piece);
+        } else if (slot != kNone) {
+            set_info(sweep, slot, id, r.face, placement_instance_[r.placement], r.placement);
+        }
+    }
+    void activate_record(Sweep& sweep, const PolygonRecord& r, uint32_t id, int32_t first) {
+        activate_record(sweep, r, id, first, first);
+    }
+
+    static void set_info(Sweep& sweep, uint32_t slot, uint32_t id, uint32_t face, uint32_t instance,
+                         uint32_t placement) {
+        ActiveInfo& info = sweep.infos[slot];
         info.id = id;
         info.face = face;
         info.instance = instance;
@@ -478,29 +553,29 @@ private:
     }
 
     // The planes of an active triangle of an instanced scene, from its setup made again.
-    [[gnu::noinline, gnu::flatten]] void make_planes(uint32_t slot) {
-        ActiveInfo& info = infos_[slot];
+    [[gnu::noinline, gnu::flatten]] void make_planes(Sweep& sweep, uint32_t slot) {
+        ActiveInfo& info = sweep.infos[slot];
         raster::TriangleSetup s{};
         geometry_.setup_again(placement_matrix_[info.placement], info.face, s);
-        set_planes(planes_[slot], s);
+        set_planes(sweep.planes[slot], s);
         info.placement = kNone;
     }
 
-    uint32_t take_slot() {
-        if (free_slots_.empty()) {
-            infos_.emplace_back();
-            planes_.emplace_back();
-            return uint32_t(infos_.size() - 1);
+    static uint32_t take_slot(Sweep& sweep) {
+        if (sweep.free_slots.empty()) {
+            sweep.infos.emplace_back();
+            sweep.planes.emplace_back();
+            return uint32_t(sweep.infos.size() - 1);
         }
-        const uint32_t slot = free_slots_.back();
-        free_slots_.pop_back();
+        const uint32_t slot = sweep.free_slots.back();
+        sweep.free_slots.pop_back();
         return slot;
     }
 
     // Adds a small polygon, whose covered pixel centres small_coverage() found, to the active list: on
     // its first scanline the span [left, right], on the next (if `last` is that one) the span moved
     // by (left_step, right_step). Its edges are DDAs without error terms. Returns its slot.
-    uint32_t start_small(int32_t left, int32_t right, int32_t left_step, int32_t right_step, int32_t last,
+    uint32_t start_small(Sweep& sweep, int32_t left, int32_t right, int32_t left_step, int32_t right_step, int32_t last,
                          double z_row, double dzdx, double dzdy) {
         ActivePolygon a;
         a.left = EdgeWalk{left, 0, 1, 0, left_step};
@@ -508,30 +583,30 @@ private:
         a.lower = EdgeWalk{};
         a.lower_left = 0;
         a.switch_row = -1;
-        return push_active(a, last, z_row, dzdx, dzdy);
+        return push_active(sweep, a, last, z_row, dzdx, dzdy);
     }
 
     // Adds a polygon with the corners (vx, vy) (on the subpixel grid, in the setup's corner order)
     // to the active list on scanline `first` and returns its slot, unless no scanline is left:
     // then kNone.
-    uint32_t start_polygon(const int32_t (&vx)[3], const int32_t (&vy)[3], double z_row, double dzdx, double dzdy,
-                           int32_t first) {
+    uint32_t start_polygon(Sweep& sweep, const int32_t (&vx)[3], const int32_t (&vy)[3], double z_row, double dzdx,
+                           double dzdy, int32_t first) {
         ActivePolygon a;  // built whole, then copied: emplace_back() would clear it first
         int32_t last;
         if (!start_edge_pair(vx, vy, first, height_, a, last)) return kNone;
-        return push_active(a, last, z_row, dzdx, dzdy);
+        return push_active(sweep, a, last, z_row, dzdx, dzdy);
     }
 
     // Adds a polygon whose edges are set to the active list, in a free slot, with its last scanline
     // and depth steps; returns the slot.
-    uint32_t push_active(ActivePolygon& a, int32_t last, double z_row, double dzdx, double dzdy) {
-        const uint32_t slot = take_slot();
+    static uint32_t push_active(Sweep& sweep, ActivePolygon& a, int32_t last, double z_row, double dzdx, double dzdy) {
+        const uint32_t slot = take_slot(sweep);
         a.last_row = int16_t(last);
         a.slot = slot;
         a.dzdx = dzdx;
         a.dzdy = dzdy;
         a.z_row = z_row;
-        active_.push_back(a);
+        sweep.active.push_back(a);
         return slot;
     }
 
@@ -539,11 +614,11 @@ private:
     // memory: they are prefetched a few polygons ahead, and with one placement the entries are
     // fetched first, in a tight loop whose loads overlap, then the corner indices and window vertices
     // are prefetched.
-    void activate_bucket(int32_t y) {
+    void activate_bucket(Sweep& sweep, int32_t y) {
         const uint32_t begin = bucket_start_[y], count = bucket_start_[y + 1] - begin;
         if (count == 0) return;
         const uint32_t* const ids = order_.data() + begin;
-        TableEntry* const staged = staged_.data();
+        TableEntry* const staged = sweep.staged.data();
         for (uint32_t k = 0; k < count; ++k) staged[k] = table_[ids[k]];
         constexpr uint32_t kAhead = 4;
         for (uint32_t k = 0; k < count; ++k) {
@@ -556,9 +631,9 @@ private:
                 __builtin_prefetch(&geometry_.window_vertex(corner[2]));
             }
             if (staged[k].is_record)
-                activate_record(records_[staged[k].index], ids[k], y);
+                activate_record(sweep, records_[staged[k].index], ids[k], y);
             else
-                activate_triangle(staged[k].index, ids[k], y);
+                activate_triangle(sweep, sweep.triangles, staged[k].index, ids[k], y, y);
         }
     }
 
@@ -570,83 +645,124 @@ private:
     //    Out of line: inlined into render_with it runs 0.2 % more instructions.
     template <bool kCountTests, class Steps>
     [[gnu::noinline]] void scan(hsr::sdk::VisibilityBuffer& target, Stats& stats, Steps& steps) {
-        const int32_t width = int32_t(width_);
-        row_.assign(size_t(width), kEmpty);  // the one-row depth buffer
-        uint64_t* const row = row_.data();
-        active_.clear();
-        infos_.clear();
-        planes_.clear();
-        free_slots_.clear();
-        released_.clear();
-        uint64_t tested = 0, written = 0, edge_pairs = 0, scanlines = 0;
-        size_t active_max = 0;
-
-        auto save_stats = [&] {
-            stats.depth_tested = tested;
-            stats.written = written;
-            stats.edge_pairs = edge_pairs;
-            stats.scanlines = scanlines;
-            stats.active_max = active_max;
-        };
+        Sweep& sweep = sweep_;
+        sweep.start(int32_t(width_), largest_bucket_);
+        stats = {};
         const hsr::sdk::Scene scene(*scene_);
         for (int32_t y = 0; y < height_; ++y) {
             if (records_only_)
-                activate_instanced(scene, y);
+                activate_instanced(sweep, scene, y);
             else
-                activate_bucket(y);
-            if (active_.empty()) {
-                if constexpr (Steps::enabled) {
-                    save_stats();
-                    scanline_step(steps, y, 0, {});
-                }
+                activate_bucket(sweep, y);
+            if (sweep.active.empty()) {
+                if constexpr (Steps::enabled) scanline_step(steps, y, 0, {});
                 continue;
             }
-            ++scanlines;
-            edge_pairs += active_.size();
-            active_max = std::max(active_max, active_.size());
-
-            uint32_t* const tests_row = kCountTests ? target.depth_tests() + size_t(y) * size_t(width) : nullptr;
-            [[maybe_unused]] const size_t polygons_on_row = active_.size();
-            [[maybe_unused]] const uint64_t tested_before = tested, written_before = written;
-            if constexpr (Steps::enabled) draw_active_edges(steps, y);
-            int32_t lo = width, hi = -1;  // pixels of the row buffer touched
-            ActivePolygon* const list = active_.data();
-            size_t n = active_.size();
-            for (size_t i = 0; i < n;) {
-                ActivePolygon& p = list[i];
-                const int32_t x0 = std::max(p.left.x, 0);
-                const int32_t x1 = std::min(p.right.x, width - 1);
-                if (x0 <= x1) {
-                    lo = std::min(lo, x0);
-                    hi = std::max(hi, x1);
-                    tested += uint64_t(x1 - x0 + 1);
-                    written += depth_test_span<kCountTests>(p, x0, x1, row, tests_row);
-                }
-                if (p.last_row == y) {  // done: swap-remove (its slot stays taken for this row)
-                    released_.push_back(p.slot);
-                    p = list[--n];
-                    continue;
-                }
-                step_to_next_scanline(p, y);
-                ++i;
-            }
-            active_.resize(n);
+            [[maybe_unused]] const size_t polygons_on_row = sweep.active.size();
+            [[maybe_unused]] const Stats before = stats;
+            if constexpr (Steps::enabled) draw_active_edges(sweep, steps, y);
+            const PixelRange touched = draw_spans<kCountTests>(sweep, target, y, stats);
             [[maybe_unused]] RowSpans spans;
-            if constexpr (Steps::enabled) spans = draw_row_spans(steps, y, lo, hi);
-            resolve_row(target, y, lo, hi);
-            free_slots_.insert(free_slots_.end(), released_.begin(), released_.end());
-            released_.clear();
+            if constexpr (Steps::enabled) spans = draw_row_spans(sweep, steps, y, touched);
+            finish_row(sweep, target, y, touched);
             if constexpr (Steps::enabled) {
-                save_stats();
-                spans.tested = tested - tested_before;
-                spans.written = written - written_before;
+                spans.tested = stats.depth_tested - before.depth_tested;
+                spans.written = stats.written - before.written;
                 scanline_step(steps, y, polygons_on_row, spans);
             }
         }
         if (records_only_)  // below the image: nothing to draw, but counted as zbuffer counts them
             for (uint32_t i = placement_start_[height_]; i < placement_start_[height_ + 1]; ++i)
-                activate_placement(scene, placement_order_[i], height_);
-        save_stats();
+                activate_placement(sweep, scene, placement_order_[i], height_);
+    }
+
+    // The sweep of scan() over bands of band_rows_ scanlines, in parallel (one placement, no steps).
+    // A band starts with the polygons that started above it and reach into it, in the order a sweep
+    // from the top has them on the band's first row (the active list keeps the order polygons joined
+    // it in, and they join by first scanline, then drawing order); from there on it is that sweep.
+    // Every buffer and counter is the one sweep's.
+    template <bool kCountTests>
+    void scan_bands(hsr::sdk::VisibilityBuffer& target, Stats& stats) {
+        const uint32_t count = uint32_t((height_ + band_rows_ - 1) / band_rows_);
+        if (bands_.size() < count) bands_.resize(count);
+        hsr::sdk::parallel_for_each(count, band_stats_, [&](uint32_t k, Stats& band_stats) {
+            Sweep& sweep = bands_[k];
+            sweep.start(int32_t(width_), largest_bucket_);
+            const int32_t first = int32_t(k) * band_rows_, end = std::min(first + band_rows_, height_);
+            raster::TriangleStats counted_above;  // counted by the band they start in
+            for (uint32_t i = 0; i < bucket_start_[first]; ++i) {
+                if (order_last_row_bound_[i] < first) continue;
+                const uint32_t id = order_[i];
+                const TableEntry entry = table_[id];
+                if (entry.is_record)
+                    activate_record(sweep, records_[entry.index], id, first_row_[id], first);
+                else
+                    activate_triangle(sweep, counted_above, entry.index, id, first_row_[id], first);
+            }
+            for (int32_t y = first; y < end; ++y) {
+                activate_bucket(sweep, y);
+                if (sweep.active.empty()) continue;
+                finish_row(sweep, target, y, draw_spans<kCountTests>(sweep, target, y, band_stats));
+            }
+        });
+        stats = {};
+        for (uint32_t k = 0; k < count; ++k) {
+            stats += band_stats_[k];
+            activated_ += bands_[k].triangles;
+        }
+    }
+
+    // The pixels [lo, hi] of the row buffer that a scanline's spans touched.
+    struct PixelRange {
+        int32_t lo, hi;
+    };
+
+    // Scanline y of a sweep: the spans of its active polygons depth-tested into the row buffer;
+    // polygons on their last scanline leave the list (which keeps its order), the others step to
+    // the next.
+    template <bool kCountTests>
+    PixelRange draw_spans(Sweep& sweep, hsr::sdk::VisibilityBuffer& target, int32_t y, Stats& stats) const {
+        const int32_t width = int32_t(width_);
+        uint64_t* const row = sweep.row.data();
+        const ActiveInfo* const infos = sweep.infos.data();
+        ++stats.scanlines;
+        stats.edge_pairs += sweep.active.size();
+        stats.active_max = std::max<uint64_t>(stats.active_max, sweep.active.size());
+        uint32_t* const tests_row = kCountTests ? target.depth_tests() + size_t(y) * size_t(width) : nullptr;
+        uint64_t tested = 0, written = 0;
+        int32_t lo = width, hi = -1;
+        ActivePolygon* const list = sweep.active.data();
+        const size_t n = sweep.active.size();
+        size_t kept = 0;
+        for (size_t i = 0; i < n; ++i) {
+            ActivePolygon& p = list[i];
+            const int32_t x0 = std::max(p.left.x, 0);
+            const int32_t x1 = std::min(p.right.x, width - 1);
+            if (x0 <= x1) {
+                lo = std::min(lo, x0);
+                hi = std::max(hi, x1);
+                tested += uint64_t(x1 - x0 + 1);
+                written += depth_test_span<kCountTests>(p, infos, x0, x1, row, tests_row);
+            }
+            if (p.last_row == y) {  // done (its slot stays taken for this row)
+                sweep.released.push_back(p.slot);
+                continue;
+            }
+            step_to_next_scanline(p, y);
+            if (kept != i) list[kept] = p;
+            ++kept;
+        }
+        sweep.active.resize(kept);
+        stats.depth_tested += tested;
+        stats.written += written;
+        return {lo, hi};
+    }
+
+    // Scanline y is done: its winners go out, and the slots of the polygons that ended are free.
+    void finish_row(Sweep& sweep, hsr::sdk::VisibilityBuffer& target, int32_t y, PixelRange touched) {
+        resolve_row(sweep, target, y, touched.lo, touched.hi);
+        sweep.free_slots.insert(sweep.free_slots.end(), sweep.released.begin(), sweep.released.end());
+        sweep.released.clear();
     }
 
     // ---- Steps (ABI 1.3): what a scanline shows ----
@@ -659,7 +775,7 @@ private:
     // Each active polygon's edge pair where it crosses scanline y (before the edges step on): a
     // segment through the boundary, one scanline high, along the edge's slope, when inside the image.
     template <class Steps>
-    void draw_active_edges(Steps& steps, int32_t y) const {
+    void draw_active_edges(const Sweep& sweep, Steps& steps, int32_t y) const {
         const float width = float(width_), top = float(y), bottom = float(y + 1);
         auto edge = [&](float x, float slope) {
             if (!(x >= 0.0f && x <= width)) return;
@@ -668,7 +784,7 @@ private:
                        bottom, HSR_STEP_CONTEXT);
         };
         steps.line(0.0f, top + 0.5f, width, top + 0.5f, HSR_STEP_CONTEXT);
-        for (const ActivePolygon& p : active_) {
+        for (const ActivePolygon& p : sweep.active) {
             // A left edge's x moves by step - rem/den a scanline on average, a right edge's by
             // step + rem/den (see step_to_next_scanline).
             edge(float(p.left.x), float(p.left.step) - float(p.left.rem) / float(p.left.den));
@@ -678,18 +794,19 @@ private:
 
     // The runs of pixels [lo, hi] of the row buffer that one polygon won, before they go out.
     template <class Steps>
-    RowSpans draw_row_spans(Steps& steps, int32_t y, int32_t lo, int32_t hi) const {
+    RowSpans draw_row_spans(const Sweep& sweep, Steps& steps, int32_t y, PixelRange touched) const {
+        const int32_t lo = touched.lo, hi = touched.hi;
         RowSpans spans;
         const float centre = float(y) + 0.5f;
         int32_t x = lo;
         while (x <= hi) {
-            const uint64_t key = row_[x];
+            const uint64_t key = sweep.row[x];
             if (key == kEmpty) {
                 ++x;
                 continue;
             }
             int32_t end = x + 1;
-            while (end <= hi && row_[end] != kEmpty && uint32_t(row_[end]) == uint32_t(key)) ++end;
+            while (end <= hi && sweep.row[end] != kEmpty && uint32_t(sweep.row[end]) == uint32_t(key)) ++end;
             steps.line(float(x), centre, float(end), centre, HSR_STEP_WRITTEN);
             ++spans.spans;
             spans.pixels += uint64_t(end - x);
@@ -719,9 +836,8 @@ private:
     // value, and one integer comparison is the depth test; equal depths keep the polygon drawn first
     // (the lower id), as in zbuffer.
     template <bool kCountTests>
-    [[gnu::always_inline]] uint64_t depth_test_span(const ActivePolygon& p, int32_t x0, int32_t x1, uint64_t* row,
-                                                    uint32_t* tests_row) const {
-        const ActiveInfo* const infos = infos_.data();
+    [[gnu::always_inline]] static uint64_t depth_test_span(const ActivePolygon& p, const ActiveInfo* infos, int32_t x0,
+                                                           int32_t x1, uint64_t* row, uint32_t* tests_row) {
         const uint64_t slot = p.slot;
         const double dzdx = p.dzdx;
         double z = p.z_row + dzdx * double(x0);
@@ -766,8 +882,8 @@ private:
     // Scanline y is done: its winners in the row buffer, over the pixels [lo, hi] touched, go into
     // the visibility buffer (a winner's barycentric planes are made now if they were left out), and
     // the row buffer is cleared.
-    void resolve_row(hsr::sdk::VisibilityBuffer& target, int32_t y, int32_t lo, int32_t hi) {
-        uint64_t* const row = row_.data();
+    void resolve_row(Sweep& sweep, hsr::sdk::VisibilityBuffer& target, int32_t y, int32_t lo, int32_t hi) {
+        uint64_t* const row = sweep.row.data();
         float* const depth_out = target.depth();
         uint32_t* const face_out = target.face();
         float* const bary_out = target.bary();
@@ -780,10 +896,10 @@ private:
             row[x] = kEmpty;
             const size_t pixel = row_start + size_t(x);
             const uint32_t slot = uint32_t(key);
-            if (infos_[slot].placement != kNone) [[unlikely]]
-                make_planes(slot);
-            const ActiveInfo& info = infos_[slot];
-            const ActivePlanes& w = planes_[slot];
+            if (sweep.infos[slot].placement != kNone) [[unlikely]]
+                make_planes(sweep, slot);
+            const ActiveInfo& info = sweep.infos[slot];
+            const ActivePlanes& w = sweep.planes[slot];
             depth_out[pixel] = std::bit_cast<float>(uint32_t(key >> 32));
             face_out[pixel] = info.face;
             if (instance_out != nullptr) instance_out[pixel] = info.instance;
@@ -792,6 +908,7 @@ private:
     }
 
     bool cull_backfaces_;
+    int32_t band_rows_;                              // 0: one sweep
     uint32_t width_ = 0;
     int32_t height_ = 0;
     raster::GeometryStage geometry_;                 // keeps its vertex buffers between frames
@@ -802,6 +919,8 @@ private:
     std::vector<uint32_t> placement_instance_;
     std::vector<glm::dmat4> placement_matrix_;       // object to clip space, per placement
     bool records_only_ = false;                      // several placements: activated lazily, in y order
+    raster::TriangleStats activated_;                // what the bands' activations counted
+    uint32_t largest_bucket_ = 0;                    // polygons of the fullest bucket
     uint64_t polygons_ = 0;                          // emitted setups (polygons-in-table)
     uint64_t polygons_empty_ = 0;                    // small setups covering no pixel centre, dropped
     // One placement:
@@ -819,12 +938,11 @@ private:
     std::vector<uint16_t> first_row_;                // per polygon: its bucket
     std::vector<uint32_t> bucket_start_;             // bucket y is order_[start[y], start[y + 1])
     std::vector<uint32_t> order_;                    // polygon ids sorted by first scanline
-    std::vector<TableEntry> staged_;                 // one bucket's entries, fetched together
-    std::vector<ActivePolygon> active_;              // the active polygon list (edge pairs)
-    std::vector<ActiveInfo> infos_;                  // of the active polygons, by slot
-    std::vector<ActivePlanes> planes_;               // of the active polygons, by slot
-    std::vector<uint32_t> free_slots_, released_;    // released: free once the row is resolved
-    std::vector<uint64_t> row_;                      // the one-row depth buffer
+    std::vector<uint16_t> last_row_bound_;           // per polygon: no scanline of it lies below
+    std::vector<uint16_t> order_last_row_bound_;     // the same in the order of order_
+    Sweep sweep_;                                    // of the whole image
+    std::vector<Sweep> bands_;                       // of each band of rows
+    std::vector<Stats> band_stats_;
 };
 
 }  // namespace

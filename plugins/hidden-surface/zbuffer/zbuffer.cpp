@@ -75,7 +75,6 @@ private:
     // Measured on the bunny at 1024x1024 (docs/speed/visibility.md).
     static constexpr uint32_t kTileSize = 64;          // pixels a side
     static constexpr uint32_t kChunkTriangles = 2048;  // input triangles binned by one task
-    static constexpr uint32_t kChunkVertices = 8192;   // vertices transformed by one task
     static constexpr uint32_t kMaxPendingChunks = 64;  // bounds the memory of the bins
 
     friend class hsr::sdk::StepwiseRemover<ZBuffer>;
@@ -204,13 +203,7 @@ private:
 
     // GeometryStage::place, in parallel chunks of vertices.
     void place(const hsr::sdk::Placement& placement) {
-        const glm::dmat4 m = geometry_.clip_from_object(placement);
-        const uint32_t chunk_count = (placement.vertex_count + kChunkVertices - 1) / kChunkVertices;
-        hsr::sdk::parallel_for_each(chunk_count, [&](uint32_t c) {
-            const uint32_t first = placement.first_vertex + c * kChunkVertices;
-            geometry_.place_vertices(m, first, std::min(first + kChunkVertices,
-                                                        placement.first_vertex + placement.vertex_count));
-        });
+        geometry_.place_in_chunks(placement, [](uint32_t count, auto&& work) { hsr::sdk::parallel_for_each(count, work); });
     }
 
     // Counts the triangles [first, end) of the placed placement into `chunk` and bins each to the

@@ -276,6 +276,21 @@ public:
         }
     }
 
+    // place() in chunks of kPlaceChunkVertices vertices for a parallel loop: run_chunks(count, work)
+    // must call work(k) once for every chunk k < count, in any order and at the same time if it
+    // likes (hsr::sdk::parallel_for_each of hsr/parallel.hpp).
+    static constexpr uint32_t kPlaceChunkVertices = 8192;
+    template <class RunChunks>
+    void place_in_chunks(const hsr::sdk::Placement& placement, RunChunks&& run_chunks) {
+        const glm::dmat4 m = clip_from_object(placement);
+        const uint32_t count = (placement.vertex_count + kPlaceChunkVertices - 1) / kPlaceChunkVertices;
+        const uint32_t end = placement.first_vertex + placement.vertex_count;
+        run_chunks(count, [&, end](uint32_t k) {
+            const uint32_t first = placement.first_vertex + k * kPlaceChunkVertices;
+            place_vertices(m, first, std::min(first + kPlaceChunkVertices, end));
+        });
+    }
+
     // The matrix place() transforms a placement's vertices with.
     glm::dmat4 clip_from_object(const hsr::sdk::Placement& placement) const {
         return placement.identity ? view_projection_ : view_projection_ * glm::dmat4(placement.transform);
