@@ -313,6 +313,8 @@ TEST_CASE("scanline-zbuffer: bands swept in parallel give the one sweep's buffer
     // One and two rows: fewer rows than a band, and bands of one row each.
     check_bands_equal_one_sweep(monkey.view(), orbit(monkey, 0, 0, 1, false, 64, 1));
     check_bands_equal_one_sweep(monkey.view(), orbit(monkey, 0, 0, 1, false, 3, 2));
+    // More rows than 1,024 bands of one row: the bands are made taller.
+    check_bands_equal_one_sweep(monkey.view(), orbit(monkey, 0, 0, 1, false, 24, 2100));
 }
 
 TEST_CASE("scanline-zbuffer: counters and buffers reused between frames", "[scanline-zbuffer]") {

@@ -187,6 +187,7 @@ private:
             records_.clear();
             first_row_.clear();
             last_row_bound_.clear();
+            tallest_polygon_rows_ = 0;
             table_.reserve(placement.triangle_count);
             first_row_.reserve(placement.triangle_count);
             last_row_bound_.reserve(placement.triangle_count);
@@ -296,6 +297,7 @@ private:
         table_.push_back(e);
         first_row_.push_back(uint16_t(first_row));
         last_row_bound_.push_back(uint16_t(std::clamp(last_row_bound, first_row, height_ - 1)));
+        tallest_polygon_rows_ = std::max(tallest_polygon_rows_, int32_t(last_row_bound_.back()) - first_row);
         ++bucket_start_[size_t(first_row) + 1];
     }
 
@@ -683,14 +685,17 @@ private:
     // Every buffer and counter is the one sweep's.
     template <bool kCountTests>
     void scan_bands(hsr::sdk::VisibilityBuffer& target, Stats& stats) {
-        const uint32_t count = uint32_t((height_ + band_rows_ - 1) / band_rows_);
+        // Each band looks through the buckets above it that a polygon could reach down from, so
+        // the bands are at most kMaxBands, which bounds that work by kMaxBands passes over the table.
+        const int32_t rows = std::max(band_rows_, (height_ + kMaxBands - 1) / kMaxBands);
+        const uint32_t count = uint32_t((height_ + rows - 1) / rows);
         if (bands_.size() < count) bands_.resize(count);
         hsr::sdk::parallel_for_each(count, band_stats_, [&](uint32_t k, Stats& band_stats) {
             Sweep& sweep = bands_[k];
             sweep.start(int32_t(width_), largest_bucket_);
-            const int32_t first = int32_t(k) * band_rows_, end = std::min(first + band_rows_, height_);
+            const int32_t first = int32_t(k) * rows, end = std::min(first + rows, height_);
             raster::TriangleStats counted_above;  // counted by the band they start in
-            for (uint32_t i = 0; i < bucket_start_[first]; ++i) {
+            for (uint32_t i = bucket_start_[std::max(first - tallest_polygon_rows_, 0)]; i < bucket_start_[first]; ++i) {
                 if (order_last_row_bound_[i] < first) continue;
                 const uint32_t id = order_[i];
                 const TableEntry entry = table_[id];
@@ -940,6 +945,8 @@ private:
     std::vector<uint32_t> order_;                    // polygon ids sorted by first scanline
     std::vector<uint16_t> last_row_bound_;           // per polygon: no scanline of it lies below
     std::vector<uint16_t> order_last_row_bound_;     // the same in the order of order_
+    int32_t tallest_polygon_rows_ = 0;               // the most any polygon's bound lies below its first
+    static constexpr int32_t kMaxBands = 1024;
     Sweep sweep_;                                    // of the whole image
     std::vector<Sweep> bands_;                       // of each band of rows
     std::vector<Stats> band_stats_;
