@@ -494,10 +494,10 @@ private:
                               x, y);
     }
 
-    // Makes triangle t active on its first scanline (one placement): culled, clipped (never: see
-    // bucket_triangles) and set up now, with its planes.
-    // Counting into `stats`; a polygon that a band takes over from above joins on the band's first
-    // row (`row` > `first`), as it stands on that row in a sweep from the top.
+    // Makes triangle t active (one placement): culled, clipped (never: see bucket_triangles) and set
+    // up now, with its planes, counted into `stats`. It joins on its first scanline `first`, or,
+    // when a band takes it over from above, on the band's first row `row` as it stands there in a
+    // sweep from the top.
     [[gnu::flatten]] void activate_triangle(Sweep& sweep, raster::TriangleStats& stats, uint32_t t, uint32_t id,
                                             int32_t first, int32_t row) {
         geometry_.process(t, stats, [&](const raster::TriangleSetup& s) {
