@@ -1,12 +1,14 @@
 // The SIMD shading code against the scalar code it replaces, on every Highway target this CPU runs
 // (each forced in turn with hwy::SetSupportedTargetsForTest): the lighting models' per-fragment
-// kernel (hsr/shading.hpp) on random fragments, lights and materials; the host's fragment assembly
-// and colour-to-byte conversion (framework/src/fragment_assembly.hpp) on random frames; and whole
-// pictures of the bunny shaded by the lighting plugins through the host, against pictures made
-// here with the scalar code alone. Equal means equal bit for bit.
+// kernel (hsr/shading.hpp) on random fragments, lights and materials, with and without instances;
+// the host's fragment assembly and colour-to-byte conversion (framework/src/fragment_assembly.hpp)
+// on random frames, with and without instances; and whole pictures of the bunny shaded by the
+// lighting plugins through the host, against pictures made here with the scalar code alone. Equal
+// means equal bit for bit.
 #include "../framework/src/fragment_assembly.hpp"
 
 #include "hsr/camera.hpp"
+#include "hsr/instancing.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
@@ -16,6 +18,7 @@
 #include "test_models.hpp"
 
 #include <catch2/catch.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <hwy/targets.h>
 
 #include <algorithm>
@@ -78,15 +81,31 @@ hsr::SceneData random_scene(std::mt19937& rng, uint32_t triangles) {
     return s;
 }
 
+// Three placements of every triangle of `data`: turned, scaled and moved.
+hsr::SceneData placed_three_times(const hsr::SceneData& data) {
+    hsr::SceneData placed = data;
+    const uint32_t triangles = uint32_t(data.face_colors.size() / 3), vertices = uint32_t(data.positions.size() / 3);
+    for (uint32_t k = 0; k < 3; ++k) {
+        const glm::mat3 rotation(
+            glm::rotate(glm::mat4(1.0f), 0.7f + float(k), glm::normalize(glm::vec3(1.0f, 2.0f - float(k), 0.5f))));
+        placed.instances.push_back(hsr::make_instance(0, triangles, 0, vertices, rotation, 0.6f + 0.7f * float(k),
+                                                      glm::vec3(0.3f * float(k), -1.5f, 2.0f), data.bounds_min,
+                                                      data.bounds_max));
+    }
+    return placed;
+}
+
 // One model, many random frames' worth of fragments and lights: the SIMD shade() against the
-// scalar loop.
+// scalar loop, for a scene without instances (per-fragment interpolation, the one its shade()
+// computes) and for the same triangles placed three times (every interpolation).
 template <class Specular>
 void check_kernel(const char* name) {
     std::mt19937 rng(std::hash<std::string>{}(name));
     std::uniform_real_distribution<float> coordinate(-2.0f, 2.0f), unit_interval(0.0f, 1.0f);
     const hsr::SceneData data = random_scene(rng, 200);
-    const hsr_scene raw = data.view();
-    const hsr::sdk::Scene scene(raw);
+    const hsr::SceneData placed = placed_three_times(data);
+    const hsr_scene raw = data.view(), raw_placed = placed.view();
+    const hsr::sdk::Scene scene(raw), placed_scene(raw_placed);
     for (int round = 0; round < 40; ++round) {
         hsr::shading::Material material;
         material.ambient = unit_interval(rng);
@@ -95,8 +114,6 @@ void check_kernel(const char* name) {
         material.shininess = round % 4 == 0 ? 1000.0f : 1.0f + 200.0f * unit_interval(rng);
         material.specular_color = {unit_interval(rng), unit_interval(rng), unit_interval(rng)};
         material.two_sided = round % 3 != 0;
-        material.interpolation = hsr::shading::Interpolation::phong;
-        hsr::shading::ShadedLightingModel<Specular> model(material);
 
         std::vector<hsr_light> lights(1 + round % 4);
         for (hsr_light& light : lights) {
@@ -116,15 +133,16 @@ void check_kernel(const char* name) {
             context.eye[k] = 3.0f * coordinate(rng);
             context.view_direction[k] = coordinate(rng);
         }
-        model.prepare(scene, context);
 
-        // Fragments: random faces, barycentrics, positions and unit normals, a few at the eye
-        // point or at a point light (no view or light vector) and with zero normals.
+        // Fragments: random faces, instances, barycentrics, positions and unit normals, a few at the
+        // eye point or at a point light (no view or light vector) and with zero normals. More than
+        // one block of the instanced path, and not a multiple of any vector.
         const uint32_t n = 1000 + round;
-        std::vector<uint32_t> face(n), pixel(n);
+        std::vector<uint32_t> face(n), pixel(n), instance(n);
         std::vector<float> bary(2 * n), position(3 * n), normal(3 * n);
         for (uint32_t i = 0; i < n; ++i) {
             face[i] = rng() % raw.triangle_count;
+            instance[i] = rng() % 3;
             pixel[i] = i;
             bary[2 * i] = unit_interval(rng);
             bary[2 * i + 1] = unit_interval(rng);
@@ -135,7 +153,7 @@ void check_kernel(const char* name) {
             if (i % 83 == 0) nv = glm::vec3(0.0f);
             for (int k = 0; k < 3; ++k) position[3 * i + k] = p[k], normal[3 * i + k] = nv[k];
         }
-        auto shade = [&](bool simd) {
+        auto shade = [&](const hsr::shading::ShadedLightingModel<Specular>& model, bool instanced, bool simd) {
             std::vector<float> color(3 * n, -1.0f);
             hsr_fragment_batch batch{};
             batch.struct_size = sizeof batch;
@@ -146,17 +164,29 @@ void check_kernel(const char* name) {
             batch.normal = normal.data();
             batch.pixel = pixel.data();
             batch.color = color.data();
+            batch.instance = instanced ? instance.data() : nullptr;
             if (simd)
                 model.shade(batch);
+            else if (instanced)
+                model.shade_instanced_scalar(batch);
             else
                 model.shade_phong_scalar(batch);
             return color;
         };
-        const std::vector<float> reference = shade(false);
-        for_each_target([&](int64_t) {
-            INFO(name << ", round " << round);
-            CHECK(same_bits(shade(true), reference));
-        });
+        using hsr::shading::Interpolation;
+        for (const bool instanced : {false, true})
+            for (const Interpolation interpolation : {Interpolation::flat, Interpolation::gouraud, Interpolation::phong}) {
+                if (!instanced && interpolation != Interpolation::phong) continue;
+                material.interpolation = interpolation;
+                hsr::shading::ShadedLightingModel<Specular> model(material);
+                model.prepare(instanced ? placed_scene : scene, context);
+                const std::vector<float> reference = shade(model, instanced, false);
+                for_each_target([&](int64_t) {
+                    INFO(name << ", round " << round << (instanced ? ", instanced" : "") << ", interpolation "
+                              << int(interpolation));
+                    CHECK(same_bits(shade(model, instanced, true), reference));
+                });
+            }
     }
 }
 
@@ -174,25 +204,24 @@ TEST_CASE("shading SIMD: every target's fragment assembly and bytes equal the sc
     // Triangle 0 has no interpolated normal (the face normal stands in); the last triangle, whose
     // corners are the last in memory, comes in below as well.
     std::fill(data.corner_normals.begin(), data.corner_normals.begin() + 9, 0.0f);
-    const hsr_scene scene = data.view();
     std::uniform_real_distribution<float> unit_interval(0.0f, 1.0f);
     const uint32_t width = 61, height = 9, pixels = width * height;  // not a multiple of any vector
     std::vector<uint32_t> face(pixels);
     std::vector<float> bary(2 * pixels);
     for (uint32_t p = 0; p < pixels; ++p) {
-        face[p] = unit_interval(rng) < 0.3f ? HSR_NO_FACE : rng() % scene.triangle_count;
+        face[p] = unit_interval(rng) < 0.3f ? HSR_NO_FACE : rng() % data.face_colors.size() / 3;
         bary[2 * p] = unit_interval(rng);
         bary[2 * p + 1] = unit_interval(rng) * (1.0f - bary[2 * p]);
     }
-    for (uint32_t p : {0u, 1u, 17u, 100u, pixels - 1}) face[p] = scene.triangle_count - 1;
+    const uint32_t triangles = uint32_t(data.face_colors.size() / 3);
+    for (uint32_t p : {0u, 1u, 17u, 100u, pixels - 1}) face[p] = triangles - 1;
     for (uint32_t p : {2u, 40u, 41u, 300u}) face[p] = 0;
-    const hsr::Placements none;
-    hsr::FragmentArrays reference;
-    reference.reserve(pixels);
-    uint32_t n = 0;
-    for (uint32_t p = 0; p < pixels; ++p)
-        if (face[p] != HSR_NO_FACE)
-            hsr::assemble_fragment(scene, none, face[p], hsr::kNotInstanced, bary[2 * p], bary[2 * p + 1], p, reference, n++);
+
+    // The same faces, once without instances and once as three placements of the triangles, with
+    // runs of one instance and single pixels of others.
+    const hsr::SceneData placed = placed_three_times(data);
+    std::vector<uint32_t> instance(pixels);
+    for (uint32_t p = 0; p < pixels; ++p) instance[p] = (p / 23) % 3 == 0 ? rng() % 3 : (p / 23) % 3;
 
     std::vector<float> colors;
     for (float v : {-1.0f, -0.0f, 0.0f, 1e-9f, 0.5f / 255.0f, 0.99f / 255.0f, 0.5f, 0.998f, 1.0f, 1.5f, NAN, INFINITY})
@@ -201,23 +230,40 @@ TEST_CASE("shading SIMD: every target's fragment assembly and bytes equal the sc
     std::vector<uint8_t> reference_bytes(colors.size());
     for (size_t i = 0; i < colors.size(); ++i) reference_bytes[i] = hsr::color_to_byte(colors[i]);
 
-    for_each_target([&](int64_t) {
-        hsr::FragmentArrays out;
-        out.reserve(pixels);
-        for (uint32_t begin : {0u, width, 3 * width}) {
-            const uint32_t count = hsr::assemble_covered_pixels(scene, face.data(), bary.data(), begin, pixels, out);
-            uint32_t first = 0;
-            while (first < n && reference.pixel[first] < begin) ++first;
-            REQUIRE(count == n - first);
-            for (uint32_t i = 0; i < count; ++i) {
-                const uint32_t r = first + i;
-                CHECK(out.face[i] == reference.face[r]);
-                CHECK(out.pixel[i] == reference.pixel[r]);
-                CHECK(std::memcmp(&out.bary[2 * i], &reference.bary[2 * r], 2 * sizeof(float)) == 0);
-                CHECK(std::memcmp(&out.position[3 * i], &reference.position[3 * r], 3 * sizeof(float)) == 0);
-                CHECK(std::memcmp(&out.normal[3 * i], &reference.normal[3 * r], 3 * sizeof(float)) == 0);
+    for (const bool instanced : {false, true}) {
+        INFO((instanced ? "instanced" : "without instances"));
+        const hsr_scene scene = (instanced ? placed : data).view();
+        const hsr::Placements placements = instanced ? hsr::Placements(scene) : hsr::Placements();
+        REQUIRE(placements.transform.size() == (instanced ? 3u : 0u));
+        hsr::FragmentArrays reference;
+        reference.reserve(pixels);
+        uint32_t n = 0;
+        for (uint32_t p = 0; p < pixels; ++p)
+            if (face[p] != HSR_NO_FACE)
+                hsr::assemble_fragment(scene, placements, face[p], instanced ? instance[p] : hsr::kNotInstanced,
+                                       bary[2 * p], bary[2 * p + 1], p, reference, n++);
+        for_each_target([&](int64_t) {
+            hsr::FragmentArrays out;
+            out.reserve(pixels);
+            for (uint32_t begin : {0u, width, 3 * width}) {
+                const uint32_t count = hsr::assemble_covered_pixels(
+                    scene, placements, face.data(), instanced ? instance.data() : nullptr, bary.data(), begin, pixels, out);
+                uint32_t first = 0;
+                while (first < n && reference.pixel[first] < begin) ++first;
+                REQUIRE(count == n - first);
+                for (uint32_t i = 0; i < count; ++i) {
+                    const uint32_t r = first + i;
+                    CHECK(out.face[i] == reference.face[r]);
+                    CHECK(out.pixel[i] == reference.pixel[r]);
+                    if (instanced) CHECK(out.instance[i] == reference.instance[r]);
+                    CHECK(std::memcmp(&out.bary[2 * i], &reference.bary[2 * r], 2 * sizeof(float)) == 0);
+                    CHECK(std::memcmp(&out.position[3 * i], &reference.position[3 * r], 3 * sizeof(float)) == 0);
+                    CHECK(std::memcmp(&out.normal[3 * i], &reference.normal[3 * r], 3 * sizeof(float)) == 0);
+                }
             }
-        }
+        });
+    }
+    for_each_target([&](int64_t) {
         std::vector<uint8_t> bytes(colors.size() + 64);
         hsr::colors_to_bytes(colors.data(), colors.size(), bytes.data());
         bytes.resize(colors.size());

@@ -114,13 +114,15 @@ inline uint8_t color_to_byte(float v) {
 // SIMD (fragment_assembly_simd.cpp), the same results as the scalar code:
 // Whether assemble_covered_pixels takes the scene (its indices fit the SIMD code's 32-bit lanes).
 inline bool fits_simd_assembly(const hsr_scene& scene) {
-    return scene.instance_count == 0 && scene.triangle_count < (1u << 31) / 9 && scene.vertex_count < (1u << 31) / 3;
+    return scene.triangle_count < (1u << 31) / 9 && scene.vertex_count < (1u << 31) / 3;
 }
-// The covered pixels [pixel_begin, pixel_end) of a frame of a scene without instances, assembled
-// into fragments 0, 1, ... of `out` as assemble_fragment does; returns their count. `out` holds
+// The covered pixels [pixel_begin, pixel_end) of a frame, assembled into fragments 0, 1, ... of
+// `out` as assemble_fragment does; returns their count. `instance`: the frame's instance ids, or
+// null for a scene without instances (then `placements` is empty). `out` holds
 // FragmentArrays::reserve(pixel_end - pixel_begin).
-uint32_t assemble_covered_pixels(const hsr_scene& scene, const uint32_t* face, const float* bary, uint32_t pixel_begin,
-                                 uint32_t pixel_end, FragmentArrays& out);
+uint32_t assemble_covered_pixels(const hsr_scene& scene, const Placements& placements, const uint32_t* face,
+                                 const uint32_t* instance, const float* bary, uint32_t pixel_begin, uint32_t pixel_end,
+                                 FragmentArrays& out);
 // bytes[i] = color_to_byte(color[i]) for i < count.
 void colors_to_bytes(const float* color, size_t count, uint8_t* bytes);
 

@@ -1,5 +1,4 @@
-// SIMD parts of a shading band (fragment_assembly.hpp) for scenes without instances, on Google
-// Highway with the best instruction set of the CPU chosen at run time: finding the covered pixels
+// SIMD parts of a shading band (fragment_assembly.hpp), on Google Highway with the best instruction set of the CPU chosen at run time: finding the covered pixels
 // (compress-store), assembling their fragments (the float operations of assemble_fragment, in its
 // order, on as many fragments as a vector has lanes) and turning colours into bytes. Bit-identical
 // to the scalar code.
@@ -19,8 +18,9 @@ HWY_BEFORE_NAMESPACE();
 namespace hsr::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, const float* bary, uint32_t pixel_begin,
-                               uint32_t pixel_end, FragmentArrays& out) {
+uint32_t AssembleCoveredPixels(const hsr_scene& scene, const Placements& placements, const uint32_t* face,
+                               const uint32_t* instance, const float* bary, uint32_t pixel_begin, uint32_t pixel_end,
+                               FragmentArrays& out) {
     using namespace hn;
     const ScalableTag<uint32_t> du;
     const RebindToSigned<decltype(du)> di;
@@ -46,6 +46,8 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, con
     }
     for (; p < pixel_end; ++p)
         if (face[p] != HSR_NO_FACE) out.face[n] = face[p], out.pixel[n++] = p;
+    if (instance != nullptr)
+        for (uint32_t i = 0; i < n; ++i) out.instance[i] = instance[out.pixel[i]];
 
     // Their fragments, a block at a time: a scalar pass copies each fragment's corners (normals,
     // then positions) and barycentrics into columns, from which the arithmetic runs a vector at a
@@ -54,6 +56,10 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, con
     constexpr uint32_t kBlock = 64;
     constexpr uint32_t kPrefetchDistance = 16;
     HWY_ALIGN float column[20][kBlock];  // 0-8: corner normals, 9-17: corner positions, 18-19: b1, b2
+    // An instanced scene's placements, lane by lane, for a vector whose fragments are of several
+    // instances: the transform's rows 0-2 by column (m[c][r] at 3 c + r), then the rotation (r[c][r]
+    // at 12 + 3 c + r).
+    HWY_ALIGN float placement[21][HWY_MAX_BYTES / sizeof(float)];
     const auto one = Set(df, 1.0f);
     const auto zero = Zero(df);
     uint32_t i = 0;
@@ -101,16 +107,45 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const uint32_t* face, con
                 for (int k = 0; k < 3; ++k)
                     normal[k] = IfThenElse(has_length, normal[k], GatherIndex(df, scene.face_normals, Add(t3, Set(di, k))));
             }
+            if (instance != nullptr) {  // glm's mat4 * vec4(p, 1) and mat3 * n, in their order
+                // Mostly every lane is of one instance, whose placement is then broadcast.
+                const uint32_t first = out.instance[i];
+                const bool one_instance = AllTrue(du, Eq(LoadU(du, out.instance.data() + i), Set(du, first)));
+                if (!one_instance)
+                    for (uint32_t lane = 0; lane < lanes; ++lane) {
+                        const glm::mat4& m = placements.transform[out.instance[i + lane]];
+                        const glm::mat3& r = placements.rotation[out.instance[i + lane]];
+                        for (int c = 0; c < 4; ++c)
+                            for (int row = 0; row < 3; ++row) placement[3 * c + row][lane] = m[c][row];
+                        for (int c = 0; c < 3; ++c)
+                            for (int row = 0; row < 3; ++row) placement[12 + 3 * c + row][lane] = r[c][row];
+                    }
+                const glm::mat4& m_first = placements.transform[first];
+                const glm::mat3& r_first = placements.rotation[first];
+                const auto m = [&](int c, int row) {
+                    return one_instance ? Set(df, m_first[c][row]) : Load(df, placement[3 * c + row]);
+                };
+                const auto r = [&](int c, int row) {
+                    return one_instance ? Set(df, r_first[c][row]) : Load(df, placement[12 + 3 * c + row]);
+                };
+                Vec<decltype(df)> world[3], turned[3];
+                for (int row = 0; row < 3; ++row) {
+                    // (m[3] * 1 is m[3])
+                    world[row] = Add(Add(Mul(m(0, row), position[0]), Mul(m(1, row), position[1])),
+                                     Add(Mul(m(2, row), position[2]), m(3, row)));
+                    turned[row] = Add(Add(Mul(r(0, row), normal[0]), Mul(r(1, row), normal[1])), Mul(r(2, row), normal[2]));
+                }
+                for (int k = 0; k < 3; ++k) position[k] = world[k], normal[k] = turned[k];
+            }
             StoreInterleaved2(b1, b2, df, out.bary.data() + 2 * size_t{i});
             StoreInterleaved3(position[0], position[1], position[2], df, out.position.data() + 3 * size_t{i});
             StoreInterleaved3(normal[0], normal[1], normal[2], df, out.normal.data() + 3 * size_t{i});
         }
     }
-    const Placements no_placements{};
     for (; i < n; ++i) {
         const uint32_t pixel = out.pixel[i];
-        assemble_fragment(scene, no_placements, out.face[i], kNotInstanced, bary[2 * size_t{pixel}],
-                          bary[2 * size_t{pixel} + 1], pixel, out, i);
+        assemble_fragment(scene, placements, out.face[i], instance != nullptr ? out.instance[i] : kNotInstanced,
+                          bary[2 * size_t{pixel}], bary[2 * size_t{pixel} + 1], pixel, out, i);
     }
     return n;
 }
@@ -142,9 +177,11 @@ namespace hsr {
 HWY_EXPORT(AssembleCoveredPixels);
 HWY_EXPORT(ColorsToBytes);
 
-uint32_t assemble_covered_pixels(const hsr_scene& scene, const uint32_t* face, const float* bary, uint32_t pixel_begin,
-                                 uint32_t pixel_end, FragmentArrays& out) {
-    return HWY_DYNAMIC_DISPATCH(AssembleCoveredPixels)(scene, face, bary, pixel_begin, pixel_end, out);
+uint32_t assemble_covered_pixels(const hsr_scene& scene, const Placements& placements, const uint32_t* face,
+                                 const uint32_t* instance, const float* bary, uint32_t pixel_begin, uint32_t pixel_end,
+                                 FragmentArrays& out) {
+    return HWY_DYNAMIC_DISPATCH(AssembleCoveredPixels)(scene, placements, face, instance, bary, pixel_begin, pixel_end,
+                                                       out);
 }
 
 void colors_to_bytes(const float* color, size_t count, uint8_t* bytes) {

@@ -249,8 +249,9 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
     for_each_band(frame.height, settings.threads, [&](uint32_t row_begin, uint32_t row_end, FragmentArrays& arrays) {
         const uint32_t pixel_begin = row_begin * frame.width, pixel_end = row_end * frame.width;
         arrays.reserve(size_t(kRowsPerBand) * frame.width);
-        const uint32_t n = simd_assembly ? assemble_covered_pixels(scene, frame.face.data(), frame.bary.data(),
-                                                                   pixel_begin, pixel_end, arrays)
+        const uint32_t n = simd_assembly ? assemble_covered_pixels(scene, placements, frame.face.data(),
+                                                                   instanced ? frame.instance.data() : nullptr,
+                                                                   frame.bary.data(), pixel_begin, pixel_end, arrays)
                                          : assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
         for (uint32_t y = row_begin; y < row_end; ++y)
             std::memcpy(&frame.rgb[3 * size_t(y) * frame.width], background_row.data(), background_row.size());

@@ -294,6 +294,9 @@ struct PhongKernelInput {
     float specular_factor[3] = {0, 0, 0};  // ks * specular colour
     const float* face_normals = nullptr;   // the scene's
     const float* face_colors = nullptr;
+    // Instanced scenes: each fragment's face normal as its instance turns it, 3 floats per fragment
+    // of the batch, which then stand in for face_normals (the face colours stay per face).
+    const float* fragment_face_normals = nullptr;
 };
 
 }  // namespace hsr::shading
@@ -543,8 +546,98 @@ public:
 
 private:
     // Fragments of an instanced scene: positions and normals arrive in world space; face and corner
-    // data are turned into world space with the fragment's instance.
+    // data are turned into world space with the fragment's instance. A block of fragments at a time:
+    // their faces' normals (and, for flat and Gouraud, the points where the model is evaluated) are
+    // carried into world space here, then the SIMD kernel shades whole vectors of them and the
+    // scalar code the rest.
     void shade_instanced(hsr_fragment_batch& batch) const {
+        constexpr uint32_t kBlock = 256;
+        float face_normal[3 * kBlock], position[3 * kBlock], normal[3 * kBlock], color[3][3 * kBlock];
+        PhongKernelInput in = kernel_input_;
+        in.fragment_face_normals = face_normal;
+        for (uint32_t first = 0; first < batch.count; first += kBlock) {
+            const uint32_t n = std::min(kBlock, batch.count - first);
+            for (uint32_t i = 0; i < n; ++i) {
+                const uint32_t f = batch.face[first + i];
+                check_face(f);
+                const uint32_t k = batch.instance[first + i];
+                if (k >= instance_transform_.size()) [[unlikely]]
+                    throw sdk::InvalidArgument("fragment batch: instance " + std::to_string(k) + " out of range");
+                store(face_normal + 3 * size_t{i}, instance_rotation_[k] * scene_->face_normal(f));
+            }
+            hsr_fragment_batch block{};
+            block.struct_size = sizeof block;
+            block.count = n;
+            block.face = batch.face + first;
+            block.position = batch.position + 3 * size_t{first};
+            block.normal = batch.normal + 3 * size_t{first};
+            float* out = batch.color + 3 * size_t{first};
+            switch (material_.interpolation) {
+            case Interpolation::flat: {  // the model at the centroid, with the face normal
+                for (uint32_t i = 0; i < n; ++i) {
+                    const uint32_t f = block.face[i];
+                    store(position + 3 * size_t{i},
+                          world(batch.instance[first + i], (scene_->corner_position(f, 0) + scene_->corner_position(f, 1) +
+                                                            scene_->corner_position(f, 2)) / 3.0f));
+                }
+                block.position = position;
+                block.normal = face_normal;
+                block.color = out;
+                shade_block(in, block);
+                break;
+            }
+            case Interpolation::gouraud: {  // the model at each corner, weighted by the barycentrics
+                for (int corner = 0; corner < 3; ++corner) {
+                    for (uint32_t i = 0; i < n; ++i) {
+                        const uint32_t f = block.face[i], k = batch.instance[first + i];
+                        store(position + 3 * size_t{i}, world(k, scene_->corner_position(f, corner)));
+                        store(normal + 3 * size_t{i}, instance_rotation_[k] * scene_->corner_normal(f, corner));
+                    }
+                    block.position = position;
+                    block.normal = normal;
+                    block.color = color[corner];
+                    shade_block(in, block);
+                }
+                for (uint32_t i = 0; i < n; ++i) {
+                    const float b1 = batch.bary[2 * size_t{first + i}], b2 = batch.bary[2 * size_t{first + i} + 1];
+                    const float b[3] = {1.0f - b1 - b2, b1, b2};
+                    glm::vec3 c(0.0f);
+                    for (int corner = 0; corner < 3; ++corner) c += b[corner] * load(color[corner] + 3 * size_t{i});
+                    store(out + 3 * size_t{i}, clamp01(c));
+                }
+                break;
+            }
+            case Interpolation::phong:
+                block.color = out;
+                shade_block(in, block);
+                break;
+            }
+        }
+    }
+
+    // Point p of instance k in world space.
+    glm::vec3 world(uint32_t k, glm::vec3 p) const { return glm::vec3(instance_transform_[k] * glm::vec4(p, 1.0f)); }
+
+    static glm::vec3 load(const float* in) { return {in[0], in[1], in[2]}; }
+
+    // The model at the points of `block` (world positions and shading normals, the face normals of
+    // in.fragment_face_normals deciding the side): whole vectors by the kernel, the rest here.
+    void shade_block(const PhongKernelInput& in, hsr_fragment_batch& block) const {
+        const uint32_t done = shade_phong_simd(in, block, block.count);
+        const Specular specular{};
+        for (uint32_t i = done; i < block.count; ++i) {
+            const glm::vec3 p = load(block.position + 3 * size_t{i});
+            const glm::vec3 v = lights_.view_vector(p);
+            const glm::vec3 n = facing_normal(load(block.normal + 3 * size_t{i}),
+                                              load(in.fragment_face_normals + 3 * size_t{i}), v);
+            store(block.color + 3 * size_t{i},
+                  lights_.reflect(material_, specular, scene_->face_color(block.face[i]), p, n, v));
+        }
+    }
+
+public:
+    // The scalar code the instanced path equals bit for bit (tests compare them).
+    void shade_instanced_scalar(hsr_fragment_batch& batch) const {
         const sdk::Scene& scene = *scene_;
         const Specular specular{};
         for (uint32_t i = 0; i < batch.count; ++i) {
@@ -553,16 +646,14 @@ private:
             const uint32_t k = batch.instance[i];
             if (k >= instance_transform_.size()) [[unlikely]]
                 throw sdk::InvalidArgument("fragment batch: instance " + std::to_string(k) + " out of range");
-            const glm::mat4& transform = instance_transform_[k];
             const glm::mat3& rotation = instance_rotation_[k];
             const glm::vec3 face_normal = rotation * scene.face_normal(f);
             const glm::vec3 base = scene.face_color(f);
-            auto world = [&](glm::vec3 p) { return glm::vec3(transform * glm::vec4(p, 1.0f)); };
             glm::vec3 color;
             switch (material_.interpolation) {
             case Interpolation::flat: {
-                const glm::vec3 centroid = world((scene.corner_position(f, 0) + scene.corner_position(f, 1) +
-                                                  scene.corner_position(f, 2)) / 3.0f);
+                const glm::vec3 centroid =
+                    world(k, (scene.corner_position(f, 0) + scene.corner_position(f, 1) + scene.corner_position(f, 2)) / 3.0f);
                 const glm::vec3 v = lights_.view_vector(centroid);
                 color = lights_.reflect(material_, specular, base, centroid, facing_normal(face_normal, face_normal, v), v);
                 break;
@@ -572,7 +663,7 @@ private:
                                     batch.bary[2 * size_t{i}], batch.bary[2 * size_t{i} + 1]};
                 color = glm::vec3(0.0f);
                 for (int corner = 0; corner < 3; ++corner) {
-                    const glm::vec3 p = world(scene.corner_position(f, corner));
+                    const glm::vec3 p = world(k, scene.corner_position(f, corner));
                     const glm::vec3 v = lights_.view_vector(p);
                     const glm::vec3 n = facing_normal(rotation * scene.corner_normal(f, corner), face_normal, v);
                     color += b[corner] * lights_.reflect(material_, specular, base, p, n, v);
@@ -581,11 +672,9 @@ private:
                 break;
             }
             case Interpolation::phong: {
-                const float* pos = batch.position + 3 * size_t{i};
-                const float* nrm = batch.normal + 3 * size_t{i};
-                const glm::vec3 p{pos[0], pos[1], pos[2]};
+                const glm::vec3 p = load(batch.position + 3 * size_t{i});
                 const glm::vec3 v = lights_.view_vector(p);
-                const glm::vec3 n = facing_normal({nrm[0], nrm[1], nrm[2]}, face_normal, v);
+                const glm::vec3 n = facing_normal(load(batch.normal + 3 * size_t{i}), face_normal, v);
                 color = lights_.reflect(material_, specular, base, p, n, v);
                 break;
             }
@@ -594,6 +683,7 @@ private:
         }
     }
 
+private:
     Material material_;
     LightEnvironment lights_;
     std::vector<glm::mat4> instance_transform_;  // instanced scenes: one per instance

@@ -75,12 +75,24 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
         LoadInterleaved3(df, batch.normal + 3 * size_t{i}, nx, ny, nz);
         // Each fragment's face normal and colour, loaded lane by lane (gathers are slow on some CPUs).
         HWY_ALIGN float face_data[6][HWY_MAX_BYTES / sizeof(float)];
-        for (size_t j = 0; j < lanes; ++j) {
-            const size_t f3 = 3 * size_t{batch.face[i + j]};
-            for (int k = 0; k < 3; ++k) {
-                face_data[k][j] = in.face_normals[f3 + k];
-                face_data[3 + k][j] = in.face_colors[f3 + k];
+        Vec<decltype(df)> fx, fy, fz;
+        if (in.fragment_face_normals == nullptr) {
+            for (size_t j = 0; j < lanes; ++j) {
+                const size_t f3 = 3 * size_t{batch.face[i + j]};
+                for (int k = 0; k < 3; ++k) {
+                    face_data[k][j] = in.face_normals[f3 + k];
+                    face_data[3 + k][j] = in.face_colors[f3 + k];
+                }
             }
+            fx = Load(df, face_data[0]);
+            fy = Load(df, face_data[1]);
+            fz = Load(df, face_data[2]);
+        } else {
+            for (size_t j = 0; j < lanes; ++j) {
+                const size_t f3 = 3 * size_t{batch.face[i + j]};
+                for (int k = 0; k < 3; ++k) face_data[3 + k][j] = in.face_colors[f3 + k];
+            }
+            LoadInterleaved3(df, in.fragment_face_normals + 3 * size_t{i}, fx, fy, fz);
         }
 
         // View vector (LightEnvironment::view_vector).
@@ -103,9 +115,6 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
 
         // Two-sided: negate n where the viewer sees the back of the face.
         if (in.two_sided) {
-            const auto fx = Load(df, face_data[0]);
-            const auto fy = Load(df, face_data[1]);
-            const auto fz = Load(df, face_data[2]);
             const auto back = Lt(Add(Add(Mul(fx, vx), Mul(fy, vy)), Mul(fz, vz)), zero);
             nx = IfThenElse(back, Neg(nx), nx);
             ny = IfThenElse(back, Neg(ny), ny);
