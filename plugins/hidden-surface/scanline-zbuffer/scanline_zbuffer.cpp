@@ -78,6 +78,27 @@ struct TableEntry {
     uint32_t is_record;
 };
 
+// A polygon of an instanced scene that started above a band of rows and is set up again for it:
+// its record, its first scanline, and where it joined the active list of a sweep from the top
+// (`join`: first scanline, then 0 when it joined as its placement was set up or 1 when it waited
+// in the pool, then the order it was made in).
+struct CarriedPolygon {
+    PolygonRecord record;
+    int32_t first;
+    uint64_t join;
+};
+
+// What a sweep of an instanced scene sets its placements up with: the geometry stage holding the
+// placement being set up, the records waiting for their first scanline, and the setups of clipped
+// pieces. The one sweep has one; the bands of rows one per thread.
+struct PlacementWork {
+    raster::GeometryStage geometry;
+    RecordPool pending;
+    std::vector<raster::TriangleSetup> pieces;
+    std::vector<uint32_t> free_pieces;             // of pieces, once their polygon is active
+    std::vector<CarriedPolygon> carried;           // a band's polygons from above it
+};
+
 inline void set_planes(ActivePlanes& p, const raster::TriangleSetup& s) {
     p.min_x = s.min_x;
     p.min_y = s.min_y;
@@ -106,8 +127,9 @@ public:
         "one-row depth buffer"};
     static inline const ParamSpec params[] = {
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
-        ParamSpec::integer("band-rows", "64", 0, 16384,
-                           "scanlines per band swept in parallel, for a scene without instances (0: one sweep)"),
+        ParamSpec::integer("band-rows", "0", 0, 16384,
+                           "scanlines per band swept in parallel (0: the image's height over twice the threads, at "
+                           "least 64; the image's height or more: one sweep)"),
     };
 
     explicit ScanlineZBuffer(const hsr::sdk::Params& p)
@@ -143,6 +165,9 @@ private:
         std::vector<uint32_t> free_slots, released;  // released: free once the row is resolved
         std::vector<uint64_t> row;                   // the one-row depth buffer
         raster::TriangleStats triangles;             // what activating triangles counted
+        uint64_t polygons = 0, polygons_empty = 0;   // instanced: emitted setups, and those dropped
+        uint64_t records_max = 0;                    // instanced: the most records its pool held
+        PlacementWork* work = nullptr;               // instanced: what it sets its placements up with
 
         void start(int32_t width, uint32_t largest_bucket) {
             row.assign(size_t(width), kEmpty);
@@ -153,6 +178,8 @@ private:
             free_slots.clear();
             released.clear();
             triangles = {};
+            polygons = polygons_empty = records_max = 0;
+            work = nullptr;
         }
     };
 
@@ -166,6 +193,7 @@ private:
         width_ = camera.width;
         height_ = camera.height;
         scene_ = &scene.raw();
+        camera_ = &camera;
         indices_ = scene.raw().indices;
         positions_ = scene.raw().positions;
         viewport_ = raster::Viewport(width_, height_);
@@ -174,9 +202,9 @@ private:
         placement_instance_.resize(placements);
         placement_matrix_.resize(placements);
         pieces_.clear();
-        free_pieces_.clear();
         polygons_ = 0;
         polygons_empty_ = 0;
+        records_max_ = 0;
         records_only_ = placements > 1;
         if (!records_only_) {
             // 1. One placement: its window vertices stay in the geometry stage for the whole frame,
@@ -212,6 +240,7 @@ private:
             order_last_row_bound_.resize(order_.size());
             for (size_t k = 0; k < order_.size(); ++k) order_last_row_bound_[k] = last_row_bound_[order_[k]];
             polygons_ = first_row_.size();
+            records_max_ = records_.size();
         } else {
             // 1-2. Several placements: each is bucketed by the top scanline of its projected bounds,
             //      and transformed and set up only when the sweep gets there (activate_placement).
@@ -234,15 +263,18 @@ private:
             counters.set("edge-pairs-processed", stats.edge_pairs);
             counters.set("active-polygons-max", stats.active_max);
             counters.set("active-edges-max", 2 * stats.active_max);
-            counters.set("polygon-records-max",
-                         records_only_ ? pending_.records_max() : uint64_t(records_.size()));
+            counters.set("polygon-records-max", records_max_);
         };
         activated_ = {};
         sweep_.triangles = {};
         try {
-            const bool bands = !Steps::enabled && !records_only_ && band_rows_ > 0 && height_ > band_rows_ &&
-                               hsr::sdk::allowed_threads() > 1;
-            if (bands && target.depth_tests() == nullptr)
+            const size_t threads = hsr::sdk::allowed_threads();
+            const bool bands = !Steps::enabled && threads > 1 && height_ > band_height(threads);
+            if (bands && records_only_ && target.depth_tests() == nullptr)
+                scan_instanced_bands<false>(target, stats);
+            else if (bands && records_only_)
+                scan_instanced_bands<true>(target, stats);
+            else if (bands && target.depth_tests() == nullptr)
                 scan_bands<false>(target, stats);
             else if (bands)
                 scan_bands<true>(target, stats);
@@ -308,9 +340,11 @@ private:
         const uint32_t codes = geometry_.vertex_outcode(i0) | geometry_.vertex_outcode(i1) | geometry_.vertex_outcode(i2);
         if (codes & raster::kNeedsClipping) {
             raster::setup_corners(s, r.x, r.y);
-            r.piece = keep_piece(s);
+            if (pieces_.size() >= kSmall) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
+            r.piece = uint32_t(pieces_.size());
+            pieces_.push_back(s);
         } else {
-            corners_of(s, i0, i1, i2, r.x, r.y);
+            corners_of(geometry_, s, i0, i1, i2, r.x, r.y);
             r.piece = kNoPiece;
         }
         r.z_row = depth_at_row_start(s);
@@ -320,16 +354,16 @@ private:
         r.placement = k;
     }
 
-    uint32_t keep_piece(const raster::TriangleSetup& s) {
-        if (!free_pieces_.empty()) {
-            const uint32_t piece = free_pieces_.back();
-            free_pieces_.pop_back();
-            pieces_[piece] = s;
+    static uint32_t keep_piece(PlacementWork& work, const raster::TriangleSetup& s) {
+        if (!work.free_pieces.empty()) {
+            const uint32_t piece = work.free_pieces.back();
+            work.free_pieces.pop_back();
+            work.pieces[piece] = s;
             return piece;
         }
-        if (pieces_.size() >= kSmall) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
-        pieces_.push_back(s);
-        return uint32_t(pieces_.size() - 1);
+        if (work.pieces.size() >= kSmall) throw hsr::sdk::Unsupported("scanline-zbuffer: too many clipped pieces");
+        work.pieces.push_back(s);
+        return uint32_t(work.pieces.size() - 1);
     }
 
     // ---- Instances: placements activated lazily, in y order ----
@@ -340,6 +374,7 @@ private:
         const uint32_t placements = scene.placement_count();
         placement_first_id_.resize(placements);
         placement_row_.resize(placements);
+        placement_bottom_.resize(placements);
         placement_start_.assign(size_t(height_) + 2, 0);
         uint64_t id = 0;
         uint32_t box_first = 0, box_count = 0;
@@ -360,6 +395,7 @@ private:
             }
             const int32_t row = top_row(placement_matrix_[k], lo, hi);
             placement_row_[k] = row;
+            placement_bottom_[k] = bottom_row(placement_matrix_[k], lo, hi);
             ++placement_start_[size_t(row) + 1];
         }
         if (id > uint64_t(std::numeric_limits<uint32_t>::max()))
@@ -369,8 +405,6 @@ private:
         for (uint32_t k = 0; k < placements; ++k) placement_order_[placement_start_[placement_row_[k]]++] = k;
         for (int32_t y = height_; y > 0; --y) placement_start_[y] = placement_start_[y - 1];  // back to starts
         placement_start_[0] = 0;
-
-        pending_.reset(height_);
     }
 
     // The object-space bounding box of a placement's vertex range (a NaN coordinate is left out:
@@ -399,81 +433,135 @@ private:
         return int32_t(top) - 1;  // top >= 2: truncation is the floor
     }
 
+    // A scanline at or below the last scanline of every polygon of a placement, as top_row finds
+    // the first (-1: none reaches the image).
+    int32_t bottom_row(const glm::dmat4& m, const glm::vec3& lo, const glm::vec3& hi) const {
+        const raster::ProjectedBox box = raster::project_box(m, glm::dvec3(lo), glm::dvec3(hi), viewport_);
+        if (!box.in_front) return height_ - 1;
+        const double bottom = box.max_y;
+        if (!(bottom < double(height_) - 2.0)) return height_ - 1;
+        if (bottom < -1.0) return -1;
+        return int32_t(bottom + 1.0) + 1;  // bottom + 1 >= 0: truncation is the floor
+    }
+
+    // The record of setup s of triangle t of placement k (drawing order id), and its first
+    // scanline; -1 when it covers no pixel centre.
+    int32_t make_record(const raster::GeometryStage& geometry, const raster::TriangleSetup& s, uint32_t t, uint32_t k,
+                        uint32_t id, PolygonRecord& r) const {
+        const uint32_t covered = small_coverage(s);
+        if (covered == 0) return -1;
+        r.z_row = depth_at_row_start(s);
+        r.dzdx = s.depth.dx;
+        r.dzdy = s.depth.dy;
+        r.face = t;
+        r.placement = k;
+        r.id = id;
+        if (covered != kLarger) {
+            r.piece = kSmall;
+            return small_spans(covered, s.min_x, s.min_y, r);
+        }
+        r.piece = kNoPiece;
+        corners_of(geometry, s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], r.x, r.y);
+        return s.min_y;
+    }
+
     // Transforms placement k and sets up its triangles on scanline y, at or above the first scanline
-    // of each. A polygon that starts on y joins the active list at once, the others become records
-    // in the bucket of their first scanline. Those that cover no pixel centre are left out.
-    // Flattened, so that setup_triangle is inlined and the compiler leaves out the planes the
-    // records do not keep; a triangle to clip goes through process, out of line.
-    [[gnu::flatten]] void activate_placement(Sweep& sweep, const hsr::sdk::Scene& scene, uint32_t k, int32_t y) {
+    // of each, for a sweep that ends before scanline end_row (a band's end, or the image's). A
+    // polygon that starts on y joins the active list at once, the others become records in the
+    // bucket of their first scanline. Those that cover no pixel centre are left out. Every triangle
+    // is counted here; those starting at end_row or below only that way (the band they start in
+    // sets them up and counts their polygons). Flattened, so that setup_triangle is inlined and the
+    // compiler leaves out the planes the records do not keep; a triangle to clip goes through
+    // process, out of line.
+    [[gnu::flatten]] void activate_placement(Sweep& sweep, const hsr::sdk::Scene& scene, uint32_t k, int32_t y,
+                                             int32_t end_row) {
+        PlacementWork& work = *sweep.work;
         const hsr::sdk::Placement placement = scene.placement(k);
-        geometry_.place(placement);
+        work.geometry.place(placement);
         const uint32_t end = placement.first_triangle + placement.triangle_count;
         const uint32_t id_base = placement_first_id_[k] - placement.first_triangle;
+        const bool band = end_row < height_;
         for (uint32_t t = placement.first_triangle; t < end; ++t) {
-            const bool unclipped = geometry_.process_unclipped(t, [&](const raster::TriangleSetup& s) {
-                const uint32_t covered = small_coverage(s);
-                if (covered == 0) {
-                    ++polygons_empty_;
-                    return;
-                }
-                ++polygons_;
-                assert(s.min_y >= y && "top_row is conservative");
-                PolygonRecord r;
-                r.z_row = depth_at_row_start(s);
-                r.dzdx = s.depth.dx;
-                r.dzdy = s.depth.dy;
-                r.face = t;
-                r.placement = k;
-                r.id = id_base + t;
-                int32_t first = s.min_y;
-                if (covered != kLarger) {
-                    r.piece = kSmall;
-                    first = small_spans(covered, s.min_x, s.min_y, r);
-                } else {
-                    r.piece = kNoPiece;
-                    corners_of(s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], r.x, r.y);
-                }
-                if (first > y)
-                    store_streaming(pending_.new_record(first), r);
-                else
-                    activate_record(sweep, r, r.id, y);
-            });
+            if (band && first_row_of(work.geometry, t) >= end_row) {
+                raster::PixelBounds bounds;
+                if (work.geometry.bound_unclipped(t, sweep.triangles, bounds)) continue;
+            }
+            const bool unclipped =
+                work.geometry.process_unclipped(t, sweep.triangles, [&](const raster::TriangleSetup& s) {
+                    PolygonRecord r;
+                    const int32_t first = make_record(work.geometry, s, t, k, id_base + t, r);
+                    if (first < 0) {
+                        ++sweep.polygons_empty;
+                        return;
+                    }
+                    ++sweep.polygons;
+                    assert(s.min_y >= y && "top_row is conservative");
+                    if (first >= end_row) return;
+                    if (first > y)
+                        store_streaming(work.pending.new_record(first), r);
+                    else
+                        activate_record(sweep, r, r.id, y);
+                });
             if (!unclipped) [[unlikely]]
-                process_clipped(sweep, t, k, id_base + t, y);
+                process_clipped(sweep, t, k, id_base + t, y, end_row);
         }
         end_streaming();
     }
 
+    // The first scanline of triangle t of the placement in `geometry`, as setup_triangle finds it,
+    // when its corners need no clipping and are finite; otherwise -1.
+    static int32_t first_row_of(const raster::GeometryStage& geometry, uint32_t t, const uint32_t* indices) {
+        const uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
+        if ((geometry.vertex_outcode(i0) | geometry.vertex_outcode(i1) | geometry.vertex_outcode(i2)) &
+            (raster::kNeedsClipping | raster::kNonFinite))
+            return -1;
+        return std::max(raster::first_pixel_from(std::min(
+                            {geometry.window_vertex(i0).y, geometry.window_vertex(i1).y, geometry.window_vertex(i2).y})),
+                        0);
+    }
+    int32_t first_row_of(const raster::GeometryStage& geometry, uint32_t t) const {
+        return first_row_of(geometry, t, indices_);
+    }
+
     // A triangle to clip (or to skip as non-finite): GeometryStage::process, kept out of line, or
     // the compiler merges its setup with activate_placement's and makes the planes there too.
-    [[gnu::noinline, gnu::flatten]] void process_clipped(Sweep& sweep, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
-        geometry_.process(t, [&](const raster::TriangleSetup& s) {
+    [[gnu::noinline, gnu::flatten]] void process_clipped(Sweep& sweep, uint32_t t, uint32_t k, uint32_t id, int32_t y,
+                                                         int32_t end_row) {
+        sweep.work->geometry.process(t, sweep.triangles, [&](const raster::TriangleSetup& s) {
+            if (s.min_y >= end_row) return;
             if (small_coverage(s) == 0)
-                ++polygons_empty_;
+                ++sweep.polygons_empty;
             else
                 add_piece(sweep, s, t, k, id, y);
         });
     }
 
-    // A piece of clipped triangle t of placement k, on scanline y: the same, with its setup kept
-    // (clipping is not repeated).
-    void add_piece(Sweep& sweep, const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
-        ++polygons_;
-        assert(s.min_y >= y && "top_row is conservative");
-        PolygonRecord r;
+    // The record of a piece of clipped triangle t of placement k, with its setup kept (clipping is
+    // not repeated).
+    static void piece_record(PlacementWork& work, const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id,
+                             PolygonRecord& r) {
         raster::setup_corners(s, r.x, r.y);
+        r.z_row = depth_at_row_start(s);
+        r.dzdx = s.depth.dx;
+        r.dzdy = s.depth.dy;
+        r.face = t;
+        r.placement = k;
+        r.piece = keep_piece(work, s);
+        r.id = id;
+    }
+
+    // A piece of clipped triangle t of placement k, on scanline y: as activate_placement does with
+    // a triangle.
+    void add_piece(Sweep& sweep, const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id, int32_t y) {
+        ++sweep.polygons;
+        assert(s.min_y >= y && "top_row is conservative");
         if (s.min_y > y) {
-            r.z_row = depth_at_row_start(s);
-            r.dzdx = s.depth.dx;
-            r.dzdy = s.depth.dy;
-            r.face = t;
-            r.placement = k;
-            r.piece = keep_piece(s);
-            r.id = id;
-            pending_.new_record(s.min_y) = r;
+            piece_record(*sweep.work, s, t, k, id, sweep.work->pending.new_record(s.min_y));
             return;
         }
-        const uint32_t slot = start_polygon(sweep, r.x, r.y, depth_at_row_start(s), s.depth.dx, s.depth.dy, y);
+        int32_t x[3], corner_y[3];
+        raster::setup_corners(s, x, corner_y);
+        const uint32_t slot = start_polygon(sweep, x, corner_y, depth_at_row_start(s), s.depth.dx, s.depth.dy, y);
         if (slot == kNone) return;
         set_info(sweep, slot, id, t, placement_instance_[k], kNone);
         set_planes(sweep.planes[slot], s);
@@ -481,16 +569,72 @@ private:
 
     // Placements whose bounds start on scanline y are set up; then the records of y join the active
     // list. Out of line, so that it does not change how scan's span loop is compiled.
-    [[gnu::noinline]] void activate_instanced(Sweep& sweep, const hsr::sdk::Scene& scene, int32_t y) {
+    [[gnu::noinline]] void activate_instanced(Sweep& sweep, const hsr::sdk::Scene& scene, int32_t y, int32_t end_row) {
         for (uint32_t i = placement_start_[y]; i < placement_start_[y + 1]; ++i)
-            activate_placement(sweep, scene, placement_order_[i], y);
-        pending_.drain(y, [&](const PolygonRecord& r) { activate_record(sweep, r, r.id, y); });
+            activate_placement(sweep, scene, placement_order_[i], y, end_row);
+        sweep.work->pending.drain(y, [&](const PolygonRecord& r) { activate_record(sweep, r, r.id, y); });
     }
 
-    // The snapped corners of an unclipped triangle in the setup's order.
-    void corners_of(const raster::TriangleSetup& s, uint32_t i0, uint32_t i1, uint32_t i2, int32_t (&x)[3],
-                    int32_t (&y)[3]) const {
-        raster::setup_corners(s, geometry_.window_vertex(i0), geometry_.window_vertex(i1), geometry_.window_vertex(i2),
+    // For the band of rows [row, end_row) of an instanced scene: placement k, which a sweep from the
+    // top sets up on a scanline above the band, set up again for the band. Its polygons that start
+    // in the band wait there as records, in the order that sweep made them, and are counted here;
+    // those that started above go to work.carried, to join the band's active list on its first row.
+    // Its triangles are counted by the band that sets the placement up first.
+    [[gnu::flatten]] void carry_placement(Sweep& sweep, const hsr::sdk::Scene& scene, uint32_t k, int32_t row,
+                                          int32_t end_row) {
+        PlacementWork& work = *sweep.work;
+        raster::TriangleStats uncounted;
+        const hsr::sdk::Placement placement = scene.placement(k);
+        work.geometry.place(placement);
+        const uint32_t end = placement.first_triangle + placement.triangle_count;
+        const uint32_t id_base = placement_first_id_[k] - placement.first_triangle;
+        const int32_t activated_on = placement_row_[k];
+        auto keep = [&](const PolygonRecord& r, int32_t first) {
+            if (first >= row) {
+                store_streaming(work.pending.new_record(first), r);
+                return;
+            }
+            const uint64_t waited = first > activated_on ? 1 : 0;
+            work.carried.push_back({r, first, (uint64_t(first) << 33) | (waited << 32) | uint64_t(work.carried.size())});
+        };
+        for (uint32_t t = placement.first_triangle; t < end; ++t) {
+            const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
+            const uint32_t codes =
+                work.geometry.vertex_outcode(i0) | work.geometry.vertex_outcode(i1) | work.geometry.vertex_outcode(i2);
+            if (!(codes & (raster::kNeedsClipping | raster::kNonFinite))) {
+                // The rows its snapped corners span, as setup_triangle finds them: none in the band,
+                // nothing to set up.
+                const int32_t y0 = work.geometry.window_vertex(i0).y, y1 = work.geometry.window_vertex(i1).y,
+                              y2 = work.geometry.window_vertex(i2).y;
+                if (raster::last_pixel_to(std::max({y0, y1, y2})) < row ||
+                    raster::first_pixel_from(std::min({y0, y1, y2})) >= end_row)
+                    continue;
+            }
+            const bool unclipped = work.geometry.process_unclipped(t, uncounted, [&](const raster::TriangleSetup& s) {
+                PolygonRecord r;
+                const int32_t first = make_record(work.geometry, s, t, k, id_base + t, r);
+                if (s.min_y >= row && s.min_y < end_row) ++(first < 0 ? sweep.polygons_empty : sweep.polygons);
+                if (first >= 0 && first < end_row) keep(r, first);
+            });
+            if (!unclipped) [[unlikely]]
+                work.geometry.process(t, uncounted, [&](const raster::TriangleSetup& s) {
+                    if (s.min_y >= end_row || s.max_y < row) return;
+                    const bool empty = small_coverage(s) == 0;
+                    if (s.min_y >= row) ++(empty ? sweep.polygons_empty : sweep.polygons);
+                    if (empty) return;
+                    PolygonRecord r;
+                    piece_record(work, s, t, k, id_base + t, r);
+                    keep(r, s.min_y);
+                });
+        }
+        end_streaming();
+    }
+
+    // The snapped corners of an unclipped triangle in the setup's order, from the window vertices of
+    // the geometry stage that set it up.
+    static void corners_of(const raster::GeometryStage& geometry, const raster::TriangleSetup& s, uint32_t i0,
+                           uint32_t i1, uint32_t i2, int32_t (&x)[3], int32_t (&y)[3]) {
+        raster::setup_corners(s, geometry.window_vertex(i0), geometry.window_vertex(i1), geometry.window_vertex(i2),
                               x, y);
     }
 
@@ -502,7 +646,7 @@ private:
                                             int32_t first, int32_t row) {
         geometry_.process(t, stats, [&](const raster::TriangleSetup& s) {
             int32_t x[3], y[3];
-            corners_of(s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], x, y);
+            corners_of(geometry_, s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], x, y);
             const uint32_t slot = start_polygon(sweep, x, y, depth_on_row(depth_at_row_start(s), s.depth.dy, first, row),
                                                 s.depth.dx, s.depth.dy, row);
             if (slot == kNone) return;
@@ -520,23 +664,32 @@ private:
 
     // Makes a record active on its first scanline, or on a band's first row (`row`) when it started
     // above. A piece's planes come from its setup; those of a triangle are made when it first wins
-    // a pixel (make_planes). Pieces are recycled only with instances (one sweep, records made as it
+    // a pixel (make_planes). Pieces are recycled only with instances (records made as the sweep
     // goes).
     void activate_record(Sweep& sweep, const PolygonRecord& r, uint32_t id, int32_t first, int32_t row) {
         if (r.piece == kSmall) {
-            const uint32_t slot =
-                start_small(sweep, r.x[0], r.x[1], r.x[2], r.y[0], r.y[1], r.z_row, r.dzdx, r.dzdy);
+            // At most two scanlines: on the second, the spans moved by their steps and the depth
+            // stepped once, as the sweep steps them.
+            uint32_t slot;
+            if (row == first)
+                slot = start_small(sweep, r.x[0], r.x[1], r.x[2], r.y[0], r.y[1], r.z_row, r.dzdx, r.dzdy);
+            else if (row == first + 1 && r.y[1] == row)
+                slot = start_small(sweep, r.x[0] + r.x[2], r.x[1] + r.y[0], 0, 0, row, r.z_row + r.dzdy, r.dzdx,
+                                   r.dzdy);
+            else
+                return;
             set_info(sweep, slot, id, r.face, placement_instance_[r.placement], r.placement);
             return;
         }
         const uint32_t slot =
             start_polygon(sweep, r.x, r.y, depth_on_row(r.z_row, r.dzdy, first, row), r.dzdx, r.dzdy, row);
         if (r.piece != kNoPiece) [[unlikely]] {
+            const std::vector<raster::TriangleSetup>& pieces = sweep.work != nullptr ? sweep.work->pieces : pieces_;
             if (slot != kNone) {
                 set_info(sweep, slot, id, r.face, placement_instance_[r.placement], kNone);
-                set_planes(sweep.planes[slot], pieces_[r.piece]);
+                set_planes(sweep.planes[slot], pieces[r.piece]);
             }
-            if (records_only_) free_pieces_.push_back(r.piece);
+            if (sweep.work != nullptr) sweep.work->free_pieces.push_back(r.piece);
         } else if (slot != kNone) {
             set_info(sweep, slot, id, r.face, placement_instance_[r.placement], r.placement);
         }
@@ -649,11 +802,15 @@ private:
     [[gnu::noinline]] void scan(hsr::sdk::VisibilityBuffer& target, Stats& stats, Steps& steps) {
         Sweep& sweep = sweep_;
         sweep.start(int32_t(width_), largest_bucket_);
+        if (records_only_) {
+            begin_work(work_);
+            sweep.work = &work_;
+        }
         stats = {};
         const hsr::sdk::Scene scene(*scene_);
         for (int32_t y = 0; y < height_; ++y) {
             if (records_only_)
-                activate_instanced(sweep, scene, y);
+                activate_instanced(sweep, scene, y, height_);
             else
                 activate_bucket(sweep, y);
             if (sweep.active.empty()) {
@@ -673,21 +830,131 @@ private:
                 scanline_step(steps, y, polygons_on_row, spans);
             }
         }
-        if (records_only_)  // below the image: nothing to draw, but counted as zbuffer counts them
+        if (records_only_) {  // below the image: nothing to draw, but counted as zbuffer counts them
             for (uint32_t i = placement_start_[height_]; i < placement_start_[height_ + 1]; ++i)
-                activate_placement(sweep, scene, placement_order_[i], height_);
+                activate_placement(sweep, scene, placement_order_[i], height_, height_);
+            polygons_ += sweep.polygons;
+            polygons_empty_ += sweep.polygons_empty;
+            records_max_ = work_.pending.records_max();
+        }
     }
 
-    // The sweep of scan() over bands of band_rows_ scanlines, in parallel (one placement, no steps).
+    // band_starts_ for an instanced scene: `count` bands (fewer on a short image) of about the same
+    // work, a scanline's work taken as the triangles of the placements over it, each placement's
+    // spread evenly over the scanlines between its top_row and bottom_row. (The placements of a
+    // deep scene crowd the middle of the picture: bands of equal height would leave one thread
+    // with most of the work.)
+    void balance_bands(size_t count) {
+        row_work_.assign(size_t(height_) + 1, 0.0);
+        const hsr::sdk::Scene scene(*scene_);
+        double total = 0.0;
+        for (uint32_t k = 0; k < uint32_t(placement_row_.size()); ++k) {
+            const int32_t top = std::min(placement_row_[k], height_ - 1), bottom = std::min(placement_bottom_[k], height_ - 1);
+            if (bottom < top) continue;
+            const double triangles = double(scene.placement(k).triangle_count);
+            row_work_[size_t(top)] += triangles / double(bottom - top + 1);
+            row_work_[size_t(bottom) + 1] -= triangles / double(bottom - top + 1);
+            total += triangles;
+        }
+        count = std::min(count, size_t(height_));
+        band_starts_.push_back(0);
+        double per_row = 0.0, done = 0.0;
+        for (int32_t y = 0; y < height_ && band_starts_.size() < count; ++y) {
+            per_row += row_work_[size_t(y)];
+            done += per_row;
+            // Cut below y once its band has its share (every band keeps at least one scanline).
+            if (done >= total * double(band_starts_.size()) / double(count) && y + 1 < height_)
+                band_starts_.push_back(y + 1);
+        }
+        band_starts_.push_back(height_);
+    }
+
+    // A PlacementWork made ready for a sweep of this frame.
+    void begin_work(PlacementWork& work) const {
+        work.geometry.begin_frame(*scene_, *camera_, cull_backfaces_);
+        work.pending.reset(height_);
+        work.pieces.clear();
+        work.free_pieces.clear();
+        work.carried.clear();
+    }
+
+    // scan_bands() for an instanced scene. A band sets up again the placements that a sweep from
+    // the top sets up above it and that reach into it (counting nothing for them: the band they
+    // start in counts them), takes over their polygons that started above it, in the order that
+    // sweep has them on its first row (first scanline, then those that joined as their placement
+    // was set up before those that waited in the pool, then the order they were made in), and
+    // keeps the records of the others that start in it; from there on it is that sweep, setting up
+    // the placements that start in it as it reaches them. Every buffer and counter is the one
+    // sweep's, except polygon-records-max, which is the most one band's pool held.
+    template <bool kCountTests>
+    void scan_instanced_bands(hsr::sdk::VisibilityBuffer& target, Stats& stats) {
+        const size_t threads = hsr::sdk::allowed_threads();
+        band_starts_.clear();
+        if (band_rows_ == 0) {
+            balance_bands(2 * std::min<size_t>(threads, kMaxBands / 2));
+        } else {
+            const int32_t rows = band_height(threads);
+            for (int32_t y = 0; y < height_; y += rows) band_starts_.push_back(y);
+            band_starts_.push_back(height_);
+        }
+        const uint32_t count = uint32_t(band_starts_.size() - 1);
+        if (bands_.size() < count) bands_.resize(count);
+        const hsr::sdk::Scene scene(*scene_);
+        hsr::sdk::parallel_for_each(count, band_stats_, [&](uint32_t k, Stats& band_stats) {
+            Sweep& sweep = bands_[k];
+            sweep.start(int32_t(width_), 0);
+            PlacementWork& work = band_work_.local();
+            begin_work(work);
+            sweep.work = &work;
+            const int32_t first = band_starts_[k], end = band_starts_[k + 1];
+            for (uint32_t i = 0; i < placement_start_[first]; ++i)
+                if (placement_bottom_[placement_order_[i]] >= first)
+                    carry_placement(sweep, scene, placement_order_[i], first, end);
+            std::sort(work.carried.begin(), work.carried.end(),
+                      [](const CarriedPolygon& a, const CarriedPolygon& b) { return a.join < b.join; });
+            for (const CarriedPolygon& c : work.carried) activate_record(sweep, c.record, c.record.id, c.first, first);
+            for (int32_t y = first; y < end; ++y) {
+                activate_instanced(sweep, scene, y, end);
+                if (sweep.active.empty()) continue;
+                finish_row(sweep, target, y, draw_spans<kCountTests>(sweep, target, y, band_stats));
+            }
+            if (end == height_)  // below the image, as scan() counts them
+                for (uint32_t i = placement_start_[height_]; i < placement_start_[height_ + 1]; ++i)
+                    activate_placement(sweep, scene, placement_order_[i], height_, height_);
+            sweep.records_max = work.pending.records_max();
+            sweep.work = nullptr;
+        });
+        stats = {};
+        for (uint32_t k = 0; k < count; ++k) {
+            stats += band_stats_[k];
+            activated_ += bands_[k].triangles;
+            polygons_ += bands_[k].polygons;
+            polygons_empty_ += bands_[k].polygons_empty;
+            records_max_ = std::max(records_max_, bands_[k].records_max);
+        }
+    }
+
+    // Scanlines per band: band-rows, or by default the image's height over twice the threads (a band
+    // a thread can take while another finishes a slower one), at least kAutoBandRows. Each band
+    // looks through the buckets above it that a polygon could reach down from, so the bands are at
+    // most kMaxBands, which bounds that work by kMaxBands passes over the table.
+    int32_t band_height(size_t threads) const {
+        int32_t rows = band_rows_;
+        if (rows == 0) {
+            const int64_t bands = 2 * int64_t(std::min<size_t>(threads, kMaxBands));
+            rows = std::max(kAutoBandRows, int32_t((height_ + bands - 1) / bands));
+        }
+        return std::max(rows, (height_ + kMaxBands - 1) / kMaxBands);
+    }
+
+    // The sweep of scan() over bands of band_height() scanlines, in parallel (one placement, no steps).
     // A band starts with the polygons that started above it and reach into it, in the order a sweep
     // from the top has them on the band's first row (the active list keeps the order polygons joined
     // it in, and they join by first scanline, then drawing order); from there on it is that sweep.
     // Every buffer and counter is the one sweep's.
     template <bool kCountTests>
     void scan_bands(hsr::sdk::VisibilityBuffer& target, Stats& stats) {
-        // Each band looks through the buckets above it that a polygon could reach down from, so
-        // the bands are at most kMaxBands, which bounds that work by kMaxBands passes over the table.
-        const int32_t rows = std::max(band_rows_, (height_ + kMaxBands - 1) / kMaxBands);
+        const int32_t rows = band_height(hsr::sdk::allowed_threads());
         const uint32_t count = uint32_t((height_ + rows - 1) / rows);
         if (bands_.size() < count) bands_.resize(count);
         hsr::sdk::parallel_for_each(count, band_stats_, [&](uint32_t k, Stats& band_stats) {
@@ -913,12 +1180,13 @@ private:
     }
 
     bool cull_backfaces_;
-    int32_t band_rows_;                              // 0: one sweep
+    int32_t band_rows_;                              // 0: chosen by band_height()
     uint32_t width_ = 0;
     int32_t height_ = 0;
     raster::GeometryStage geometry_;                 // keeps its vertex buffers between frames
     raster::Viewport viewport_;
     const hsr_scene* scene_ = nullptr;
+    const hsr_camera* camera_ = nullptr;
     const uint32_t* indices_ = nullptr;
     const float* positions_ = nullptr;
     std::vector<uint32_t> placement_instance_;
@@ -928,6 +1196,7 @@ private:
     uint32_t largest_bucket_ = 0;                    // polygons of the fullest bucket
     uint64_t polygons_ = 0;                          // emitted setups (polygons-in-table)
     uint64_t polygons_empty_ = 0;                    // small setups covering no pixel centre, dropped
+    uint64_t records_max_ = 0;                       // polygon-records-max
     // One placement:
     std::vector<TableEntry> table_;                  // the polygon table, in drawing order
     std::vector<PolygonRecord> records_;             // pieces of clipped triangles, and what is offscreen
@@ -936,10 +1205,11 @@ private:
     std::vector<int32_t> placement_row_;             // the scanline it is activated on (height_: after)
     std::vector<uint32_t> placement_start_;          // bucket y is placement_order_[start[y], start[y + 1])
     std::vector<uint32_t> placement_order_;          // placements sorted by that scanline
-    RecordPool pending_;                             // per scanline, the records waiting for it
+    std::vector<int32_t> placement_bottom_;          // a scanline below all of its polygons
+    PlacementWork work_;                             // of the one sweep
+    hsr::sdk::PerThread<PlacementWork> band_work_;   // of the bands, one per thread
     // Both:
     std::vector<raster::TriangleSetup> pieces_;      // setups of the pieces of clipped triangles
-    std::vector<uint32_t> free_pieces_;              // of pieces_, once their polygon is active
     std::vector<uint16_t> first_row_;                // per polygon: its bucket
     std::vector<uint32_t> bucket_start_;             // bucket y is order_[start[y], start[y + 1])
     std::vector<uint32_t> order_;                    // polygon ids sorted by first scanline
@@ -947,8 +1217,11 @@ private:
     std::vector<uint16_t> order_last_row_bound_;     // the same in the order of order_
     int32_t tallest_polygon_rows_ = 0;               // the most any polygon's bound lies below its first
     static constexpr int32_t kMaxBands = 1024;
+    static constexpr int32_t kAutoBandRows = 64;
     Sweep sweep_;                                    // of the whole image
     std::vector<Sweep> bands_;                       // of each band of rows
+    std::vector<int32_t> band_starts_;               // instanced: band k is rows [start k, start k + 1)
+    std::vector<double> row_work_;                   // instanced: the work of each scanline, as differences
     std::vector<Stats> band_stats_;
 };
 
