@@ -15,23 +15,24 @@
 // follows what is pending near the sweep, not the triangles drawn. Polygons covering at most 2 x 2
 // pixel centres are given by their spans (no edge DDA), and those covering none are left out.
 //
-// A scene without instances is swept in bands of scanlines on every core (scan_bands): a band
+// The image is swept in bands of scanlines on every core (scan_bands, scan_instanced_bands): a band
 // takes over the polygons that started above it, started directly on its first row, in the order
-// the one sweep has them there, so every buffer and counter is the one sweep's.
+// the one sweep has them there, so every buffer and counter is the one sweep's. With instances a
+// band first sets up again the placements that reach into it from above.
 //
 // Transform, clipping, culling and triangle setup are raster::GeometryStage's, as in zbuffer; the
 // edges step with exact integer DDAs derived from the snapped corners, so every scanline covers
 // exactly the pixel centres zbuffer covers (top-left fill rule, 1/256-pixel vertices).
 // docs/algorithms/scanline-zbuffer.md describes the steps, the data structures and the counters.
 //
-// Where to read: scan() below is the sweep (the active-edge-list loop, draw_spans for one row) and
-// scan_bands() the same over bands in parallel; edge_walk.hpp starts and steps an edge pair;
-// record_pool.hpp is the memory polygons wait in for their first scanline (blocks, streaming
-// stores, huge pages). The rest of this file fills the y-sorted polygon table
-// and moves its buckets onto the active list. It is over 800 lines because those two share one
-// class's state (the active list and its slots, the table, the geometry stage) with the sweep, in
-// one translation unit so that activation inlines into it; the sweep's steps (render_steps, the
-// scanlines as a viewer sees them) read that state too.
+// Where to read: scan() below is the sweep (the active-edge-list loop, draw_spans for one row),
+// scan_bands() and scan_instanced_bands() the same over bands in parallel; edge_walk.hpp starts
+// and steps an edge pair; record_pool.hpp is the memory polygons wait in for their first scanline
+// (blocks, streaming stores, huge pages). The rest of this file fills the y-sorted polygon table
+// and moves its buckets onto the active list. It is over 1,200 lines because those two share one
+// class's state (the active list and its slots, the table, the geometry stage) with the sweep and
+// its bands, in one translation unit so that activation inlines into it; the sweep's steps
+// (render_steps, the scanlines as a viewer sees them) read that state too.
 #include "edge_walk.hpp"
 #include "record_pool.hpp"
 
