@@ -1,7 +1,8 @@
-// SIMD parts of a shading band (fragment_assembly.hpp), on Google Highway with the best instruction set of the CPU chosen at run time: finding the covered pixels
-// (compress-store), assembling their fragments (the float operations of assemble_fragment, in its
-// order, on as many fragments as a vector has lanes) and turning colours into bytes. Bit-identical
-// to the scalar code.
+// SIMD parts of a shading band (fragment_assembly.hpp), on Google Highway with the best instruction
+// set of the CPU chosen at run time: finding the covered pixels (compress-store), assembling their
+// fragments (the float operations of assemble_fragment, in its order, on as many fragments as a
+// vector has lanes; in an instanced scene carried into world space by the fragment's instance) and
+// turning colours into bytes. Bit-identical to the scalar code.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "fragment_assembly_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h

@@ -483,9 +483,11 @@ private:
         const uint32_t id_base = placement_first_id_[k] - placement.first_triangle;
         const bool band = end_row < height_;
         for (uint32_t t = placement.first_triangle; t < end; ++t) {
-            if (band && first_row_of(work.geometry, t) >= end_row) {
+            int32_t first_row, last_row;
+            if (band && rows_of(work.geometry, t, first_row, last_row) && first_row >= end_row) {
                 raster::PixelBounds bounds;
-                if (work.geometry.bound_unclipped(t, sweep.triangles, bounds)) continue;
+                work.geometry.bound_unclipped(t, sweep.triangles, bounds);
+                continue;
             }
             const bool unclipped =
                 work.geometry.process_unclipped(t, sweep.triangles, [&](const raster::TriangleSetup& s) {
@@ -509,19 +511,19 @@ private:
         end_streaming();
     }
 
-    // The first scanline of triangle t of the placement in `geometry`, as setup_triangle finds it,
-    // when its corners need no clipping and are finite; otherwise -1.
-    static int32_t first_row_of(const raster::GeometryStage& geometry, uint32_t t, const uint32_t* indices) {
-        const uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
+    // The scanlines [first, last] that triangle t of the placement in `geometry` can cover, from its
+    // snapped corners as setup_triangle finds them (not clamped to the image); false, leaving them
+    // unset, when its corners need clipping or are not finite.
+    bool rows_of(const raster::GeometryStage& geometry, uint32_t t, int32_t& first, int32_t& last) const {
+        const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         if ((geometry.vertex_outcode(i0) | geometry.vertex_outcode(i1) | geometry.vertex_outcode(i2)) &
             (raster::kNeedsClipping | raster::kNonFinite))
-            return -1;
-        return std::max(raster::first_pixel_from(std::min(
-                            {geometry.window_vertex(i0).y, geometry.window_vertex(i1).y, geometry.window_vertex(i2).y})),
-                        0);
-    }
-    int32_t first_row_of(const raster::GeometryStage& geometry, uint32_t t) const {
-        return first_row_of(geometry, t, indices_);
+            return false;
+        const int32_t y0 = geometry.window_vertex(i0).y, y1 = geometry.window_vertex(i1).y,
+                      y2 = geometry.window_vertex(i2).y;
+        first = raster::first_pixel_from(std::min({y0, y1, y2}));
+        last = raster::last_pixel_to(std::max({y0, y1, y2}));
+        return true;
     }
 
     // A triangle to clip (or to skip as non-finite): GeometryStage::process, kept out of line, or
@@ -599,18 +601,8 @@ private:
             work.carried.push_back({r, first, (uint64_t(first) << 33) | (waited << 32) | uint64_t(work.carried.size())});
         };
         for (uint32_t t = placement.first_triangle; t < end; ++t) {
-            const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
-            const uint32_t codes =
-                work.geometry.vertex_outcode(i0) | work.geometry.vertex_outcode(i1) | work.geometry.vertex_outcode(i2);
-            if (!(codes & (raster::kNeedsClipping | raster::kNonFinite))) {
-                // The rows its snapped corners span, as setup_triangle finds them: none in the band,
-                // nothing to set up.
-                const int32_t y0 = work.geometry.window_vertex(i0).y, y1 = work.geometry.window_vertex(i1).y,
-                              y2 = work.geometry.window_vertex(i2).y;
-                if (raster::last_pixel_to(std::max({y0, y1, y2})) < row ||
-                    raster::first_pixel_from(std::min({y0, y1, y2})) >= end_row)
-                    continue;
-            }
+            int32_t first_row, last_row;  // none in the band: nothing to set up
+            if (rows_of(work.geometry, t, first_row, last_row) && (last_row < row || first_row >= end_row)) continue;
             const bool unclipped = work.geometry.process_unclipped(t, uncounted, [&](const raster::TriangleSetup& s) {
                 PolygonRecord r;
                 const int32_t first = make_record(work.geometry, s, t, k, id_base + t, r);
@@ -850,7 +842,8 @@ private:
         const hsr::sdk::Scene scene(*scene_);
         double total = 0.0;
         for (uint32_t k = 0; k < uint32_t(placement_row_.size()); ++k) {
-            const int32_t top = std::min(placement_row_[k], height_ - 1), bottom = std::min(placement_bottom_[k], height_ - 1);
+            const int32_t top = std::min(placement_row_[k], height_ - 1);
+            const int32_t bottom = std::min(placement_bottom_[k], height_ - 1);
             if (bottom < top) continue;
             const double triangles = double(scene.placement(k).triangle_count);
             row_work_[size_t(top)] += triangles / double(bottom - top + 1);
