@@ -18,12 +18,15 @@
 // with C the face colour, S the specular colour, E_l = light colour * intensity, spec = 0 unless
 // N.L > 0. L is the unit vector from the surface point toward the light, V toward the viewer.
 //
-// Speed: per-fragment (Phong) interpolation runs a SIMD kernel (hsr/shading_kernels-inl.h) compiled
-// for every instruction set Google Highway targets and chosen at run time; its colours equal the
-// scalar code's bit for bit (tests/test_shading_simd.cpp checks every target). The host calls shade()
+// Speed: per-fragment (Phong) interpolation, and every interpolation of an instanced scene, runs a
+// SIMD kernel (hsr/shading_kernels-inl.h) compiled for every instruction set Google Highway targets
+// and chosen at run time; its colours equal the scalar code's bit for bit (shade_phong_scalar,
+// shade_instanced_scalar; tests/test_shading_simd.cpp checks every target). The host calls shade()
 // on oneTBB's threads, one band of rows per call, as many at once as --threads allows; prepare()
 // computes flat and Gouraud colours in chunks on the same threads (hsr/parallel.hpp), bounded by the
 // same --threads (docs/abi.md, section 7).
+// One header of about 700 lines, because the formulas, the light environment and the model with its
+// scalar references are what a plugin author reads together, and what the kernel must equal.
 // Header-only and installed with the SDK; depends on abi.h, sdk.hpp, parallel.hpp, GLM, oneTBB and
 // Highway (link hsr::sdk_simd; this header defines HWY_TARGET_INCLUDE, so a plugin that includes it
 // uses foreach_target.h only in a file of its own).
