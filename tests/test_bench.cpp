@@ -2,9 +2,9 @@
 // splits each triangle into four), the statistics (medians and quartiles worked out by hand), the
 // table, CSV and plot writers (parsed back; the plot drawn on a recorder and as SVG and PNG), the timing loop through the real zbuffer plugin, and one small
 // `hsr bench` run end to end.
-#include "bench_plot.hpp"
-#include "bench_report.hpp"
-#include "hsr/bench.hpp"
+#include "bench/bench_plot.hpp"
+#include "bench/bench_report.hpp"
+#include "bench/measure.hpp"
 #include "hsr/error.hpp"
 #include "hsr/instancing.hpp"
 #include "hsr/image.hpp"

@@ -1,4 +1,4 @@
-// hsr bench --vs-llvmpipe: the comparison table when bench/llvmpipe's hsr-llvmpipe is built
+// hsr bench --vs-llvmpipe: the comparison table when host/bench/llvmpipe/'s hsr-llvmpipe is built
 // (-DHSR_LLVMPIPE=ON), a one-line error naming the build option when it is not, and the runs it
 // cannot compare refused before anything is timed.
 #include "cli_support.hpp"

@@ -3,6 +3,7 @@
 // which side of the image a point offset along an axis lands on, the bounding sphere's outline
 // inside the image, pixel-camera coordinates, and lights carried from camera to world space.
 #include "hsr/camera.hpp"
+#include "hsr/scene_file.hpp"
 #include "hsr/error.hpp"
 
 #include <catch2/catch.hpp>

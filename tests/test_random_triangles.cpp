@@ -1,7 +1,7 @@
 // Random triangles (--random-triangles, bench model random-N): reproducible from the seed, inside
 // the default camera's view volume, a colour each, and refused beyond the limits.
 #include "cli_support.hpp"
-#include "hsr/bench.hpp"
+#include "bench/measure.hpp"
 #include "hsr/camera.hpp"
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"

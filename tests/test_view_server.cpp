@@ -1,4 +1,4 @@
-// hsr view's server (host/view_server.hpp), started in this process on a free port of 127.0.0.1 and
+// hsr view's server (host/view/server/view_server.hpp), started in this process on a free port of 127.0.0.1 and
 // spoken to over HTTP with cpp-httplib's client: every endpoint, the CLI's messages for bad values,
 // steps checked against the full render and against the plugin's own counts, compare, uploads and
 // their cap, and requests that try to read files outside the served folders. Also the hidden-line
@@ -6,8 +6,8 @@
 #include "cli_support.hpp"
 #include "test_models.hpp"
 
-#include "view_server.hpp"
-#include "view_theory.hpp"
+#include "view/server/view_server.hpp"
+#include "view/server/view_theory.hpp"
 
 #include "hsr/camera.hpp"
 #include "hsr/image.hpp"

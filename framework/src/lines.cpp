@@ -58,6 +58,7 @@ struct TraceWriter {
     std::ostream* out = nullptr;
     bool plugin_has_drawing = false;  // claims ABI 1.3: events may carry text and lines
     uint64_t stop_after = 0;
+    bool past_end_is_last = false;
     const LineDrawing* drawing = nullptr;
     uint64_t events = 0;
     std::optional<TraceEventRecord> stopped_at;
@@ -77,7 +78,8 @@ void write_event(void* context, const hsr_trace_event* event) {
     if (w.out != nullptr) *w.out << trace_event_json(*event, has_drawing) << '\n';
     ++w.events;
     if (w.stop_after == 0) return;
-    if (w.events == w.stop_after) {
+    // Past the end, the last event is the one kept: each is kept until another comes.
+    if (w.events == w.stop_after || (w.past_end_is_last && w.events < w.stop_after)) {
         TraceEventRecord& r = w.stopped_at.emplace();
         r.index = w.events;
         r.type = event->type != nullptr ? printable(std::string_view(event->type, strnlen(event->type, 64)), 64) : "event";
@@ -154,6 +156,7 @@ LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, Hidde
     writer.out = settings.trace;
     writer.plugin_has_drawing = remover.plugin().descriptor.abi_minor >= 3;
     writer.stop_after = settings.stop_after_event;
+    writer.past_end_is_last = settings.past_end_is_last;
     writer.drawing = &drawing;
     hsr_trace_sink trace{&writer, &write_event};
     const bool want_events = settings.trace != nullptr || settings.stop_after_event > 0;

@@ -9,6 +9,7 @@
 // re-write it, PLY as the checks convert it.
 #include "model_reader.hpp"
 
+#include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "malformed_models.hpp"
@@ -33,7 +34,7 @@ namespace hsr {
 namespace {
 
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
-using Object = SceneBuilder::Object;
+using Object = MeshObject;
 
 std::string display(const std::filesystem::path& file) { return printable(file.string(), std::string::npos); }
 

@@ -1,7 +1,7 @@
-// Model files and triangle lists as SceneBuilder objects, through OpenMesh (model_reader.cpp).
+// Model files and triangle lists as mesh objects for SceneBuilder, through OpenMesh (model_reader.cpp).
 #pragma once
 
-#include "hsr/scene_builder.hpp"
+#include "hsr/mesh_object.hpp"
 
 #include <glm/glm.hpp>
 
@@ -14,11 +14,11 @@ namespace hsr {
 
 // One model file (OBJ, OFF, PLY, STL) as an object in its own coordinates, options not yet set.
 // Throws hsr::Error naming the file on any problem with it.
-SceneBuilder::Object read_model_object(const std::filesystem::path& file);
+MeshObject read_model_object(const std::filesystem::path& file);
 
 // An indexed triangle list as an object; `what` names it in messages. Triangles with a repeated
 // corner are dropped; one that would make the mesh non-manifold gets vertices of its own.
-SceneBuilder::Object object_from_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
+MeshObject object_from_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
                                            const std::string& what);
 
 }  // namespace hsr

@@ -205,4 +205,11 @@ std::string describe_param(const hsr_param_desc& desc) {
                        desc.help ? desc.help : "");
 }
 
+std::string settings_key(const std::string& name, std::vector<Setting> settings) {
+    std::sort(settings.begin(), settings.end());
+    std::string key = name;
+    for (const auto& [k, v] : settings) key += fmt::format("|{}={}", k, v);
+    return key;
+}
+
 }  // namespace hsr

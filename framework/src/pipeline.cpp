@@ -139,6 +139,7 @@ std::string_view bounded(const char* text, size_t max_bytes) { return {text, str
 // stops after, which may be large and are of no use otherwise) and says stop at stop_after.
 struct StepCollector {
     uint64_t stop_after = 0;
+    const hsr_visibility_buffer* keep_before_of = nullptr;  // set: copy it at step stop_after - 1
     StepRun run;
 
     static uint32_t step(void* context, const hsr_step_event* event) {
@@ -146,6 +147,7 @@ struct StepCollector {
         StepRecord& last = self.run.last;
         const uint64_t index = ++self.run.taken;
         const bool stop = index == self.stop_after;
+        if (self.keep_before_of != nullptr && index + 1 == self.stop_after) self.run.before = copy_of(*self.keep_before_of);
         last.index = index;
         if (event == nullptr || event->struct_size < offsetof(hsr_step_event, buffer_count) + sizeof(uint32_t)) {
             last.type = "step";
@@ -185,6 +187,16 @@ struct StepCollector {
         return stop ? 1 : 0;
     }
 
+    static VisibilityState copy_of(const hsr_visibility_buffer& target) {
+        const size_t pixels = size_t(target.width) * target.height;
+        VisibilityState state;
+        state.depth.assign(target.depth, target.depth + pixels);
+        state.face.assign(target.face, target.face + pixels);
+        if (target.instance != nullptr) state.instance.assign(target.instance, target.instance + pixels);
+        if (target.depth_tests != nullptr) state.depth_tests.assign(target.depth_tests, target.depth_tests + pixels);
+        return state;
+    }
+
     static std::string describe_step(const StepRecord& step) {
         std::string text = fmt::format("{} {}", step.type, step.index);
         if (step.face != HSR_NO_FACE) text += fmt::format(": triangle {}", step.face);
@@ -212,11 +224,12 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
 }
 
 void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                              Frame& frame, uint64_t stop_after, bool count_depth_tests) {
+                              Frame& frame, uint64_t stop_after, bool count_depth_tests, bool keep_before) {
     hsr_visibility_buffer target = clear_visibility(scene, camera, remover, frame, count_depth_tests);
     hsr_counter_sink sink{&frame.counters, &collect_counter};
     StepCollector collector;
     collector.stop_after = stop_after;
+    if (keep_before) collector.keep_before_of = &target;
     const hsr_step_sink steps{&collector, &StepCollector::step};
     const auto start = Clock::now();
     remover.render_steps(scene, camera, target, &sink, steps);
@@ -308,7 +321,8 @@ Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfa
                     "pixel; transparency needs fragment lists (-a a-buffer)", remover.plugin().descriptor.name);
     auto resolve = [&](const hsr_scene& view) {
         if (settings.stop_after_step)
-            resolve_visibility_steps(view, camera, remover, frame, *settings.stop_after_step, settings.count_depth_tests);
+            resolve_visibility_steps(view, camera, remover, frame, *settings.stop_after_step, settings.count_depth_tests,
+                                     settings.keep_step_before);
         else
             resolve_visibility(view, camera, remover, frame, settings.count_depth_tests);
     };

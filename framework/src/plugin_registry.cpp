@@ -481,7 +481,7 @@ std::vector<fs::path> default_plugin_dirs(const fs::path& executable_dir, const 
 // ---------------------------------------------------------------------------------------------------
 
 HiddenSurfaceRemover::HiddenSurfaceRemover(const Plugin& plugin, const std::vector<Setting>& settings)
-    : plugin_(plugin) {
+    : plugin_(plugin), key_(settings_key(plugin.path.string() + "|" + plugin.descriptor.name, settings)) {
     if (plugin.descriptor.kind != HSR_KIND_HIDDEN_SURFACE_REMOVER)
         throw Error("'{}' is a {} plugin, not a hidden-surface remover", plugin.descriptor.name,
                     kind_name(plugin.descriptor.kind));

@@ -79,7 +79,8 @@ struct Statement {
 
 class SceneParser {
 public:
-    explicit SceneParser(const std::filesystem::path& file) : file_(file), folder_(file.parent_path()) {}
+    SceneParser(const std::filesystem::path& file, const ReadPolicy& policy)
+        : file_(file), folder_(file.parent_path()), policy_(policy) {}
 
     SceneFile parse() {
         std::error_code ec;
@@ -195,6 +196,8 @@ private:
             expect_count(s, 2, "mesh <file>  (quote a path with spaces)");
             open_object(s, Kind::mesh);
             object_.path = s.words[1];
+            if (!policy_.allows(mesh_path(object_.path)))
+                fail(s.line, fmt::format("mesh '{}' lies outside {}", printable(s.words[1]), policy_.description()));
         } else if (keyword == "polygon") {
             finish_object();
             expect_count(s, 1, "polygon  (then color and vertex lines)");
@@ -416,14 +419,19 @@ private:
         }
     }
 
+    // A mesh line's file: relative paths resolve against the scene file's folder.
+    std::filesystem::path mesh_path(const std::string& text) const {
+        std::filesystem::path path(text);
+        if (path.is_relative()) path = folder_ / path;
+        return path.lexically_normal();
+    }
+
     void finish_object() {
         PendingObject object = std::move(object_);
         object_ = PendingObject{};
         try {
             if (object.kind == Kind::mesh) {
-                std::filesystem::path path(object.path);
-                if (path.is_relative()) path = folder_ / path;
-                path = path.lexically_normal();
+                const std::filesystem::path path = mesh_path(object.path);
                 // A file named again is copied, not read again: many lines of one large mesh reach
                 // the triangle limits in moments.
                 const auto read = mesh_objects_.find(path.string());
@@ -469,6 +477,7 @@ private:
     }
 
     std::filesystem::path file_, folder_;
+    const ReadPolicy& policy_;
     SceneBuilder builder_;
     std::vector<float> opacity_;  // per object added, in order
     uint64_t scene_triangles_ = 0;
@@ -544,6 +553,8 @@ LightSpec parse_light_spec(std::string_view text) {
 
 bool is_scene_file(const std::filesystem::path& file) { return lower(file.extension().string()) == ".scene"; }
 
-SceneFile load_scene_file(const std::filesystem::path& file) { return SceneParser(file).parse(); }
+SceneFile load_scene_file(const std::filesystem::path& file, const ReadPolicy& policy) {
+    return SceneParser(file, policy).parse();
+}
 
 }  // namespace hsr

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "hsr/abi.h"
-#include "hsr/scene_file.hpp"
 
 #include <glm/glm.hpp>
 
@@ -13,6 +12,26 @@
 #include <vector>
 
 namespace hsr {
+
+// An eye at a given point looking at a target, as in the textbooks' worked examples (an eye at
+// (40, 40, 40) looking at the origin), instead of an orbit around the scene: `--eye` on the command
+// line, `camera look-at` in a .scene file, make_look_at_camera() below.
+struct LookAt {
+    glm::vec3 eye{0, 0, 1};
+    std::optional<glm::vec3> target;  // unset: the centre of the scene's bounds
+    glm::vec3 up{0, 1, 0};            // any vector not along the line of sight; +y stays up on screen
+};
+
+// A light as the user writes it (docs/scene-format.md, "Lights"). Camera-space vectors use x right,
+// y up, z toward the viewer, with the eye at the origin; resolve_light() below turns a spec
+// into a world-space hsr_light; parse_light_spec() in scene_file.hpp reads one from text.
+struct LightSpec {
+    hsr_light_type type = HSR_LIGHT_DIRECTIONAL;
+    glm::vec3 vector{0.0f, 0.0f, 1.0f};  // POINT: position; DIRECTIONAL: unit direction toward the light
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    bool camera_space = true;
+};
 
 struct CameraSettings {
     float yaw_degrees = 0, pitch_degrees = 0, zoom = 1;

@@ -1,5 +1,6 @@
-// The one exception type the framework throws for anything a user can cause: the host prints
-// what() as a one-line error and exits non-zero. printable() makes user text safe to quote in one.
+// The exception types the framework throws for anything a user can cause: the host prints what() as
+// a one-line error and exits non-zero (2 for a UsageError). printable() makes user text safe to quote
+// in one.
 #pragma once
 
 #include <fmt/format.h>
@@ -17,6 +18,12 @@ public:
     template <class... Args>
     explicit Error(fmt::format_string<Args...> format, Args&&... args)
         : std::runtime_error(fmt::format(format, std::forward<Args>(args)...)) {}
+};
+
+// A mistake in what was asked (an option, a request's field), as opposed to something that failed
+// while doing it: hsr prints it with a hint to --help and exits with status 2.
+struct UsageError : Error {
+    using Error::Error;
 };
 
 // Text from a file, an option or a formula, fit to quote in a one-line message: control characters

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "hsr/abi.h"
-#include "hsr/pipeline.hpp"
+#include "hsr/frame.hpp"
 #include "hsr/plugin_registry.hpp"
 
 #include <cstdint>
@@ -47,11 +47,6 @@ private:
     std::vector<float> depth_, bary_;
     std::string problem_;
 };
-
-// Resolves visibility with a remover's render_fragments: frame's visibility buffer as render()
-// fills it, and the fragment lists. Throws hsr::Error for a remover without fragment lists.
-void resolve_fragments(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                       Frame& frame, FragmentLists& lists, bool count_depth_tests = false);
 
 // Shades every fragment with the lighting model and composites each pixel's fragments front to back
 // for each of its HSR_COVERAGE_SAMPLES samples, each fragment's colour weighted by its object's

@@ -59,6 +59,9 @@ struct LineSettings {
     // trace event k + 1, and record event k (LineDrawing::stopped_at). The plugin still runs to the
     // end, so trace_events is the number of steps of the whole drawing.
     uint64_t stop_after_event = 0;
+    // With stop_after_event past the plugin's last event: record the last event instead, with every
+    // segment (the last step, as a viewer shows a step past the end).
+    bool past_end_is_last = false;
 };
 
 // The scene must have no instances (flatten_instances first). Throws hsr::Error with the plugin's

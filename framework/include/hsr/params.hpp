@@ -37,6 +37,9 @@ private:
 // wrong type or out of range, or an unknown choice.
 ParamValues resolve_params(const hsr_plugin_descriptor& plugin, const std::vector<Setting>& settings);
 
+// The name and its settings in a canonical order ("name|key=value|..."), as a cache key.
+std::string settings_key(const std::string& name, std::vector<Setting> settings);
+
 // One parameter's text value parsed by its type; throws hsr::Error (without the plugin name).
 hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view text);
 

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "hsr/abi.h"
+#include "hsr/fragment_lists.hpp"
+#include "hsr/frame.hpp"
 #include "hsr/plugin_registry.hpp"
 
 #include <glm/glm.hpp>
@@ -20,18 +22,6 @@ constexpr uint32_t max_image_side = 16384;
 // Throws hsr::Error for a zero or absurd size, before anything is allocated.
 void check_image_size(uint32_t width, uint32_t height);
 
-struct FrameSettings {
-    glm::vec3 background{1.0f, 1.0f, 1.0f};
-    unsigned threads = 0;  // shading threads; 0 = as many as tbb::global_control allows (every core)
-    bool count_depth_tests = false;  // ask the remover for per-pixel depth-test counts (Frame::depth_tests)
-    // Render step by step (ABI 1.3): stop after this step (1-based; 0 runs every step). Empty: no
-    // steps, render() as usual.
-    std::optional<uint64_t> stop_after_step;
-    // Supersampling (render_supersampled_frame; render_frame renders the pixel centres only):
-    // visibility and shading once per position of sample_offsets(samples), the colours averaged.
-    uint32_t samples = 1;
-};
-
 // The sample positions of a pixel for supersampling, as offsets from its centre in pixels (x right,
 // y down): the standard multisample patterns of Direct3D 10.1+ and Vulkan (standardSampleLocations)
 // for 1, 2, 4, 8 and 16 samples; 4 is the rotated grid (RGSS). Throws hsr::Error for another count.
@@ -41,61 +31,17 @@ bool is_sample_count(uint32_t samples);  // 1, 2, 4, 8 or 16
 // x right, y down): its projection shifted in NDC, so that any hidden-surface plugin samples there.
 hsr_camera offset_camera(const hsr_camera& camera, glm::vec2 offset);
 
-// One of a plugin's own buffers at a step (hsr_step_buffer), copied.
-struct StepBuffer {
-    std::string name;
-    uint32_t width = 0, height = 0;
-    std::vector<float> values;
-};
-
-// One step of a hidden-surface algorithm (hsr_step_event), copied.
-struct StepRecord {
-    uint64_t index = 0;  // 1-based; 0: no step was taken
-    std::string type;
-    std::string text;    // the plugin's, or one the host wrote from the fields
-    uint32_t face = HSR_NO_FACE;
-    uint32_t instance = 0;
-    uint32_t level = HSR_NO_LEVEL;
-    std::vector<float> lines;   // 4 per line: x0, y0, x1, y1 in window coordinates
-    std::vector<uint32_t> roles;  // an hsr_step_role per line
-    uint64_t pixels_written = 0, pixels_rejected = 0;
-    std::vector<StepBuffer> buffers;  // only for the step a render stopped after
-};
-
-// What a render step by step did: how many steps it took, whether it stopped before the end, and
-// its last step.
-struct StepRun {
-    uint64_t taken = 0;
-    bool stopped = false;
-    StepRecord last;
-};
-
-struct Frame {
-    uint32_t width = 0;
-    uint32_t height = 0;
-    std::vector<float> depth;   // visibility buffer, as the plugin left it
-    std::vector<uint32_t> face;
-    std::vector<float> bary;
-    std::vector<uint32_t> instance;     // per pixel; empty unless the scene has instances
-    std::vector<uint32_t> depth_tests;  // per pixel; empty unless asked for (FrameSettings)
-    std::vector<uint8_t> rgb;   // 3 * width * height, rows top to bottom; with samples, their mean
-    std::vector<std::pair<std::string, uint64_t>> counters;  // the plugins' and the host's, in order
-    std::optional<StepRun> steps;  // when rendered step by step (FrameSettings::stop_after_step)
-    double visibility_ms = 0;   // time inside the hidden-surface plugin
-    double shading_ms = 0;      // fragment assembly + lighting plugin
-
-    uint64_t counter(const std::string& name) const;  // 0 when absent
-};
-
 // Clears and fills a visibility buffer of camera.width x camera.height with the remover. Throws
 // hsr::Error when the scene has instances and the remover predates them (ABI 1.0): render_frame()
 // copies the instances out for such plugins, see needs_flat_scene().
 void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                         Frame& frame, bool count_depth_tests = false);
 // The same step by step (ABI 1.3; throws hsr::Error for a plugin without steps): stops after step
-// stop_after (0: every step), and sets frame.steps.
+// stop_after (0: every step), and sets frame.steps; with keep_before, frame.steps->before too, read
+// from the buffers while the plugin reports step stop_after - 1 (abi.h: render_steps).
 void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                              Frame& frame, uint64_t stop_after, bool count_depth_tests = false);
+                              Frame& frame, uint64_t stop_after, bool count_depth_tests = false,
+                              bool keep_before = false);
 
 // True when a plugin was built before instancing (ABI 1.0) and the scene has instances: it must be
 // given flatten_instances(scene) instead.
@@ -103,6 +49,11 @@ bool needs_flat_scene(const Plugin& plugin, const hsr_scene& scene);
 // Throws hsr::Error when the camera has clip planes (sections) and the plugin predates them (ABI
 // 1.4): it would ignore them and draw what they cut away.
 void check_clip_planes_known(const Plugin& plugin, const hsr_camera& camera);
+
+// Resolves visibility with a remover's render_fragments: frame's visibility buffer as render()
+// fills it, and the fragment lists. Throws hsr::Error for a remover without fragment lists.
+void resolve_fragments(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                       Frame& frame, FragmentLists& lists, bool count_depth_tests = false);
 
 // Shades every covered pixel of frame's visibility buffer; uncovered pixels get the background.
 void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shading_context& context,

@@ -111,9 +111,12 @@ public:
     void render_fragments(const hsr_scene& scene, const hsr_camera& camera, hsr_visibility_buffer& target,
                           const hsr_counter_sink* counters, const hsr_fragment_sink& fragments);
     const Plugin& plugin() const { return plugin_; }
+    // The plugin's file and name and the instance's settings (settings_key), for caches.
+    const std::string& key() const { return key_; }
 
 private:
     Plugin plugin_;
+    std::string key_;
     IHiddenSurfaceRemover table_{};  // zero-filled beyond the plugin's struct_size
     void* instance_ = nullptr;
 };

@@ -2,6 +2,7 @@
 // gathered into one world-space triangle mesh (SceneData).
 #pragma once
 
+#include "hsr/mesh_object.hpp"
 #include "hsr/scene.hpp"
 
 #include <glm/glm.hpp>
@@ -14,15 +15,6 @@
 #include <vector>
 
 namespace hsr {
-
-struct MeshOptions {
-    glm::mat4 transform{1.0f};  // object to world; a mirroring transform keeps the front outside
-    glm::vec3 color{0.8f, 0.8f, 0.8f};
-    // Corner normals average only the faces around a vertex whose normal is within this angle of
-    // the corner's own face normal: 0 gives flat facets, 180 smooths everything.
-    float crease_angle_degrees = 40.0f;
-    std::string name;  // defaults to the file's stem, "polygon N" or "object N"
-};
 
 // Accumulates objects; build() transforms them to world space, drops zero-area triangles and
 // computes normals, adjacency and bounds. Every add_* throws hsr::Error on bad input.
@@ -40,14 +32,7 @@ public:
 
     std::size_t object_count() const { return objects_.size(); }
 
-    struct Object {  // one object in its own coordinates, adjacency already known
-        std::vector<glm::vec3> positions;
-        std::vector<uint32_t> indices;
-        std::vector<int32_t> neighbors;
-        MeshOptions options;
-        std::string source;             // for messages: the file, or the object's name
-        uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
-    };
+    using Object = MeshObject;
     const std::vector<Object>& objects() const { return objects_; }  // as added, in order
     // Object `index` added once more with other options: what add_model_file adds for a file it read
     // before, without reading it again.

@@ -356,7 +356,8 @@ typedef struct IHiddenSurfaceRemover {
     /* Since 1.3, optional (NULL: the algorithm has no steps to show): render() that calls
      * steps->step() at the end of each step of the algorithm and returns HSR_OK as soon as a call
      * answers non-zero, leaving target as the steps so far made it. Run to the end, it leaves
-     * target exactly as render() does. */
+     * target exactly as render() does. When steps->step() is called, target already holds what
+     * the steps so far wrote: a viewer copies it there to show what the next step changes. */
     hsr_status (*render_steps)(void* instance, const hsr_scene* scene, const hsr_camera* camera,
                                hsr_visibility_buffer* target, const hsr_counter_sink* counters,
                                const hsr_step_sink* steps, hsr_error* error);

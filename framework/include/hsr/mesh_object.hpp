@@ -1,0 +1,31 @@
+// One object of a scene as it is read, before SceneBuilder places it in the world: its triangles in
+// its own coordinates, and the options it is placed with.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hsr {
+
+struct MeshOptions {
+    glm::mat4 transform{1.0f};  // object to world; a mirroring transform keeps the front outside
+    glm::vec3 color{0.8f, 0.8f, 0.8f};
+    // Corner normals average only the faces around a vertex whose normal is within this angle of
+    // the corner's own face normal: 0 gives flat facets, 180 smooths everything.
+    float crease_angle_degrees = 40.0f;
+    std::string name;  // defaults to the file's stem, "polygon N" or "object N"
+};
+
+struct MeshObject {  // one object in its own coordinates, adjacency already known
+    std::vector<glm::vec3> positions;
+    std::vector<uint32_t> indices;
+    std::vector<int32_t> neighbors;
+    MeshOptions options;
+    std::string source;             // for messages: the file, or the object's name
+    uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
+};
+
+}  // namespace hsr

@@ -1,0 +1,259 @@
+// The renderer (renderer.hpp): a scene loaded once, then views, lights and plugins resolved against
+// what the request sets, what the .scene file says and the defaults, in that order.
+#include "hsr/renderer.hpp"
+
+#include "hsr/error.hpp"
+#include "hsr/limits.hpp"
+#include "hsr/params.hpp"
+#include "hsr/random_triangles.hpp"
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <utility>
+
+namespace fs = std::filesystem;
+
+namespace hsr {
+namespace {
+
+SceneData load_source(const SceneSource& source, const ReadPolicy& policy, std::optional<SceneFile>& file) {
+    if (source.random_triangles) return make_random_triangles(source.random_triangles->count, source.random_triangles->seed);
+    if (source.formula) return make_formula_surface(source.formula->text, source.formula->range, source.formula->color);
+    const fs::path path = source.path();
+    if (!policy.allows(path))
+        throw Error("'{}' lies outside {}", printable(path.string(), kMaxQuotedPathChars), policy.description());
+    if (!source.heightmap.empty()) return make_heightmap_surface(source.heightmap, source.heightmap_options);
+    if (is_scene_file(path)) {
+        file = load_scene_file(path, policy);
+        SceneData scene = std::move(file->scene);
+        file->scene = {};
+        return scene;
+    }
+    return load_model(path, source.mesh);
+}
+
+// The .scene file's size and view, where the request leaves them open.
+void apply_scene_file_view(const SceneFile& file, const ViewRequest& request, CameraSettings& view) {
+    if (file.width && !request.width) view.width = *file.width;
+    if (file.height && !request.height) view.height = *file.height;
+    if (file.yaw_degrees && !request.yaw_degrees) view.yaw_degrees = *file.yaw_degrees;
+    if (file.pitch_degrees && !request.pitch_degrees) view.pitch_degrees = *file.pitch_degrees;
+    if (file.zoom && !request.zoom) view.zoom = *file.zoom;
+    if (file.fov_y_degrees && !request.fov_y_degrees) view.fov_y_degrees = *file.fov_y_degrees;
+    if (file.look_at && !view.look_at && !request.orbit_given) view.look_at = file.look_at;
+    if (file.orthographic && !request.orthographic) view.orthographic = *file.orthographic;
+}
+
+std::string camera_bytes(const hsr_camera& camera) {
+    std::string bytes(sizeof camera, '\0');
+    std::memcpy(bytes.data(), &camera, sizeof camera);
+    return bytes;
+}
+
+}  // namespace
+
+glm::vec3 default_background_color() {
+    const hsr_param_desc desc{sizeof(hsr_param_desc), "background", HSR_PARAM_COLOR, "", 0, 1, nullptr, ""};
+    const hsr_param_value v = parse_param_value(desc, default_background);
+    return {v.color[0], v.color[1], v.color[2]};
+}
+
+fs::path SceneSource::path() const {
+    if (random_triangles) return "random-triangles";
+    return !model.empty() ? model : !heightmap.empty() ? heightmap : fs::path("surface");
+}
+
+std::shared_ptr<LoadedScene> LoadedScene::load(const SceneSource& source, const ReadPolicy& policy) {
+    auto loaded = std::make_shared<LoadedScene>();
+    SceneData& scene = loaded->scene_;
+    scene = load_source(source, policy, loaded->file_);
+    const fs::path path = source.path();
+    if (source.opacity) {
+        if (is_scene_file(path))
+            throw UsageError("--opacity is for a single model: give the objects of '{}' `opacity` lines",
+                             printable(path.string(), kMaxQuotedPathChars));
+        if (*source.opacity < 1.0f) scene.object_opacity.assign(scene.object_names.size(), *source.opacity);
+    }
+    if (source.repeat) {
+        if (!scene.instances.empty())
+            throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line); use one or the other",
+                             printable(path.string(), kMaxQuotedPathChars));
+        try {
+            scene = make_instance_grid(scene, *source.repeat);
+        } catch (const Error& e) {
+            throw Error("--repeat {}: {}", source.repeat_text, e.what());
+        }
+    }
+    return loaded;
+}
+
+std::shared_ptr<LoadedScene> LoadedScene::of(SceneData scene) {
+    auto loaded = std::make_shared<LoadedScene>();
+    loaded->scene_ = std::move(scene);
+    return loaded;
+}
+
+const SceneData& LoadedScene::flat_scene() const {
+    if (scene_.instances.empty()) return scene_;
+    std::call_once(flat_once_, [this] { flat_ = flatten_instances(scene_); });
+    return *flat_;
+}
+
+uint64_t LoadedScene::memory() const {
+    const auto size = [](const SceneData& d) {
+        return d.positions.size() * 4 + d.indices.size() * 4 + d.face_normals.size() * 4 + d.corner_normals.size() * 4 +
+               d.face_colors.size() * 4 + d.edge_neighbors.size() * 4 + d.face_object.size() * 4 +
+               d.instances.size() * sizeof(hsr_instance);
+    };
+    return size(scene_) + (flat_ ? size(*flat_) : 0);
+}
+
+Renderer::Renderer(std::shared_ptr<const LoadedScene> scene) : scene_(std::move(scene)) {}
+
+hsr_camera Renderer::camera(const ViewRequest& request) const {
+    CameraSettings view;
+    if (request.width) view.width = *request.width;
+    if (request.height) view.height = *request.height;
+    if (request.yaw_degrees) view.yaw_degrees = *request.yaw_degrees;
+    if (request.pitch_degrees) view.pitch_degrees = *request.pitch_degrees;
+    if (request.zoom) view.zoom = *request.zoom;
+    if (request.fov_y_degrees) view.fov_y_degrees = *request.fov_y_degrees;
+    view.orthographic = request.orthographic.value_or(false);
+    view.near_plane = request.near_plane;
+    view.look_at = request.look_at;
+    bool pixel_camera = false;
+    if (const std::optional<SceneFile>& file = scene_->file()) {
+        pixel_camera = file->pixel_camera;
+        apply_scene_file_view(*file, request, view);
+        if (pixel_camera && request.pixel_camera_keeps_size) {
+            view.width = *file->width;
+            view.height = *file->height;
+        }
+        view.clip_planes = file->clip_planes;
+    }
+    if (request.yaw_turn_degrees != 0) view.yaw_degrees = float(double(view.yaw_degrees) + request.yaw_turn_degrees);
+    check_image_size(view.width, view.height);
+    check_limit(&Limits::image_pixels, uint64_t(view.width) * view.height,
+                fmt::format("image size {}x{}", view.width, view.height));
+    view.clip_planes.insert(view.clip_planes.end(), request.clip_planes.begin(), request.clip_planes.end());
+    if (view.clip_planes.size() > HSR_MAX_CLIP_PLANES)
+        throw UsageError("{} sections and clip planes: at most {} (a .scene file's count too)", view.clip_planes.size(),
+                         HSR_MAX_CLIP_PLANES);
+    if (pixel_camera && view.near_plane) throw UsageError("--near does not apply to a .scene file with 'camera pixel'");
+    const SceneData& scene = scene_->scene();
+    return pixel_camera ? make_pixel_camera(view.width, view.height, scene.bounds_min.z, scene.bounds_max.z,
+                                            view.clip_planes)
+                        : make_camera(scene.bounds_min, scene.bounds_max, view);
+}
+
+std::vector<hsr_light> Renderer::lights(const std::vector<LightSpec>& requested, const hsr_camera& camera) const {
+    std::vector<LightSpec> specs = requested;
+    if (specs.empty() && scene_->file()) specs = scene_->file()->lights;
+    if (specs.empty()) specs.push_back(parse_light_spec(default_light));
+    std::vector<hsr_light> lights;
+    for (const LightSpec& spec : specs) lights.push_back(resolve_light(spec, camera));
+    return lights;
+}
+
+uint64_t Renderer::count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover) {
+    const std::string key = remover.key() + '\n' + camera_bytes(camera);
+    {
+        std::lock_guard lock(step_totals_mutex_);
+        if (auto known = step_totals_.find(key); known != step_totals_.end()) return known->second;
+    }
+    Frame counted;
+    resolve_visibility_steps(scene, camera, remover, counted, 0);
+    const uint64_t total = counted.steps ? counted.steps->taken : 0;
+    constexpr std::size_t kept_totals = 256;
+    std::lock_guard lock(step_totals_mutex_);
+    if (step_totals_.size() >= kept_totals) step_totals_.clear();
+    step_totals_.emplace(key, total);
+    return total;
+}
+
+Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& remover, LightingModel& lighting) {
+    Picture picture;
+    picture.camera = camera(request.view);
+    picture.scene = scene_->scene().view();
+    const std::optional<SceneFile>& file = scene_->file();
+    FrameSettings settings;
+    settings.background = request.background       ? *request.background
+                          : file && file->background ? *file->background
+                                                     : default_background_color();
+    settings.threads = request.threads;
+    settings.count_depth_tests = request.count_depth_tests;
+    settings.samples = request.samples ? *request.samples : file && file->samples ? *file->samples : 1u;
+    picture.samples = settings.samples;
+    if (request.step) {
+        uint64_t step = *request.step;
+        if (request.step_context) {
+            picture.step_total = count_steps(picture.scene, picture.camera, remover);
+            step = std::min(step, picture.step_total);
+            settings.keep_step_before = true;
+        }
+        settings.stop_after_step = step;
+        picture.step_shown = step;
+    }
+    const std::vector<hsr_light> world_lights = lights(request.lights, picture.camera);
+    const hsr_shading_context context = make_shading_context(picture.camera, world_lights);
+    picture.frame = render_supersampled_frame(picture.scene, picture.camera, remover, lighting, context, settings);
+    if (picture.frame.steps && picture.frame.steps->before) {
+        VisibilityState& before = *picture.frame.steps->before;
+        picture.before.depth = std::move(before.depth);
+        picture.before.face = std::move(before.face);
+        picture.before.instance = std::move(before.instance);
+        picture.before.depth_tests = std::move(before.depth_tests);
+        picture.frame.steps->before.reset();
+    }
+    if (request.depth_complexity) picture.depth_complexity = measure_depth_complexity(picture.scene, picture.camera);
+    return picture;
+}
+
+LinePicture Renderer::lines(const LineRequest& request, HiddenLineRemover& remover) const {
+    LinePicture picture;
+    picture.camera = camera(request.view);
+    picture.scene = scene_->flat_scene().view();
+    LineSettings settings = request.settings;
+    if (request.step) {
+        settings.stop_after_event = *request.step;
+        settings.past_end_is_last = true;
+    }
+    picture.drawing = render_lines(picture.scene, picture.camera, remover, settings);
+    return picture;
+}
+
+DepthComplexity Renderer::depth_complexity(const hsr_camera& camera) const {
+    return measure_depth_complexity(scene_->scene().view(), camera);
+}
+
+FrameLoop::FrameLoop(const hsr_scene& scene, const hsr_camera& camera, const hsr_shading_context& context,
+                     const FrameSettings& settings, HiddenSurfaceRemover& remover, LightingModel& lighting)
+    : scene_(scene),
+      camera_(camera),
+      lights_(context.lights, context.lights + context.light_count),
+      context_(context),
+      settings_(settings),
+      remover_(remover),
+      lighting_(lighting) {
+    context_.lights = lights_.data();
+    if (needs_flat_scene(remover.plugin(), scene) || needs_flat_scene(lighting.plugin(), scene)) {
+        flat_ = flatten_instances(scene);
+        scene_ = flat_->view();
+    }
+}
+
+const Frame& FrameLoop::render() {
+    Frame& frame = frame_;
+    frame.counters.clear();
+    if (remover_.has_fragments()) {
+        resolve_fragments(scene_, camera_, remover_, frame, fragments_, false);
+        shade_fragments(scene_, lighting_, context_, settings_, fragments_, frame);
+    } else {
+        resolve_visibility(scene_, camera_, remover_, frame, false);
+        shade_frame(scene_, lighting_, context_, settings_, frame);
+    }
+    return frame;
+}
+
+}  // namespace hsr

@@ -1,0 +1,432 @@
+// hsr bench: the command line around bench/measure.hpp. Times hidden-surface plugins on models and deep
+// scenes at several resolutions, prints the table, writes CSV and a plot (SVG or PNG).
+#include "bench/bench_llvmpipe.hpp"
+#include "bench/measure.hpp"
+#include "bench/bench_plot.hpp"
+#include "bench/bench_report.hpp"
+#include "common/commands.hpp"
+#include "common/options.hpp"
+#include "common/outputs.hpp"
+#include "common/plugins.hpp"
+#include "common/threads.hpp"
+
+#include "hsr/atomic_file.hpp"
+#include "hsr/camera.hpp"
+#include "hsr/error.hpp"
+#include "hsr/limits.hpp"
+#include "hsr/params.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/plugin_registry.hpp"
+#include "hsr/renderer.hpp"
+#include "hsr/scene.hpp"
+#include "hsr/scene_file.hpp"
+
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/program_options.hpp>
+#include <fmt/format.h>
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+using hsr::host::UsageError;
+
+constexpr const char* default_light = "dir:-0.5,0.6,1";
+
+// The items of a comma-separated option. An option given with no item ("", ",") is a mistake, not a
+// request for the default list.
+std::vector<std::string> split_list(const std::string& text, const char* option) {
+    std::vector<std::string> items;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        std::size_t comma = text.find(',', start);
+        if (comma == std::string::npos) comma = text.size();
+        std::string item = text.substr(start, comma - start);
+        while (!item.empty() && item.front() == ' ') item.erase(item.begin());
+        while (!item.empty() && item.back() == ' ') item.pop_back();
+        if (!item.empty()) items.push_back(item);
+        start = comma + 1;
+    }
+    if (items.empty()) throw UsageError("--{}: the list is empty (leave the option out for the default)", option);
+    return items;
+}
+
+// Each item once: a repeat would only measure the same thing twice. what(item) names it.
+template <class Item, class Describe>
+void refuse_repeats(const std::vector<Item>& items, Describe what) {
+    for (auto it = items.begin(); it != items.end(); ++it)
+        if (std::find(items.begin(), it, *it) != it) throw UsageError("{} is named twice", what(*it));
+}
+
+// "1024" (square) or "800x600".
+std::pair<uint32_t, uint32_t> parse_size(const std::string& text) {
+    unsigned long long w = 0, h = 0;
+    char x = 0, extra = 0;
+    const int n = std::sscanf(text.c_str(), "%llu%c%llu%c", &w, &x, &h, &extra);
+    if (n == 1 && text.find_first_not_of("0123456789") == std::string::npos) h = w;
+    else if (!(n == 3 && x == 'x' && text.find_first_not_of("0123456789x") == std::string::npos))
+        throw UsageError("--sizes: '{}' is not a size (512 or 800x600)", text);
+    if (w == 0 || h == 0 || w > hsr::max_image_side || h > hsr::max_image_side)
+        throw UsageError("--sizes: {}: each side must be between 1 and {}", text, hsr::max_image_side);
+    hsr::check_limit(&hsr::Limits::image_pixels, w * h, fmt::format("--sizes: {}", text));
+    return {uint32_t(w), uint32_t(h)};
+}
+
+// The folder that holds cube.obj, monkey.obj, bunny.obj: --models-dir, else ./models, else the
+// source tree's models/ beside the build folder, else the installed share/hsr/models.
+fs::path find_models_dir(const std::string& given) {
+    if (!given.empty()) {
+        if (!fs::is_directory(given)) throw UsageError("--models-dir: '{}' is not a folder", given);
+        return given;
+    }
+    const fs::path exe_dir(boost::dll::program_location().parent_path().string());
+    for (const fs::path& candidate : {fs::path("models"), exe_dir / ".." / "models", exe_dir / ".." / ".." / "models",
+                                      exe_dir / ".." / "share" / "hsr" / "models"}) {
+        std::error_code ec;
+        if (fs::is_regular_file(candidate / "cube.obj", ec)) return candidate.lexically_normal();
+    }
+    return "models";
+}
+
+// Hidden-surface plugins in the order of the classic study, then any others as found.
+std::vector<std::string> all_algorithms(const hsr::PluginRegistry& registry) {
+    static const std::vector<std::string> order = {"zbuffer", "scanline-zbuffer", "hierarchical-zbuffer",
+                                                   "octree-zbuffer"};
+    std::vector<std::string> found;
+    for (const hsr::Plugin& p : registry.plugins())
+        if (p.descriptor.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER) found.push_back(p.descriptor.name);
+    std::stable_sort(found.begin(), found.end(), [&](const std::string& a, const std::string& b) {
+        auto rank = [&](const std::string& n) {
+            return std::size_t(std::find(order.begin(), order.end(), n) - order.begin());
+        };
+        return rank(a) < rank(b);
+    });
+    return found;
+}
+
+// Progress on stderr: a bar redrawn in place on a terminal, else one plain line per step.
+class Progress {
+public:
+    Progress(std::size_t total_calls) : total_(total_calls), tty_(isatty(STDERR_FILENO) == 1) {}
+    // An error thrown mid-run is then printed on a line of its own, not after the bar.
+    ~Progress() { clear(); }
+
+    void loading(const std::string& model) {
+        if (tty_) draw(fmt::format("loading {}", model));
+        else std::fprintf(stderr, "hsr bench: loading %s\n", model.c_str());
+    }
+    void measuring(const std::string& what) {
+        if (tty_) draw(what);
+        else std::fprintf(stderr, "hsr bench: %s\n", what.c_str());
+    }
+    void show(const std::string& what) {  // what runs now
+        if (tty_) draw(what);
+    }
+    void advance() { ++done_; }
+    void row(const std::string& line) {
+        ++rows_;
+        if (!tty_) std::fprintf(stderr, "hsr bench: %s\n", line.c_str());
+    }
+    void message(const std::string& line) {  // a warning: keeps the bar below it
+        clear();
+        std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    void finish() {
+        clear();
+        const double s = std::chrono::duration<double>(Clock::now() - start_).count();
+        std::fprintf(stderr, "hsr bench: %zu measurement%s in %.1f s\n", rows_, rows_ == 1 ? "" : "s", s);
+    }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    void clear() {
+        if (tty_) std::fputs("\r\033[K", stderr);
+    }
+    void draw(const std::string& what) {
+        constexpr int bar = 28;
+        const double f = total_ ? double(done_) / double(total_) : 1.0;
+        const int filled = int(f * bar + 0.5);
+        const double s = std::chrono::duration<double>(Clock::now() - start_).count();
+        std::string line = fmt::format("[{}{}] {:3d}% {:5.0f}s  {}", std::string(filled, '#'),
+                                       std::string(bar - filled, '.'), int(f * 100 + 0.5), s, what);
+        winsize size{};
+        const std::size_t columns = ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0 ? size.ws_col : 80;
+        if (line.size() >= columns) line.resize(columns - 1);  // a wrapped line could not be redrawn in place
+        std::fprintf(stderr, "\r\033[K%s", line.c_str());
+        std::fflush(stderr);
+    }
+    std::size_t total_, done_ = 0, rows_ = 0;
+    bool tty_;
+    Clock::time_point start_ = Clock::now();
+};
+
+std::string ms(double v) { return fmt::format("{:.{}f}", v, v < 10 ? 2 : 1); }
+
+// A model ready to time: loaded into a renderer (the bench scene's mesh moved there), with its
+// camera at every size.
+struct PreparedModel {
+    hsr::bench::BenchScene scene;
+    std::shared_ptr<hsr::Renderer> renderer;
+    std::vector<hsr_camera> cameras;  // one per size
+};
+
+// The bench scene's orbit camera at one size, made by the renderer (as make_bench_camera makes it).
+hsr_camera bench_camera(const PreparedModel& model, uint32_t width, uint32_t height) {
+    const hsr::CameraSettings& settings = model.scene.camera;
+    hsr::ViewRequest view;
+    view.width = width;
+    view.height = height;
+    view.yaw_degrees = settings.yaw_degrees;
+    view.pitch_degrees = settings.pitch_degrees;
+    view.zoom = settings.zoom;
+    view.fov_y_degrees = settings.fov_y_degrees;
+    view.orthographic = settings.orthographic;
+    try {
+        return model.renderer->camera(view);
+    } catch (const hsr::Error& e) {
+        throw hsr::Error("model '{}': {}", model.scene.name, e.what());
+    }
+}
+
+}  // namespace
+
+int hsr::host::run_bench(const std::vector<std::string>& args) {
+    std::string algorithms_list, models_list, sizes_list = "1024", lighting_text = "blinn-phong";
+    std::vector<std::string> algorithm_specs, plugin_dirs, limit_settings;
+    std::string csv_path, svg_path, png_path, models_dir_text;
+    int64_t repetitions = 5, warmup = 1, threads = 0;
+    bool quick = false, vs_llvmpipe = false;
+
+    po::options_description options(
+        "hsr bench [options]: time hidden-surface plugins on models and deep scenes\n"
+        "(render time = the hidden-surface plugin's visibility call, without loading, camera setup,\n"
+        "image writing, or the acceleration-structure build a plugin reports; medians over repetitions)");
+    options.add_options()
+        ("help,h", "show this help")
+        ("algorithms", po::value(&algorithms_list),
+         "hidden-surface plugins, comma-separated (default: every one found)")
+        ("algorithm,a", po::value(&algorithm_specs)->composing(),
+         "one more, with parameters: NAME[:key=value,...] (repeatable)")
+        ("models", po::value(&models_list),
+         "comma-separated: cube, monkey, bunny, NAME-loop (Loop-subdivided), deep-N[:NAME] (N layers of "
+         "NAME, default monkey), random-N[:SEED] (N random triangles, seed 1 unless given), or file paths "
+         "(default: cube,monkey,bunny,bunny-loop,deep-3,deep-24,deep-63, the deep ones at depth complexity "
+         "4.7, 20.3, 49.8)")
+        ("sizes", po::value(&sizes_list)->default_value("1024"), "image sizes, comma-separated: 512,1024 or 800x600")
+        ("repetitions,r", po::value(&repetitions)->default_value(5), "timed runs of each measurement")
+        ("warmup,w", po::value(&warmup)->default_value(1), "untimed runs first (caches, acceleration structures)")
+        ("lighting,l", po::value(&lighting_text)->default_value("blinn-phong"), "lighting plugin: NAME[:key=value,...]")
+        ("csv", po::value(&csv_path), "write every number to this CSV file")
+        ("svg", po::value(&svg_path), "plot render time against face count to this SVG file")
+        ("png", po::value(&png_path), "the same plot as a PNG image")
+        ("quick", po::bool_switch(&quick),
+         "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
+        ("threads", po::value(&threads)->default_value(0), "threads for loading, visibility and shading (0 = one per core)")
+        ("vs-llvmpipe", po::bool_switch(&vs_llvmpipe),
+         "also draw each scene with Mesa's llvmpipe (build/hsr-llvmpipe, -DHSR_LLVMPIPE=ON) and print both "
+         "frame times and their ratio (zbuffer + blinn-phong; default algorithm zbuffer only)")
+        ("models-dir", po::value(&models_dir_text), "folder of the named models (default: ./models or the source tree's)")
+        ("plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
+        ("limit", po::value(&limit_settings)->composing(), hsr::describe_limit_option().c_str());
+    po::variables_map vm;
+    const po::parsed_options parsed = po::command_line_parser(args).options(options).run();
+    po::store(parsed, vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+        std::cout << options;
+        return 0;
+    }
+    // Words that are not options: program_options would drop them silently and run the default study.
+    for (const std::string& word : po::collect_unrecognized(parsed.options, po::include_positional))
+        throw UsageError("bench: unexpected argument '{}' (models go in --models)", word);
+    auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
+    if (quick) {
+        if (!given("sizes")) sizes_list = "128";
+        if (!given("repetitions")) repetitions = 3;
+    }
+    if (repetitions < 1 || repetitions > 100000) throw UsageError("--repetitions must be between 1 and 100000");
+    if (warmup < 0 || warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
+    if (threads < 0 || threads > hsr::host::kMaxThreads)
+        throw UsageError("--threads must be between 0 and {}", hsr::host::kMaxThreads);
+    try {
+        hsr::set_limits(hsr::limits_from_settings(limit_settings));
+    } catch (const hsr::Error& e) {
+        throw UsageError("{}", e.what());
+    }
+    std::vector<std::pair<uint32_t, uint32_t>> sizes;
+    for (const std::string& s : split_list(sizes_list, "sizes")) sizes.push_back(parse_size(s));
+    refuse_repeats(sizes, [](const auto& size) { return fmt::format("size {}x{}", size.first, size.second); });
+    std::vector<hsr::host::OutputFile> outputs;
+    if (given("csv")) outputs.push_back({"csv", csv_path, {".csv"}});
+    if (given("svg")) outputs.push_back({"svg", svg_path, {".svg"}});
+    if (given("png")) outputs.push_back({"png", png_path, {".png"}});
+    check_outputs(outputs);
+
+    // Plugins, then models: every name is checked before anything large is loaded.
+    hsr::PluginRegistry registry = scan_plugins(plugin_dirs);
+    std::vector<hsr::PluginSpec> algorithms;
+    // As shown: the name, with its parameters when given.
+    std::vector<std::string> labels = given("algorithms") ? split_list(algorithms_list, "algorithms")
+                                                          : std::vector<std::string>{};
+    labels.insert(labels.end(), algorithm_specs.begin(), algorithm_specs.end());
+    if (labels.empty()) labels = vs_llvmpipe ? std::vector<std::string>{"zbuffer"} : all_algorithms(registry);
+    if (labels.empty()) throw hsr::Error("no hidden-surface plugins found (see hsr plugins)");
+    refuse_repeats(labels, [](const std::string& label) { return fmt::format("algorithm '{}'", label); });
+    for (const std::string& label : labels) {
+        algorithms.push_back(hsr::parse_plugin_spec(label));
+        // Unknown names and bad parameters fail here, before any model is loaded.
+        hsr::HiddenSurfaceRemover check(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms.back().name),
+                                        algorithms.back().settings);
+    }
+    const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(lighting_text);
+    const fs::path llvmpipe_program = vs_llvmpipe ? hsr::host::find_llvmpipe_program(labels, lighting_text) : fs::path();
+    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+
+    const std::vector<std::string> model_names = given("models") ? split_list(models_list, "models")
+                                                 : quick                ? hsr::bench::quick_models()
+                                                                        : hsr::bench::default_models();
+    refuse_repeats(model_names, [](const std::string& name) { return fmt::format("model '{}'", name); });
+    const fs::path models_dir = find_models_dir(models_dir_text);
+    std::vector<hsr::bench::ModelSpec> models;
+    for (const std::string& name : model_names) models.push_back(hsr::bench::parse_model_spec(name, models_dir));
+
+    hsr::bench::TimingSettings timing_settings;
+    timing_settings.warmup = unsigned(warmup);
+    timing_settings.repetitions = unsigned(repetitions);
+    timing_settings.frame.threads = unsigned(threads);
+    const hsr::host::ThreadBound thread_bound(threads);
+    const std::size_t rows = models.size() * sizes.size() * algorithms.size();
+    Progress progress(rows * (timing_settings.warmup + timing_settings.repetitions));
+    std::vector<hsr::bench::Result> results;
+    std::size_t row = 0, scene_index = 0;
+    const std::size_t scenes = models.size() * sizes.size();
+
+    // Every model is loaded and its cameras made before any timing, so that a bad file fails in a
+    // moment rather than after the models before it have been timed. Holding them all is cheap: the
+    // peak is Loop-subdividing the bunny (96 MB alone), the loaded meshes are a few MB and a deep
+    // scene stores its mesh once (`hsr bench -r 1 -w 0`: 110 MB peak). Each is dropped once measured.
+    std::vector<PreparedModel> prepared;
+    for (const hsr::bench::ModelSpec& spec : models) {
+        progress.loading(spec.name);
+        PreparedModel& model = prepared.emplace_back(PreparedModel{hsr::bench::load_bench_scene(spec), {}, {}});
+        model.renderer = std::make_shared<hsr::Renderer>(hsr::LoadedScene::of(std::move(model.scene.scene)));
+        for (const std::string& w : model.renderer->loaded().scene().warnings) progress.message("hsr: warning: " + w);
+        for (const auto& [width, height] : sizes) model.cameras.push_back(bench_camera(model, width, height));
+    }
+
+    for (PreparedModel& model : prepared) {
+        const std::string& name = model.scene.name;
+        const hsr_scene view = model.renderer->loaded().scene().view();
+        for (std::size_t size = 0; size < sizes.size(); ++size) {
+            const auto [width, height] = sizes[size];
+            const hsr_camera& camera = model.cameras[size];
+            const std::vector<hsr_light> lights = model.renderer->lights({}, camera);
+            const hsr_shading_context context = hsr::make_shading_context(camera, lights);
+            progress.measuring(fmt::format("depth complexity of {} at {}x{}", name, width, height));
+            const std::optional<hsr::DepthComplexity> depth_complexity = model.renderer->depth_complexity(camera);
+
+            // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
+            // algorithm makes all its calls in a row, warm-up first, as an application rendering frame
+            // after frame would, with the processor caches its own. A plugin that refuses the scene (an
+            // error from any of its calls) is shown as n/a with its reason; the others are still timed.
+            std::vector<hsr::bench::Timing> timings;
+            std::vector<std::string> refusals(algorithms.size());
+            ++scene_index;
+            for (std::size_t a = 0; a < algorithms.size(); ++a) {
+                const unsigned calls = timing_settings.warmup + timing_settings.repetitions;
+                unsigned made = 0;
+                timings.emplace_back();
+                try {
+                    hsr::HiddenSurfaceRemover remover(
+                        registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms[a].name), algorithms[a].settings);
+                    hsr::bench::FrameTimer timer(view, camera, remover, lighting, context, timing_settings);
+                    for (; made < calls; ++made) {
+                        const bool warm = made < timing_settings.warmup;
+                        progress.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index, scenes, name, width,
+                                                  height, labels[a], warm ? "warm-up" : "run",
+                                                  warm ? made + 1 : made + 1 - timing_settings.warmup,
+                                                  warm ? timing_settings.warmup : timing_settings.repetitions));
+                        timer.call();
+                        progress.advance();
+                    }
+                    timings.back() = timer.timing();
+                } catch (const hsr::Error& e) {
+                    refusals[a] = e.what();
+                    for (; made < calls; ++made) progress.advance();
+                }
+            }
+
+            for (std::size_t a = 0; a < algorithms.size(); ++a) {
+                ++row;
+                if (!refusals[a].empty()) {
+                    hsr::bench::Result result;
+                    result.algorithm = labels[a];
+                    result.model = name;
+                    result.width = width;
+                    result.height = height;
+                    result.faces = hsr::drawn_triangle_count(view);
+                    result.stored_faces = view.triangle_count;
+                    result.instances = view.instance_count;
+                    if (depth_complexity) {
+                        result.depth_complexity = depth_complexity->mean_over_covered();
+                        result.depth_complexity_max = depth_complexity->max;
+                    }
+                    result.refused = refusals[a];
+                    progress.row(fmt::format("[{}/{}] {} on {} {}x{}: n/a: {}", row, rows, labels[a], name, width,
+                                             height, result.refused));
+                    results.push_back(std::move(result));
+                    continue;
+                }
+                hsr::bench::Result result = hsr::bench::make_result(labels[a], name, view, camera, timings[a],
+                                                                    timing_settings.warmup, depth_complexity);
+                result.layers = model.scene.layers;
+                result.zoom = model.scene.camera.zoom;
+                progress.row(fmt::format("[{}/{}] {} on {} {}x{}: {} ms [{}-{}]{}", row, rows, labels[a], name, width,
+                                         height, ms(result.visibility.median), ms(result.visibility.min),
+                                         ms(result.visibility.max),
+                                         result.build_ms > 0 ? fmt::format(" + {} ms build", ms(result.build_ms)) : ""));
+                results.push_back(std::move(result));
+            }
+        }
+        model = {};
+    }
+    progress.finish();
+
+    std::cout << hsr::bench::format_table(results);
+    std::cout.flush();
+    // Written only once the results are ready, and replaced together once all are written: neither a
+    // run nor a writer that fails leaves an existing file changed.
+    // The CSV and the plot hold what was measured; the table also shows what was refused.
+    std::vector<hsr::bench::Result> measured;
+    for (const hsr::bench::Result& r : results)
+        if (r.refused.empty()) measured.push_back(r);
+    hsr::AtomicFileSet files;
+    if (given("csv")) hsr::bench::write_csv(files.add(csv_path).stream(), measured);
+    const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(measured);
+    using hsr::bench::PlotFormat;
+    if (given("svg")) write_plot(files.add(svg_path).stream(), plots, PlotFormat::svg);
+    if (given("png")) write_plot(files.add(png_path).stream(), plots, PlotFormat::png);
+    files.commit();
+    for (const auto& [option, path] : {std::pair{"csv", &csv_path}, {"svg", &svg_path}, {"png", &png_path}})
+        if (given(option)) std::fprintf(stderr, "wrote %s\n", path->c_str());
+    if (vs_llvmpipe)  // last: the table and files above stand even if llvmpipe fails
+        hsr::host::print_llvmpipe_comparison(llvmpipe_program, results,
+                                             {models_dir, lighting_text, unsigned(warmup), unsigned(repetitions),
+                                              unsigned(threads), plugin_dirs, limit_settings},
+                                             std::cout);
+    return 0;
+}

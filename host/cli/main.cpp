@@ -1,0 +1,74 @@
+// hsr: the command-line host. main() hands the arguments to a command (commands.hpp) and turns its
+// errors into a one-line message and an exit status; the work lives in framework/ and plugins/.
+#include "common/commands.hpp"
+#include "common/options.hpp"
+
+#include "hsr/abi.h"
+#include "hsr/error.hpp"
+
+#include <boost/program_options.hpp>
+#include <fmt/format.h>
+
+#include <exception>
+#include <iostream>
+#include <new>
+#include <string>
+#include <vector>
+
+namespace {
+
+const char* usage_text =
+    "usage: hsr <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  render MODEL   render a mesh (OBJ, OFF, PLY, STL) or a .scene file to PNG, or draw its\n"
+    "                 visible edges to SVG/PNG with a hidden-line plugin (--algorithm appel)\n"
+    "  plugins        list the plugins found, with their parameters\n"
+    "  bench          time algorithms on models and deep scenes: table, CSV, SVG plot\n"
+    "  view [MODEL]   look at models in a web browser: every plugin, its parameters and its steps\n"
+    "\n"
+    "  hsr --version  versions of hsr and of its plugin ABI\n"
+    "  hsr <command> --help\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using hsr::host::UsageError;
+    std::vector<std::string> args(argv + 1, argv + argc);
+    try {
+        if (args.empty()) {
+            std::cerr << usage_text;
+            return 2;
+        }
+        const std::string command = args.front();
+        args.erase(args.begin());
+        if (command == "--help" || command == "-h" || command == "help") {
+            std::cout << usage_text;
+            return 0;
+        }
+        if (command == "--version") {
+            std::cout << fmt::format("hsr {} (plugin ABI {}.{})\n", HSR_VERSION, HSR_ABI_MAJOR, HSR_ABI_MINOR);
+            return 0;
+        }
+        if (command == "render") return hsr::host::run_render(args);
+        if (command == "plugins") return hsr::host::run_plugins(args);
+        if (command == "bench") return hsr::host::run_bench(args);
+        if (command == "view") return hsr::host::run_view(args);
+        throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", command);
+    } catch (const UsageError& e) {
+        std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
+        return 2;
+    } catch (const boost::program_options::error& e) {
+        std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
+        return 2;
+    } catch (const hsr::Error& e) {
+        std::cerr << "hsr: error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "hsr: error: out of memory\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "hsr: error: " << e.what() << "\n";
+        return 1;
+    }
+}

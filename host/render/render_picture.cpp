@@ -1,0 +1,138 @@
+// hsr render with a hidden-surface plugin: the shaded picture as PNG, optionally the depth buffer and
+// the depth-complexity and depth-test heat maps, and with --stats the plugin's counters (render.hpp).
+// The files are replaced together, once all of them are written (hsr/atomic_file.hpp).
+#include "common/options.hpp"
+#include "render/render.hpp"
+
+#include "hsr/atomic_file.hpp"
+#include "hsr/camera.hpp"
+#include "hsr/image.hpp"
+#include "hsr/pipeline.hpp"
+
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using hsr::host::RenderOptions;
+using hsr::host::UsageError;
+
+void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remover,
+                 const hsr::LightingModel& lighting, const hsr_scene& scene,
+                 const std::optional<hsr::DepthComplexity>& depth_complexity, uint32_t samples) {
+    const uint64_t drawn = hsr::drawn_triangle_count(scene);
+    std::fprintf(stderr, "%s + %s, %llu triangles", remover.plugin().descriptor.name, lighting.plugin().descriptor.name,
+                 static_cast<unsigned long long>(drawn));
+    if (scene.instance_count > 0)
+        std::fprintf(stderr, " (%u instances of %u stored)", scene.instance_count, scene.triangle_count);
+    std::fprintf(stderr, ", %ux%u", frame.width, frame.height);
+    if (samples > 1) std::fprintf(stderr, ", %u samples per pixel (times and counters summed over them)", samples);
+    std::fprintf(stderr, "\n");
+    const double build_ms = double(frame.counter("build-time-us")) / 1000.0;
+    int w = 28;  // the name column: as wide as the longest name a plugin reports
+    for (const auto& counter : frame.counters) w = std::max(w, int(counter.first.size()));
+    std::fprintf(stderr, "  %-*s %10.2f ms\n", w, "visibility time", frame.visibility_ms);
+    if (build_ms > 0.0) {
+        std::fprintf(stderr, "    %-*s %10.2f ms\n", w - 2, "of which build", build_ms);
+        std::fprintf(stderr, "    %-*s %10.2f ms\n", w - 2, "of which render", frame.visibility_ms - build_ms);
+    }
+    std::fprintf(stderr, "  %-*s %10.2f ms\n", w, "shading time", frame.shading_ms);
+    for (const auto& [name, value] : frame.counters)
+        std::fprintf(stderr, "  %-*s %10llu\n", w, name.c_str(), static_cast<unsigned long long>(value));
+    if (depth_complexity) {
+        std::fprintf(stderr, "  %-*s %10.2f (max %u, over %llu covered pixels)\n", w, "depth complexity",
+                     depth_complexity->mean_over_covered(), depth_complexity->max,
+                     static_cast<unsigned long long>(depth_complexity->covered_pixels));
+        if (samples > 1) return;  // the ratios below compare one pass with the pixel centres
+        const uint64_t written = frame.counter("pixels-written");
+        if (depth_complexity->covered_pixels > 0 && written > 0)
+            std::fprintf(stderr, "  %-*s %10.3f\n", w, "overdraw (writes / pixel)",
+                         double(written) / double(depth_complexity->covered_pixels));
+        const uint64_t tested = frame.counter("pixels-depth-tested");
+        if (depth_complexity->fragments > 0)
+            std::fprintf(stderr, "  %-*s %10.3f\n", w, "depth tests / surface samples",
+                         double(tested) / double(depth_complexity->fragments));
+    }
+}
+
+// The heat maps of --overdraw-out and --depth-tests-out, both on the scale of the depth complexity.
+void write_heat_maps(const RenderOptions& o, const hsr::Frame& frame, const hsr::DepthComplexity& depth_complexity,
+                     hsr::AtomicFileSet& files) {
+    if (!o.overdraw_out.empty())
+        hsr::write_heat_map_png(files.add(o.overdraw_out), frame.width, frame.height, depth_complexity.count,
+                                depth_complexity.max);
+    if (!o.depth_tests_out.empty())
+        hsr::write_heat_map_png(files.add(o.depth_tests_out), frame.width, frame.height, frame.depth_tests,
+                                depth_complexity.max);
+}
+
+void print_heat_maps_written(const RenderOptions& o, const hsr::DepthComplexity& depth_complexity) {
+    if (!o.overdraw_out.empty())
+        std::fprintf(stderr, "wrote %s (depth complexity heat map: black 0 ... pale yellow %u)\n",
+                     o.overdraw_out.c_str(), depth_complexity.max);
+    if (!o.depth_tests_out.empty())
+        std::fprintf(stderr, "wrote %s (depth tests heat map: black 0 ... pale yellow %u)\n",
+                     o.depth_tests_out.c_str(), depth_complexity.max);
+}
+
+}  // namespace
+
+uint32_t hsr::host::picture_samples(const RenderOptions& o, const hsr::LoadedScene* scene) {
+    const uint32_t samples = o.was_given("samples")                     ? uint32_t(o.samples)
+                             : scene && scene->file() && scene->file()->samples ? *scene->file()->samples
+                                                                              : 1u;
+    if (samples > 1)
+        for (const char* option : {"depth-out", "depth-tests-out", "step"})
+            if (o.was_given(option))
+                throw UsageError("--{} shows one visibility pass: it does not go with {} samples (render it with "
+                                 "--samples 1)", option, samples);
+    return samples;
+}
+
+hsr::Picture hsr::host::render_picture(const RenderOptions& o, hsr::Renderer& renderer, PicturePlugins& plugins) {
+    hsr::PictureRequest request;
+    request.view = view_request(o);
+    for (const std::string& text : o.lights) request.lights.push_back(hsr::parse_light_spec(text));
+    if (o.was_given("background")) request.background = parse_color_option(o.background, "background");
+    request.samples = picture_samples(o, &renderer.loaded());
+    request.threads = unsigned(o.threads);
+    request.count_depth_tests = !o.depth_tests_out.empty();
+    request.depth_complexity = o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty();
+    if (o.was_given("step")) request.step = uint64_t(o.step);
+    const ThreadBound thread_bound(o.threads);
+    return renderer.picture(request, *plugins.remover, *plugins.lighting);
+}
+
+void hsr::host::write_picture(const RenderOptions& o, const hsr::Picture& picture, const PicturePlugins& plugins,
+                              const std::filesystem::path& output) {
+    const hsr::Frame& frame = picture.frame;
+    const std::optional<hsr::DepthComplexity>& depth_complexity = picture.depth_complexity;
+    const hsr_scene& scene_view = picture.scene;
+    hsr::AtomicFileSet files;
+    hsr::write_png(files.add(output), frame.width, frame.height, 3, frame.rgb);
+    if (!o.depth_out.empty()) hsr::write_depth_png(files.add(o.depth_out), frame.width, frame.height, frame.depth);
+    if (depth_complexity) write_heat_maps(o, frame, *depth_complexity, files);
+    files.commit();
+    if (depth_complexity) print_heat_maps_written(o, *depth_complexity);
+    if (o.stats) print_stats(frame, *plugins.remover, *plugins.lighting, scene_view, depth_complexity,
+                            picture.samples);
+    if (frame.steps) {
+        if (frame.steps->stopped)
+            std::fprintf(stderr, "step %llu: %s\n", static_cast<unsigned long long>(frame.steps->last.index),
+                         frame.steps->last.text.c_str());
+        else
+            std::fprintf(stderr, "hsr: the algorithm ended after step %llu, before step %lld: the picture is complete\n",
+                         static_cast<unsigned long long>(frame.steps->taken), static_cast<long long>(o.step));
+    }
+    if (frame.counter("fragments-shaded") == 0)
+        std::fprintf(stderr, "hsr: warning: no triangle covers a pixel centre: the picture is empty (is the model "
+                             "too small, too far away or flat edge-on at this size?)\n");
+    std::fprintf(stderr, "wrote %s (%ux%u, %llu triangles, %.1f ms visibility + %.1f ms shading)\n",
+                 output.string().c_str(), frame.width, frame.height,
+                 static_cast<unsigned long long>(hsr::drawn_triangle_count(scene_view)), frame.visibility_ms,
+                 frame.shading_ms);
+}

@@ -1,0 +1,174 @@
+// hsr view: a local web server with the viewer page and its JSON API (view_server.hpp,
+// docs/viewer.md): its options, the folders it serves, and a clean stop on SIGINT or SIGTERM.
+#include "common/commands.hpp"
+#include "common/options.hpp"
+#include "common/threads.hpp"
+#include "view/server/view_server.hpp"
+
+#include "hsr/error.hpp"
+#include "hsr/limits.hpp"
+
+#include <boost/program_options.hpp>
+#include <fmt/format.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <charconv>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <thread>
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+extern char** environ;
+
+namespace {
+
+using hsr::host::UsageError;
+
+struct ViewOptions {
+    std::string model;
+    std::string listen = "127.0.0.1:8080";
+    std::vector<std::string> model_dirs;
+    std::vector<std::string> plugin_dirs;
+    std::vector<std::string> limits;
+    int64_t threads = 0;
+    bool open = false;
+};
+
+po::options_description view_option_descriptions(ViewOptions& o) {
+    po::options_description options(
+        "hsr view [MODEL|SCENE] [options]: look at models in a web browser, with every plugin, its parameters and "
+        "its steps (docs/viewer.md)");
+    options.add_options()
+        ("help,h", "show this help")
+        ("listen", po::value(&o.listen)->default_value(o.listen),
+         "HOST:PORT to serve on (port 0: any free port); anything but 127.0.0.1 or localhost lets other machines in")
+        ("models", po::value(&o.model_dirs)->composing(),
+         "folder of models to offer (repeatable), besides the source tree's models/ and MODEL's folder")
+        ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
+        ("limit", po::value(&o.limits)->composing(), hsr::describe_limit_option().c_str())
+        ("threads", po::value(&o.threads)->default_value(0),
+         fmt::format("threads for loading, visibility and shading of all requests together, at most {} (0 = one "
+                     "per core)", hsr::host::kMaxThreads).c_str())
+        ("open", po::bool_switch(&o.open), "open the page in the default browser (xdg-open)");
+    return options;
+}
+
+std::pair<std::string, int> parse_listen(const std::string& text) {
+    const std::size_t colon = text.rfind(':');
+    int port = -1;
+    if (colon != std::string::npos && colon > 0) {
+        const char* begin = text.data() + colon + 1;
+        const char* end = text.data() + text.size();
+        const auto [stop, ec] = std::from_chars(begin, end, port);
+        if (ec != std::errc() || stop != end || begin == end) port = -1;
+    }
+    if (port < 0 || port > 65535)
+        throw UsageError("--listen '{}': expected HOST:PORT, e.g. 127.0.0.1:8080 (port 0: any free port)", hsr::printable(text));
+    std::string host = text.substr(0, colon);
+    if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    return {host, port};
+}
+
+void open_in_browser(const std::string& url) {
+    pid_t pid = 0;
+    const char* argv[] = {"xdg-open", url.c_str(), nullptr};
+    // The browser must not inherit the blocked SIGINT and SIGTERM of this process (run_view).
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t none;
+    sigemptyset(&none);
+    posix_spawnattr_setsigmask(&attributes, &none);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+    const int failed = posix_spawnp(&pid, "xdg-open", nullptr, &attributes, const_cast<char* const*>(argv), environ);
+    posix_spawnattr_destroy(&attributes);
+    if (failed != 0) {
+        std::fprintf(stderr, "hsr view: could not run xdg-open; open %s yourself\n", url.c_str());
+        return;
+    }
+    std::thread([pid] { waitpid(pid, nullptr, 0); }).detach();
+}
+
+}  // namespace
+
+int hsr::host::run_view(const std::vector<std::string>& args) {
+    ViewOptions o;
+    po::options_description options = view_option_descriptions(o);
+    po::options_description hidden;
+    hidden.add_options()("model", po::value(&o.model));
+    po::options_description all;
+    all.add(options).add(hidden);
+    po::positional_options_description positional;
+    positional.add("model", 1);
+    po::variables_map vm;
+    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+        std::cout << options;
+        return 0;
+    }
+    try {
+        hsr::set_limits(hsr::limits_from_settings(o.limits));
+    } catch (const hsr::Error& e) {
+        throw UsageError("{}", e.what());
+    }
+    const auto [host, port] = parse_listen(o.listen);
+    if (o.threads < 0 || o.threads > hsr::host::kMaxThreads)
+        throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, hsr::host::kMaxThreads);
+    const hsr::host::ThreadBound thread_bound(o.threads);
+
+    ViewConfig config;
+    std::error_code ec;
+    if (fs::is_directory(HSR_SOURCE_MODELS_DIR, ec)) config.model_folders.push_back(HSR_SOURCE_MODELS_DIR);
+    for (const std::string& dir : o.model_dirs) {
+        if (!fs::is_directory(dir, ec)) throw hsr::Error("--models '{}': no such folder", hsr::printable(dir));
+        config.model_folders.push_back(dir);
+    }
+    if (!o.model.empty()) {
+        if (!fs::is_regular_file(o.model, ec))
+            throw hsr::Error("'{}': no such file", hsr::printable(o.model, hsr::kMaxQuotedPathChars));
+        const fs::path folder = fs::absolute(o.model).parent_path();
+        bool served = false;
+        for (const fs::path& f : config.model_folders)
+            served = served || fs::equivalent(f, folder, ec);
+        if (!served) config.model_folders.push_back(folder);
+        config.initial_model = o.model;
+    }
+    config.plugin_dirs = o.plugin_dirs;
+
+    // SIGINT and SIGTERM wait for a thread of their own (sigwait), which stops the server; every
+    // thread started from here on inherits the blocked mask.
+    sigset_t stop_signals;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+    ViewServer server(std::move(config));
+    const int bound = server.bind(host, port);
+    const std::string url = fmt::format("http://{}:{}/", host.find(':') != std::string::npos ? "[" + host + "]" : host, bound);
+    std::cout << fmt::format("hsr view: serving {} models at {}", server.model_count(), url) << std::endl;
+    if (o.open) open_in_browser(url);
+
+    std::atomic<bool> done{false};
+    std::thread waiter([&] {
+        const timespec tick{0, 200'000'000};
+        while (!done) {
+            if (sigtimedwait(&stop_signals, nullptr, &tick) > 0) {
+                server.stop();
+                return;
+            }
+        }
+    });
+    const bool served = server.run();
+    done = true;
+    waiter.join();
+    if (!served) throw hsr::Error("hsr view: serving on {} failed", url);
+    return 0;
+}

@@ -1,0 +1,424 @@
+// hsr view's frames (view_frames.hpp): a request checked (view_request.cpp), the model's renderer
+// (hsr/renderer.hpp) and the plugin instances taken from small caches, one render at a time under a
+// mutex, and the response with the picture PNG-encoded (zlib level 1) and base64'd.
+#include "view/server/view_frames.hpp"
+
+#include "common/options.hpp"
+#include "view/server/view_request.hpp"
+#include "view/server/view_steps.hpp"
+
+#include "hsr/image.hpp"
+#include "hsr/line_image.hpp"
+#include "hsr/lines.hpp"
+#include "hsr/params.hpp"
+#include "hsr/pipeline.hpp"
+#include "hsr/renderer.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <list>
+#include <map>
+#include <mutex>
+#include <optional>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+using hsr::host::ViewError;
+
+constexpr std::size_t cached_models = 4;
+constexpr uint64_t cached_model_bytes = uint64_t(1) << 30;  // of the models kept besides the newest
+constexpr std::size_t cached_instances = 16;
+constexpr std::size_t max_step_pixels = 20000;
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A model's renderer, with what tells whether its file changed since it was loaded.
+struct CachedModel {
+    std::shared_ptr<hsr::Renderer> renderer;
+    fs::file_time_type modified;
+    uint64_t bytes = 0;  // the file's
+};
+
+// The model as the renderer loads it; a .scene file reads only meshes inside the folders hsr view
+// serves (ModelCatalog::read_policy).
+std::shared_ptr<CachedModel> load_model_entry(const hsr::host::ModelEntry& entry, const hsr::host::ModelCatalog& models) {
+    auto cached = std::make_shared<CachedModel>();
+    std::error_code ec;
+    cached->modified = fs::last_write_time(entry.path, ec);
+    cached->bytes = entry.bytes;
+    hsr::SceneSource source;
+    source.model = entry.path;
+    source.mesh.crease_angle_degrees = 40;
+    try {
+        cached->renderer = std::make_shared<hsr::Renderer>(hsr::LoadedScene::load(source, models.read_policy()));
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, "model", e.what());
+    }
+    return cached;
+}
+
+// The renderer's view of a request: everything the request says wins over a .scene file, but for
+// the size of a `camera pixel` scene.
+hsr::ViewRequest view_of(const hsr::host::FrameRequest& q) {
+    hsr::ViewRequest view;
+    view.width = q.width;
+    view.height = q.height;
+    view.yaw_degrees = q.view.yaw_degrees;
+    view.pitch_degrees = q.view.pitch_degrees;
+    view.zoom = q.view.zoom;
+    view.fov_y_degrees = q.view.fov_y_degrees;
+    view.orthographic = q.view.orthographic;
+    view.look_at = q.view.look_at;
+    view.orbit_given = true;
+    view.pixel_camera_keeps_size = true;
+    return view;
+}
+
+// The arrays go out as their bytes: little-endian on every machine hsr builds for.
+template <class T>
+std::string base64_of(const std::vector<T>& values) {
+    return hsr::host::base64(values.data(), values.size() * sizeof(T));
+}
+
+std::string png_data_url(uint32_t width, uint32_t height, std::span<const uint8_t> rgb) {
+    const std::vector<uint8_t> png = hsr::encode_png(width, height, 3, rgb);
+    return "data:image/png;base64," + hsr::host::base64(png.data(), png.size());
+}
+
+json counters_json(const std::vector<std::pair<std::string, uint64_t>>& counters) {
+    json out = json::object();
+    for (const auto& [name, value] : counters) out[name] = value;
+    return out;
+}
+
+// The parts of a frame's answer that pictures and line drawings share: the picture as a PNG data
+// URL, its size and kind, and the stats, with the time the PNG took.
+struct PictureTimes {
+    double visibility_ms = 0, shading_ms = 0;
+};
+json picture_response(const char* kind, uint32_t width, uint32_t height, std::span<const uint8_t> rgb,
+                      const std::vector<std::pair<std::string, uint64_t>>& counters, PictureTimes times,
+                      uint64_t triangles) {
+    const auto encode_start = std::chrono::steady_clock::now();
+    json response;
+    response["png"] = png_data_url(width, height, rgb);
+    const double encode_ms = ms_since(encode_start);
+    response["width"] = width;
+    response["height"] = height;
+    response["kind"] = kind;
+    response["stats"] = {{"counters", counters_json(counters)},
+                         {"visibility_ms", times.visibility_ms},
+                         {"shading_ms", times.shading_ms},
+                         {"triangles", triangles},
+                         {"encode_ms", encode_ms}};
+    return response;
+}
+
+}  // namespace
+
+std::string hsr::host::base64(const void* bytes, std::size_t size) {
+    static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const auto* in = static_cast<const unsigned char*>(bytes);
+    std::string out((size + 2) / 3 * 4, '=');
+    char* o = out.data();
+    std::size_t i = 0;
+    for (; i + 2 < size; i += 3, o += 4) {
+        const uint32_t v = uint32_t(in[i]) << 16 | uint32_t(in[i + 1]) << 8 | in[i + 2];
+        o[0] = digits[v >> 18], o[1] = digits[(v >> 12) & 63], o[2] = digits[(v >> 6) & 63], o[3] = digits[v & 63];
+    }
+    if (i < size) {
+        const uint32_t v = uint32_t(in[i]) << 16 | (i + 1 < size ? uint32_t(in[i + 1]) << 8 : 0u);
+        o[0] = digits[v >> 18], o[1] = digits[(v >> 12) & 63];
+        if (i + 1 < size) o[2] = digits[(v >> 6) & 63];
+    }
+    return out;
+}
+
+struct hsr::host::FrameRenderer::State {
+    const hsr::PluginRegistry& registry;
+    const ModelCatalog& models;
+    std::mutex mutex;  // one frame at a time: plugin instances are never called concurrently
+    std::list<std::pair<std::string, std::shared_ptr<CachedModel>>> model_cache;  // most recent first
+    std::map<std::string, std::unique_ptr<hsr::HiddenSurfaceRemover>> surface_removers;
+    std::map<std::string, std::unique_ptr<hsr::HiddenLineRemover>> line_removers;
+    std::map<std::string, std::unique_ptr<hsr::LightingModel>> lighting_models;
+
+    State(const hsr::PluginRegistry& registry, const ModelCatalog& models) : registry(registry), models(models) {}
+
+    std::shared_ptr<CachedModel> model(const std::string& id) {
+        for (auto it = model_cache.begin(); it != model_cache.end(); ++it) {
+            if (it->first != id) continue;
+            std::error_code ec;
+            const ModelEntry entry = models.find(id);  // still listed, and unchanged
+            if (entry.bytes == it->second->bytes && fs::last_write_time(entry.path, ec) == it->second->modified) {
+                model_cache.splice(model_cache.begin(), model_cache, it);
+                return model_cache.front().second;
+            }
+            model_cache.erase(it);
+            break;
+        }
+        std::shared_ptr<CachedModel> loaded = load_model_entry(models.find(id), models);
+        model_cache.emplace_front(id, loaded);
+        // The newest stays; older ones go while there are too many or they hold too much.
+        uint64_t held = 0;
+        std::size_t kept = 0;
+        for (auto it = model_cache.begin(); it != model_cache.end(); ++it, ++kept) {
+            held += it == model_cache.begin() ? 0 : it->second->renderer->loaded().memory();
+            if (kept >= cached_models || held > cached_model_bytes) {
+                model_cache.erase(it, model_cache.end());
+                break;
+            }
+        }
+        return loaded;
+    }
+
+    template <class Instance>
+    Instance& instance(std::map<std::string, std::unique_ptr<Instance>>& cache, const hsr::Plugin& plugin,
+                       const std::vector<hsr::Setting>& settings) {
+        const std::string key = hsr::settings_key(plugin.path.string() + "|" + plugin.descriptor.name, settings);
+        auto it = cache.find(key);
+        if (it != cache.end()) return *it->second;
+        if (cache.size() >= cached_instances) cache.clear();
+        return *cache.emplace(key, std::make_unique<Instance>(plugin, settings)).first->second;
+    }
+
+    // The request's camera, checked before anything renders; its mistakes are the camera's fields'.
+    static void check_camera(const FrameRequest& q, const hsr::Renderer& renderer) {
+        try {
+            renderer.camera(view_of(q));
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, q.view.look_at ? "camera.eye" : "camera", e.what());
+        }
+    }
+
+    // Which kind the algorithm is: a hidden-surface plugin wins over a hidden-line one of the same
+    // name, as in hsr render.
+    const hsr::Plugin& algorithm_plugin(const FrameRequest& q) {
+        try {
+            if (registry.contains(HSR_KIND_HIDDEN_SURFACE_REMOVER, q.algorithm))
+                return registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, q.algorithm);
+            return registry.find_any({HSR_KIND_HIDDEN_SURFACE_REMOVER, HSR_KIND_HIDDEN_LINE_REMOVER}, q.algorithm);
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, "algorithm", e.what());
+        }
+    }
+
+    // A rendered frame and its response; the frame is kept for /api/compare.
+    struct Rendered {
+        json response;
+        hsr::Frame frame;
+    };
+
+    Rendered render(const FrameRequest& q) {
+        const hsr::Plugin& algorithm = algorithm_plugin(q);
+        check_settings(algorithm, q.params, "params");
+        const std::shared_ptr<CachedModel> model = this->model(q.model);
+        hsr::Renderer& renderer = *model->renderer;
+        if (algorithm.descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER) return render_lines(q, algorithm, renderer);
+        const hsr::Plugin* lighting_plugin = nullptr;
+        try {
+            lighting_plugin = &registry.find(HSR_KIND_LIGHTING_MODEL, q.lighting);
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, "lighting", e.what());
+        }
+        check_settings(*lighting_plugin, q.lighting_params, "lighting_params");
+        hsr::HiddenSurfaceRemover& remover = instance(surface_removers, algorithm, q.params);
+        hsr::LightingModel& lighting = instance(lighting_models, *lighting_plugin, q.lighting_params);
+        if (q.step && !remover.has_steps())
+            throw ViewError(400, "step", fmt::format("--step: plugin '{}' cannot show its steps ({})", q.algorithm,
+                                                     algorithm.descriptor.abi_minor < 3
+                                                         ? "it is built against an ABI before 1.3"
+                                                         : "it has no render_steps"));
+        return render_surface(q, renderer, remover, lighting);
+    }
+
+    Rendered render_surface(const FrameRequest& q, hsr::Renderer& renderer, hsr::HiddenSurfaceRemover& remover,
+                            hsr::LightingModel& lighting) {
+        check_camera(q, renderer);
+        hsr::PictureRequest request;
+        request.view = view_of(q);
+        request.samples = 1;
+        // Depth-test counts came with ABI 1.1; an older plugin has none (buffers.depth_tests null).
+        request.count_depth_tests = (q.buffers || q.step) && remover.plugin().descriptor.abi_minor >= 1;
+        request.depth_complexity = q.buffers;
+        if (q.step) {
+            request.step = *q.step;
+            request.step_context = true;
+        }
+        hsr::Picture picture = renderer.picture(request, remover, lighting);
+        hsr::Frame& frame = picture.frame;
+        const hsr_scene& scene = picture.scene;
+        const hsr_camera& camera = picture.camera;
+        json steps = nullptr;
+        if (q.step) steps = json{{"total", picture.step_total}, {"current", picture.step_shown}};
+
+        json response = picture_response("surface", frame.width, frame.height, frame.rgb, frame.counters,
+                                         {frame.visibility_ms, frame.shading_ms}, hsr::drawn_triangle_count(scene));
+        if (q.step) {
+            const hsr::StepRecord& last = frame.steps->last;
+            const bool any = last.index > 0;
+            steps["type"] = any ? last.type : "";
+            steps["text"] = any ? last.text : "no steps: the algorithm had nothing to do";
+            steps["face"] = any && last.face != HSR_NO_FACE ? json(last.face) : json(nullptr);
+            json lines = json::array();
+            for (std::size_t k = 0; k < last.roles.size(); ++k)
+                lines.push_back({last.lines[4 * k], last.lines[4 * k + 1], last.lines[4 * k + 2], last.lines[4 * k + 3],
+                                 last.roles[k]});
+            steps["lines"] = std::move(lines);
+            steps["outline"] = any && last.face != HSR_NO_FACE ? triangle_outline(scene, camera, last.face, last.instance)
+                                                               : json::array();
+            const bool comparable = !hsr::needs_flat_scene(lighting.plugin(), scene);
+            const StepPixels pixels =
+                comparable && any ? step_pixels(picture.before, frame, max_step_pixels) : StepPixels{nullptr, nullptr};
+            steps["written"] = pixels.written;
+            steps["rejected"] = pixels.rejected;
+            json buffers = json::array();
+            for (const hsr::StepBuffer& b : last.buffers)
+                buffers.push_back({{"name", b.name}, {"width", b.width}, {"height", b.height}, {"data", base64_of(b.values)}});
+            steps["buffers"] = std::move(buffers);
+        }
+        response["steps"] = std::move(steps);
+        response["buffers"] = q.buffers ? buffers_json(frame, scene, *picture.depth_complexity) : json(nullptr);
+        return {std::move(response), std::move(frame)};
+    }
+
+    static json buffers_json(const hsr::Frame& frame, const hsr_scene& scene, const hsr::DepthComplexity& complexity) {
+        std::vector<uint32_t> object(frame.face.size(), HSR_NO_FACE);
+        for (std::size_t p = 0; p < frame.face.size(); ++p)
+            if (frame.face[p] < scene.triangle_count) object[p] = scene.face_object[frame.face[p]];
+        return {{"depth", base64_of(frame.depth)},
+                {"face", base64_of(frame.face)},
+                {"instance", frame.instance.empty() ? json(nullptr) : json(base64_of(frame.instance))},
+                {"object", base64_of(object)},
+                {"depth_tests", frame.depth_tests.empty() ? json(nullptr) : json(base64_of(frame.depth_tests))},
+                {"depth_complexity", base64_of(complexity.count)}};
+    }
+
+    Rendered render_lines(const FrameRequest& q, const hsr::Plugin& algorithm, const hsr::Renderer& renderer) {
+        hsr::HiddenLineRemover& remover = instance(line_removers, algorithm, q.params);
+        check_camera(q, renderer);
+        hsr::LineRequest request;
+        request.view = view_of(q);
+        request.settings.edges = q.edges;
+        request.settings.want_hidden = q.hidden == hsr::HiddenLines::kDashed;
+        request.settings.crease_angle_degrees = 40;
+        request.step = q.step;
+        const hsr::LinePicture picture = renderer.lines(request, remover);
+        const hsr::LineDrawing& drawing = picture.drawing;
+        const hsr_scene& scene = picture.scene;
+        const hsr_camera& camera = picture.camera;
+        hsr::LineStyle style;
+        style.hidden = q.hidden;
+        const hsr::Image image = hsr::draw_line_image(drawing, style);
+        json response = picture_response("lines", image.width, image.height, image.pixels, drawing.counters,
+                                         {drawing.lines_ms, 0.0}, scene.triangle_count);
+        json steps = nullptr;
+        if (q.step) {
+            steps = json{{"total", drawing.trace_events}, {"current", drawing.stopped_at ? drawing.stopped_at->index : 0}};
+            json lines = json::array(), outline = json::array();
+            if (drawing.stopped_at) {
+                const hsr::TraceEventRecord& e = *drawing.stopped_at;
+                steps["type"] = e.type;
+                steps["text"] = e.text.empty() ? describe_trace_event(e) : e.text;
+                steps["face"] = e.face < scene.triangle_count ? json(e.face) : json(nullptr);
+                for (std::size_t k = 0; k < e.roles.size(); ++k) {
+                    const float* p = &e.lines[4 * k];
+                    if (std::isfinite(p[0] + p[1] + p[2] + p[3])) lines.push_back({p[0], p[1], p[2], p[3], e.roles[k]});
+                }
+                // A plugin that draws nothing for its step gets its edge, and the piece t0..t1 of it.
+                if (e.roles.empty() && e.edge < drawing.edges.size()) {
+                    auto point = [&](uint32_t v) {
+                        return glm::vec3(scene.positions[3 * v], scene.positions[3 * v + 1], scene.positions[3 * v + 2]);
+                    };
+                    const glm::vec3 a = point(drawing.edges.vertices[2 * e.edge]);
+                    const glm::vec3 b = point(drawing.edges.vertices[2 * e.edge + 1]);
+                    auto add = [&](glm::vec3 from, glm::vec3 to, uint32_t role) {
+                        for (const json& line : projected_segment(camera, from, to)) {
+                            json with_role = line;
+                            with_role.push_back(role);
+                            lines.push_back(std::move(with_role));
+                        }
+                    };
+                    add(a, b, HSR_STEP_SUBJECT);
+                    if (std::isfinite(e.t0) && std::isfinite(e.t1))
+                        add(a + float(e.t0) * (b - a), a + float(e.t1) * (b - a), HSR_STEP_REJECTED);
+                }
+                if (e.face < scene.triangle_count) outline = triangle_outline(scene, camera, e.face, 0);
+            } else {
+                steps["type"] = "";
+                steps["text"] = "no steps: the plugin reported none";
+                steps["face"] = nullptr;
+            }
+            steps["lines"] = std::move(lines);
+            steps["outline"] = std::move(outline);
+            steps["written"] = nullptr;
+            steps["rejected"] = nullptr;
+            steps["buffers"] = json::array();
+        }
+        response["steps"] = std::move(steps);
+        response["buffers"] = nullptr;
+        return {std::move(response), hsr::Frame{}};
+    }
+};
+
+hsr::host::FrameRenderer::FrameRenderer(const hsr::PluginRegistry& registry, const ModelCatalog& models)
+    : state_(std::make_unique<State>(registry, models)) {}
+
+hsr::host::FrameRenderer::~FrameRenderer() = default;
+
+json hsr::host::FrameRenderer::frame(const json& request) {
+    const FrameRequest q = parse_frame_request(request);
+    std::lock_guard lock(state_->mutex);
+    return state_->render(q).response;
+}
+
+json hsr::host::FrameRenderer::compare(const json& request) {
+    if (!request.is_object() || !request.contains("a") || !request.contains("b"))
+        throw ViewError(400, "", "compare: expected {\"a\": <frame request>, \"b\": <frame request>}");
+    auto parse = [&](const char* side) {
+        try {
+            return parse_frame_request(request[side]);
+        } catch (const ViewError& e) {
+            throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
+        }
+    };
+    const FrameRequest qa = parse("a"), qb = parse("b");
+    std::lock_guard lock(state_->mutex);
+    auto render = [&](const FrameRequest& q, const char* side) {
+        try {
+            State::Rendered rendered = state_->render(q);
+            if (rendered.frame.face.empty())
+                throw ViewError(400, fmt::format("{}.algorithm", side),
+                                fmt::format("compare: '{}' draws lines; compare two hidden-surface plugins", q.algorithm));
+            return rendered;
+        } catch (const ViewError& e) {
+            throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
+        }
+    };
+    State::Rendered a = render(qa, "a"), b = render(qb, "b");
+    if (a.frame.width != b.frame.width || a.frame.height != b.frame.height)
+        throw ViewError(400, "b.width", fmt::format("compare: the pictures are {}x{} and {}x{}; give both the same size",
+                                                    a.frame.width, a.frame.height, b.frame.width, b.frame.height));
+    // b's picture dimmed, and magenta where the two disagree on what is visible.
+    std::vector<uint8_t> diff(b.frame.rgb.size());
+    uint64_t differing = 0;
+    const bool instances = !a.frame.instance.empty() && !b.frame.instance.empty();
+    for (std::size_t p = 0; p < b.frame.face.size(); ++p) {
+        const bool differs = a.frame.face[p] != b.frame.face[p] ||
+                             (instances && a.frame.face[p] != HSR_NO_FACE && a.frame.instance[p] != b.frame.instance[p]);
+        differing += differs;
+        for (int k = 0; k < 3; ++k)
+            diff[3 * p + k] = differs ? (k == 1 ? 0 : 255) : uint8_t(b.frame.rgb[3 * p + k] * 2 / 5);
+    }
+    return {{"a", std::move(a.response)},
+            {"b", std::move(b.response)},
+            {"diff_png", png_data_url(b.frame.width, b.frame.height, diff)},
+            {"differing_pixels", differing}};
+}

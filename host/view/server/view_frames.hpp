@@ -1,0 +1,38 @@
+// hsr view's frames: a JSON request (docs/viewer.md, "The HTTP API") checked with the same code and
+// messages as hsr render's options, the model and plugins it names (kept loaded between frames),
+// rendered with the framework's pipeline, and answered as JSON with the picture as a PNG data URL.
+#pragma once
+
+#include "view/server/view_models.hpp"
+
+#include "hsr/plugin_registry.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+namespace hsr::host {
+
+class FrameRenderer {
+public:
+    FrameRenderer(const hsr::PluginRegistry& registry, const ModelCatalog& models);
+    ~FrameRenderer();
+    FrameRenderer(const FrameRenderer&) = delete;
+    FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+    // POST /api/frame and POST /api/compare. Throw ViewError for a bad request (status 400 or 404)
+    // and hsr::Error for a plugin's failure. Safe to call from several threads: one frame renders at
+    // a time, so no plugin instance is ever called concurrently.
+    nlohmann::json frame(const nlohmann::json& request);
+    nlohmann::json compare(const nlohmann::json& request);
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+// Standard base64 (RFC 4648, with padding) of bytes.
+std::string base64(const void* bytes, std::size_t size);
+
+}  // namespace hsr::host

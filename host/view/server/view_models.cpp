@@ -1,0 +1,165 @@
+// hsr view's model files: the folders' listing and the uploads (view_models.hpp).
+#include "view/server/view_models.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <fstream>
+#include <system_error>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int max_depth = 3;           // folders below a model folder that are searched
+constexpr std::size_t max_uploads = 32;  // kept at once; the oldest goes first
+
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
+bool is_hidden(const fs::path& path) {
+    const std::string name = path.filename().string();
+    return !name.empty() && name[0] == '.';
+}
+
+
+void list_folder(std::size_t index, const fs::path& folder, std::vector<hsr::host::ModelEntry>& out) {
+    std::error_code ec;
+    const fs::path root = fs::canonical(folder, ec);
+    if (ec || !fs::is_directory(root, ec)) return;
+    fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, ec), end;
+    for (; !ec && it != end; it.increment(ec)) {
+        const fs::directory_entry& entry = *it;
+        if (is_hidden(entry.path())) {
+            if (entry.is_directory(ec)) it.disable_recursion_pending();
+            continue;
+        }
+        if (entry.is_directory(ec)) {
+            if (it.depth() + 1 >= max_depth) it.disable_recursion_pending();
+            continue;
+        }
+        const std::string name = entry.path().filename().string();
+        if (!hsr::host::is_model_file_name(name)) continue;
+        // A link must stay inside the folder; so must the file it names.
+        const fs::path target = fs::canonical(entry.path(), ec);
+        if (ec || !hsr::is_within(target, root) || !fs::is_regular_file(target, ec)) {
+            ec.clear();
+            continue;
+        }
+        hsr::host::ModelEntry model;
+        model.id = fmt::format("{}/{}", index, entry.path().lexically_relative(root).generic_string());
+        model.name = name;
+        model.path = target;
+        model.bytes = fs::file_size(target, ec);
+        model.scene = lowercase(entry.path().extension().string()) == ".scene";
+        if (!ec) out.push_back(std::move(model));
+        ec.clear();
+    }
+}
+
+}  // namespace
+
+bool hsr::host::is_model_file_name(const std::string& name) {
+    const std::string ext = lowercase(fs::path(name).extension().string());
+    return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" || ext == ".scene";
+}
+
+hsr::host::ModelCatalog::ModelCatalog(std::vector<fs::path> folders, const fs::path& upload_parent)
+    : folders_(std::move(folders)) {
+    for (fs::path& folder : folders_) {
+        std::error_code ec;
+        const fs::path absolute = fs::absolute(folder, ec);
+        if (!ec) folder = absolute.lexically_normal();
+    }
+    std::string pattern = (upload_parent / "hsr-view-uploads-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+        throw hsr::Error("cannot make a folder for uploads in {}", upload_parent.string());
+    upload_dir_ = fs::canonical(pattern);
+}
+
+hsr::host::ModelCatalog::~ModelCatalog() {
+    std::error_code ec;
+    fs::remove_all(upload_dir_, ec);
+}
+
+std::vector<hsr::host::ModelEntry> hsr::host::ModelCatalog::list() const {
+    std::vector<ModelEntry> out;
+    for (std::size_t i = 0; i < folders_.size(); ++i) list_folder(i, folders_[i], out);
+    {
+        std::lock_guard lock(uploads_mutex_);
+        for (const auto& [id, entry] : uploads_) out.push_back(entry);
+    }
+    std::sort(out.begin(), out.end(), [](const ModelEntry& a, const ModelEntry& b) { return a.id < b.id; });
+    return out;
+}
+
+hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id) const {
+    {
+        std::lock_guard lock(uploads_mutex_);
+        const auto upload = uploads_.find(id);
+        if (upload != uploads_.end()) return upload->second;
+    }
+    // Only the folder the id names is listed.
+    const std::size_t slash = id.find('/');
+    if (slash != std::string::npos && slash > 0 && slash <= 3 &&
+        std::all_of(id.begin(), id.begin() + long(slash), [](char c) { return c >= '0' && c <= '9'; })) {
+        const std::size_t index = std::stoul(id.substr(0, slash));
+        if (index < folders_.size()) {
+            std::vector<ModelEntry> models;
+            list_folder(index, folders_[index], models);
+            for (ModelEntry& model : models)
+                if (model.id == id) return std::move(model);
+        }
+    }
+    throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id, hsr::kMaxQuotedPathChars)));
+}
+
+std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes) {
+    // The name is kept for the id and the file's extension; the file itself is upload_dir/<n><ext>.
+    const std::string& name = file_name;
+    const bool plain = !name.empty() && name[0] != '.' && name.size() <= 100 &&
+                       std::all_of(name.begin(), name.end(), [](unsigned char c) {
+                           return std::isalnum(c) || c == '.' || c == '-' || c == '_' || c == ' ';
+                       });
+    if (!plain)
+        throw ViewError(400, "X-File-Name", fmt::format("upload: file name '{}': expected a plain name such as bunny.obj "
+                                                        "(letters, digits, '.', '-', '_', spaces)", hsr::printable(file_name)));
+    const std::string ext = lowercase(fs::path(name).extension().string());
+    if (ext == ".scene")
+        throw ViewError(400, "X-File-Name", "upload: a .scene file names other files; upload one mesh file (.obj, .off, .ply or .stl)");
+    if (!is_model_file_name(name))
+        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a mesh file (.obj, .off, .ply or .stl)", name));
+    std::lock_guard lock(uploads_mutex_);
+    const uint64_t n = next_upload_++;
+    ModelEntry entry;
+    entry.id = fmt::format("upload/{}/{}", n, name);
+    entry.name = name;
+    entry.path = upload_dir_ / fmt::format("{}{}", n, ext);
+    entry.bytes = bytes.size();
+    {
+        std::ofstream out(entry.path, std::ios::binary);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+        if (!out) throw ViewError(500, "", "upload: cannot store the file");
+    }
+    uploads_[entry.id] = entry;
+    while (uploads_.size() > max_uploads) {
+        auto oldest = std::min_element(uploads_.begin(), uploads_.end(), [](const auto& a, const auto& b) {
+            return std::stoull(a.first.substr(7)) < std::stoull(b.first.substr(7));
+        });
+        std::error_code ec;
+        fs::remove(oldest->second.path, ec);
+        uploads_.erase(oldest);
+    }
+    return entry.id;
+}
+
+hsr::ReadPolicy hsr::host::ModelCatalog::read_policy() const {
+    std::vector<fs::path> folders = folders_;
+    folders.push_back(upload_dir_);
+    return hsr::ReadPolicy(std::move(folders), "the folders hsr view serves");
+}

@@ -1,0 +1,172 @@
+// hsr view's frame requests (view_request.hpp): each field read with its type checked, then checked
+// with the same rules and messages as the matching option of hsr render.
+#include "view/server/view_request.hpp"
+
+#include "common/options.hpp"
+
+#include "hsr/limits.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+using nlohmann::json;
+
+namespace {
+
+using hsr::host::ViewError;
+
+// A request field that is present and not null, or nullptr.
+const json* member(const json& object, const char* name) {
+    const auto it = object.find(name);
+    return it == object.end() || it->is_null() ? nullptr : &*it;
+}
+
+std::string text_field(const json& object, const char* name, const std::string& field, std::string fallback) {
+    const json* value = member(object, name);
+    if (value == nullptr) return fallback;
+    if (!value->is_string()) throw ViewError(400, field, fmt::format("{}: expected a string", field));
+    return value->get<std::string>();
+}
+
+double number_field(const json& object, const char* name, const std::string& field, double fallback) {
+    const json* value = member(object, name);
+    if (value == nullptr) return fallback;
+    if (!value->is_number()) throw ViewError(400, field, fmt::format("{}: expected a number", field));
+    return value->get<double>();
+}
+
+// Parameter values are strings as on the command line; a number or a boolean is taken as its text.
+std::vector<hsr::Setting> settings_field(const json& object, const char* name) {
+    std::vector<hsr::Setting> settings;
+    const json* value = member(object, name);
+    if (value == nullptr) return settings;
+    if (!value->is_object()) throw ViewError(400, name, fmt::format("{}: expected an object of name: value", name));
+    for (const auto& [key, v] : value->items()) {
+        if (v.is_string())
+            settings.emplace_back(key, v.get<std::string>());
+        else if (v.is_boolean() || v.is_number())
+            settings.emplace_back(key, v.dump());
+        else
+            throw ViewError(400, fmt::format("{}.{}", name, key), fmt::format("{}.{}: expected a string", name, key));
+    }
+    return settings;
+}
+
+glm::vec3 vector_field(const json& camera, const char* name) {
+    const json* value = member(camera, name);
+    const std::string field = fmt::format("camera.{}", name);
+    std::string text;
+    if (value->is_array()) {
+        for (std::size_t k = 0; k < value->size(); ++k) {
+            if (k > 0) text += ',';
+            const json& item = (*value)[k];
+            text += item.is_number() ? fmt::format("{}", item.get<double>()) : item.dump();
+        }
+    } else {
+        text = value->is_string() ? value->get<std::string>() : value->dump();
+    }
+    try {
+        return hsr::host::parse_vector_option(text, name);
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, field, e.what());
+    }
+}
+
+}  // namespace
+
+hsr::host::FrameRequest hsr::host::parse_frame_request(const json& r) {
+    if (!r.is_object()) throw ViewError(400, "", "the request must be a JSON object");
+    FrameRequest q;
+    q.model = text_field(r, "model", "model", "");
+    if (q.model.empty()) throw ViewError(400, "model", "no model given");
+    q.algorithm = text_field(r, "algorithm", "algorithm", default_algorithm);
+    q.lighting = text_field(r, "lighting", "lighting", default_lighting);
+    q.params = settings_field(r, "params");
+    q.lighting_params = settings_field(r, "lighting_params");
+
+    const double width = number_field(r, "width", "width", 512), height = number_field(r, "height", "height", 512);
+    if (!(width >= 1 && height >= 1 && width <= view_max_image_side &&
+          height <= view_max_image_side) || width != std::floor(width) || height != std::floor(height))
+        throw ViewError(400, "width", fmt::format("image size {}x{}: each side must be between 1 and {}", width, height,
+                                                  view_max_image_side));
+    q.width = uint32_t(width);
+    q.height = uint32_t(height);
+    try {
+        hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(q.width) * q.height,
+                         fmt::format("image size {}x{}", q.width, q.height));
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, "width", e.what());
+    }
+
+    static const json no_camera = json::object();
+    const json* camera_value = member(r, "camera");
+    if (camera_value != nullptr && !camera_value->is_object())
+        throw ViewError(400, "camera", "camera: expected an object");
+    const json& camera = camera_value ? *camera_value : no_camera;
+    hsr::CameraSettings& v = q.view;
+    v.width = q.width;
+    v.height = q.height;
+    v.yaw_degrees = float(number_field(camera, "yaw", "camera.yaw", 0));
+    v.pitch_degrees = float(number_field(camera, "pitch", "camera.pitch", 0));
+    v.zoom = float(number_field(camera, "zoom", "camera.zoom", 1));
+    v.fov_y_degrees = float(number_field(camera, "fov", "camera.fov", 35));
+    for (const auto& [name, value] : {std::pair{"yaw", v.yaw_degrees}, {"pitch", v.pitch_degrees}, {"zoom", v.zoom}})
+        if (!std::isfinite(value)) throw ViewError(400, fmt::format("camera.{}", name), fmt::format("--{} must be a finite number", name));
+    if (!(v.zoom > 0)) throw ViewError(400, "camera.zoom", "--zoom must be positive");
+    if (!(v.fov_y_degrees > 0 && v.fov_y_degrees < 180))
+        throw ViewError(400, "camera.fov", "--fov must be between 0 and 180 degrees");
+    const std::string projection = text_field(camera, "projection", "camera.projection", "perspective");
+    if (projection != "perspective" && projection != "orthographic")
+        throw ViewError(400, "camera.projection", fmt::format("camera.projection '{}': expected 'perspective' or 'orthographic'",
+                                                              hsr::printable(projection)));
+    v.orthographic = projection == "orthographic";
+    if (member(camera, "eye") != nullptr) {
+        hsr::LookAt look_at;
+        look_at.eye = vector_field(camera, "eye");
+        if (member(camera, "target") != nullptr) look_at.target = vector_field(camera, "target");
+        if (member(camera, "up") != nullptr) look_at.up = vector_field(camera, "up");
+        v.look_at = look_at;
+    } else {
+        for (const char* name : {"target", "up"})
+            if (member(camera, name) != nullptr)
+                throw ViewError(400, fmt::format("camera.{}", name), fmt::format("--{} goes with --eye", name));
+    }
+    q.camera_key = fmt::format("{}x{} {}", q.width, q.height, camera.dump());
+
+    if (const json* step = member(r, "step")) {
+        if (!step->is_number() || step->get<double>() != std::floor(step->get<double>()))
+            throw ViewError(400, "step", "step: expected a whole number (or null for the full render)");
+        if (step->get<double>() < 1) throw ViewError(400, "step", fmt::format("--step {}: steps count from 1", step->dump()));
+        q.step = step->get<double>() > 1e18 ? uint64_t(1e18) : step->get<uint64_t>();
+    }
+    if (const json* buffers = member(r, "buffers")) {
+        if (!buffers->is_boolean()) throw ViewError(400, "buffers", "buffers: expected true or false");
+        q.buffers = buffers->get<bool>();
+    }
+    const std::string edges = text_field(r, "edges", "edges", "features");
+    if (edges != "features" && edges != "all")
+        throw ViewError(400, "edges", fmt::format("--edges '{}': expected 'all' or 'features'", hsr::printable(edges)));
+    q.edges = edges == "all" ? hsr::EdgeSelection::kAll : hsr::EdgeSelection::kFeatures;
+    const std::string hidden = text_field(r, "hidden", "hidden", "hidden");
+    if (hidden != "hidden" && hidden != "dashed")
+        throw ViewError(400, "hidden", fmt::format("--hidden '{}': expected 'dashed' or 'hidden'", hsr::printable(hidden)));
+    q.hidden = hidden == "dashed" ? hsr::HiddenLines::kDashed : hsr::HiddenLines::kHidden;
+    return q;
+}
+
+void hsr::host::check_settings(const hsr::Plugin& plugin, const std::vector<hsr::Setting>& settings, const char* field) {
+    for (const hsr::Setting& setting : settings) {
+        try {
+            hsr::resolve_params(plugin.descriptor, {setting});
+        } catch (const hsr::Error& e) {
+            throw ViewError(400, fmt::format("{}.{}", field, setting.first), e.what());
+        }
+    }
+    try {
+        hsr::resolve_params(plugin.descriptor, settings);
+    } catch (const hsr::Error& e) {
+        throw ViewError(400, field, e.what());
+    }
+}

@@ -1,0 +1,45 @@
+// A frame request of hsr view (docs/viewer.md, POST /api/frame) read and checked with the messages
+// of hsr render's options, before the model is loaded or a plugin made.
+#pragma once
+
+#include "view/server/view_models.hpp"
+
+#include "hsr/camera.hpp"
+#include "hsr/edges.hpp"
+#include "hsr/line_image.hpp"
+#include "hsr/params.hpp"
+#include "hsr/plugin_registry.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hsr::host {
+
+// The most pixels along one side of a picture hsr view renders (GET /api/info max_image_side).
+constexpr uint32_t view_max_image_side = 4096;
+
+// The request, read and checked as far as it can be without the model and the plugins.
+struct FrameRequest {
+    std::string model, algorithm, lighting;
+    std::vector<hsr::Setting> params, lighting_params;
+    hsr::CameraSettings view;
+    uint32_t width = 512, height = 512;
+    std::optional<uint64_t> step;
+    bool buffers = false;
+    hsr::EdgeSelection edges = hsr::EdgeSelection::kFeatures;
+    hsr::HiddenLines hidden = hsr::HiddenLines::kHidden;
+    std::string camera_key;  // the camera and size, for the cache of step totals
+};
+
+// Throws ViewError (400, naming the field) for anything wrong with the request on its own.
+FrameRequest parse_frame_request(const nlohmann::json& request);
+
+// Each setting checked alone against the plugin's schema, so that the field at fault is known
+// ("<field>.<name>"); the message is resolve_params's, as for hsr render. Throws ViewError 400.
+void check_settings(const hsr::Plugin& plugin, const std::vector<hsr::Setting>& settings, const char* field);
+
+}  // namespace hsr::host
