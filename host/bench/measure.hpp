@@ -43,7 +43,7 @@ double quantile(const std::vector<double>& sorted, double p);
 
 // The models `hsr bench` runs by default, mirroring the classic course study: three meshes of
 // increasing size, the bunny made 4x finer by Loop subdivision, and deep scenes of 3, 24 and 63
-// layers of monkeys (measured depth complexity 4.7, 20.3 and 49.8 at 1024x1024: docs/benchmarks.md).
+// layers of monkeys (measured depth complexity 4.7, 20.3 and 49.8 at 1024x1024: docs/bench.md).
 const std::vector<std::string>& default_models();
 // A small, fast set for smoke tests; only uses models committed to the repository.
 const std::vector<std::string>& quick_models();
