@@ -199,3 +199,22 @@ TEST_CASE("renderer: a frame loop draws what one frame draws, again and again", 
         CHECK(frame.face == picture.frame.face);
     }
 }
+
+TEST_CASE("renderer: the depth complexity of a view, measured once and kept", "[renderer]") {
+    const auto renderer = renderer_of("boxes.scene");
+    hsr::LightingModel lighting(plugin("facecolor"), {});
+    hsr::PictureRequest request;
+    request.depth_complexity = true;
+    for (int yaw : {0, 40, 0, 80, 120, 160, 0}) {  // the first view again after more than it keeps
+        request.view = small_view(40);
+        request.view.yaw_degrees = float(yaw);
+        for (const char* name : {"zbuffer", "painter"}) {
+            hsr::HiddenSurfaceRemover remover(plugin(name), {});
+            const hsr::Picture picture = renderer->picture(request, remover, lighting);
+            REQUIRE(picture.depth_complexity);
+            const hsr::DepthComplexity expected = hsr::measure_depth_complexity(picture.scene, picture.camera);
+            CHECK(picture.depth_complexity->count == expected.count);
+            CHECK(picture.depth_complexity->max == expected.max);
+        }
+    }
+}

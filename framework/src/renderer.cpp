@@ -159,14 +159,14 @@ std::vector<hsr_light> Renderer::lights(const std::vector<LightSpec>& requested,
 uint64_t Renderer::count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover) {
     const std::string key = remover.key() + '\n' + camera_bytes(camera);
     {
-        std::lock_guard lock(step_totals_mutex_);
+        std::lock_guard lock(caches_mutex_);
         if (auto known = step_totals_.find(key); known != step_totals_.end()) return known->second;
     }
     Frame counted;
     resolve_visibility_steps(scene, camera, remover, counted, 0);
     const uint64_t total = counted.steps ? counted.steps->taken : 0;
     constexpr std::size_t kept_totals = 256;
-    std::lock_guard lock(step_totals_mutex_);
+    std::lock_guard lock(caches_mutex_);
     if (step_totals_.size() >= kept_totals) step_totals_.clear();
     step_totals_.emplace(key, total);
     return total;
@@ -206,7 +206,7 @@ Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& r
         picture.before.depth_tests = std::move(before.depth_tests);
         picture.frame.steps->before.reset();
     }
-    if (request.depth_complexity) picture.depth_complexity = measure_depth_complexity(picture.scene, picture.camera);
+    if (request.depth_complexity) picture.depth_complexity = kept_depth_complexity(picture.camera);
     return picture;
 }
 
@@ -225,6 +225,21 @@ LinePicture Renderer::lines(const LineRequest& request, HiddenLineRemover& remov
 
 DepthComplexity Renderer::depth_complexity(const hsr_camera& camera) const {
     return measure_depth_complexity(scene_->scene().view(), camera);
+}
+
+DepthComplexity Renderer::kept_depth_complexity(const hsr_camera& camera) {
+    const std::string key = camera_bytes(camera);
+    {
+        std::lock_guard lock(caches_mutex_);
+        for (const auto& [known, complexity] : depth_complexities_)
+            if (known == key) return *complexity;
+    }
+    auto complexity = std::make_shared<const DepthComplexity>(depth_complexity(camera));
+    constexpr std::size_t kept_complexities = 4;
+    std::lock_guard lock(caches_mutex_);
+    depth_complexities_.emplace_front(key, complexity);
+    if (depth_complexities_.size() > kept_complexities) depth_complexities_.pop_back();
+    return *complexity;
 }
 
 FrameLoop::FrameLoop(const hsr_scene& scene, const hsr_camera& camera, const hsr_shading_context& context,

@@ -35,7 +35,8 @@
 namespace hsr::host {
 
 // The renderer's requests for the options: where the scene comes from (a mistake is a
-// UsageError), the view of the options' frame (--yaw, --pitch, its turn), and the picture.
+// UsageError), and the view of the options' frame (--yaw, --pitch, its turn); render_picture and
+// render_line_drawing make the rest of theirs.
 hsr::SceneSource scene_source(const RenderOptions& options);
 hsr::ViewRequest view_request(const RenderOptions& options);
 // The options scene_source reads, as a key: jobs with equal keys share one load.

@@ -27,6 +27,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <list>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -169,11 +170,15 @@ public:
     DepthComplexity depth_complexity(const hsr_camera& camera) const;
 
 private:
+    // depth_complexity(), measured once per camera and kept (the last few), since it depends on
+    // nothing else: a viewer switching plugins or comparing two keeps its camera.
+    DepthComplexity kept_depth_complexity(const hsr_camera& camera);
     uint64_t count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover);
 
     std::shared_ptr<const LoadedScene> scene_;
-    std::mutex step_totals_mutex_;
+    std::mutex caches_mutex_;
     std::map<std::string, uint64_t> step_totals_;  // by plugin, parameters and camera
+    std::list<std::pair<std::string, std::shared_ptr<const DepthComplexity>>> depth_complexities_;  // newest first
 };
 
 // One view and its plugins rendered again and again into the same buffers, as a benchmark or an
