@@ -48,7 +48,7 @@ struct Fragment {
     float b1, b2;
 };
 
-class ABuffer final : public hsr::sdk::HiddenSurfaceRemover {
+class ABuffer final : public hsr::sdk::StepwiseRemover<ABuffer> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
         "a-buffer", "1.0.0", "A-buffer (Carpenter 1984): per-pixel fragment lists with 4x8 coverage masks"};
@@ -61,17 +61,8 @@ public:
     explicit ABuffer(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_fragments_(uint64_t(p.integer("max-fragments"))) {}
 
-    void render(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                hsr::sdk::Counters& counters) override {
-        hsr::sdk::NoSteps no_steps;
-        draw<false>(scene, camera, target, counters, no_steps);
-    }
-
-    // One step per input triangle, as zbuffer: the visibility buffer at pixel centres.
-    void render_steps(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
-                      hsr::sdk::Counters& counters, hsr::sdk::Steps& steps) {
-        draw<false>(scene, camera, target, counters, steps);
-    }
+    // render_steps (from StepwiseRemover) takes one step per input triangle, as zbuffer: the
+    // visibility buffer at pixel centres.
 
     void render_fragments(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                           hsr::sdk::Counters& counters, hsr::sdk::FragmentWriter& fragments) {
@@ -85,6 +76,15 @@ private:
         uint64_t depth_tested = 0;
         uint64_t written = 0;
     };
+
+    friend class hsr::sdk::StepwiseRemover<ABuffer>;
+
+    // render() and render_steps(): the visibility buffer alone, no fragments.
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
+        draw<false>(scene, camera, target, counters, steps);
+    }
 
     template <bool kFragments, class Steps>
     void draw(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,

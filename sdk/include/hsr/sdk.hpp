@@ -411,12 +411,16 @@ struct NoSteps {
     uint64_t count() const { return 0; }
 };
 
+template <class Derived>
+class StepsDrawing;
+
 // A remover whose steps come from the code that renders: derive from StepwiseRemover<Derived> and
 // define (private, with `friend class hsr::sdk::StepwiseRemover<Derived>;`)
 //   template <class StepsT>
 //   void render_with(const Scene&, const hsr_camera&, VisibilityBuffer&, Counters&, StepsT& steps);
 // render() calls it with NoSteps, so that the step code compiles away, and render_steps() (ABI 1.3)
-// with Steps.
+// with Steps, through StepsDrawing<Derived> (below), which can be compiled in a translation unit of
+// its own. Derived may also declare render_fragments (ABI 1.4) and draw its fragments with NoSteps.
 template <class Derived>
 class StepwiseRemover : public HiddenSurfaceRemover {
 public:
@@ -426,9 +430,39 @@ public:
     }
     void render_steps(const Scene& scene, const hsr_camera& camera, VisibilityBuffer& target, Counters& counters,
                       Steps& steps) {
-        static_cast<Derived*>(this)->render_with(scene, camera, target, counters, steps);
+        StepsDrawing<Derived>::render_with(static_cast<Derived&>(*this), scene, camera, target, counters, steps);
+    }
+
+private:
+    friend class StepsDrawing<Derived>;
+    static void render_with_steps(Derived& remover, const Scene& scene, const hsr_camera& camera,
+                                  VisibilityBuffer& target, Counters& counters, Steps& steps) {
+        remover.render_with(scene, camera, target, counters, steps);
     }
 };
+
+// The Steps instantiation of a StepwiseRemover's render_with. Where render() and render_steps()
+// share helpers, instantiating both in one translation unit can change how the compiler inlines
+// render()'s (a helper called once becomes one called twice). To compile the steps apart, put the
+// plugin's class in a header (in a named namespace: both units must name the same class), end the
+// header with
+//   extern template class hsr::sdk::StepsDrawing<MyRemover>;
+// and instantiate it in a second source file of the plugin that includes the header:
+//   template class hsr::sdk::StepsDrawing<MyRemover>;
+template <class Derived>
+class StepsDrawing {
+public:
+    static void render_with(Derived& remover, const Scene& scene, const hsr_camera& camera,
+                            VisibilityBuffer& target, Counters& counters, Steps& steps);
+};
+
+// Not inline: under an `extern template` declaration, compilers still instantiate inline functions
+// (to inline them), and with this one everything it draws with Steps.
+template <class Derived>
+void StepsDrawing<Derived>::render_with(Derived& remover, const Scene& scene, const hsr_camera& camera,
+                                        VisibilityBuffer& target, Counters& counters, Steps& steps) {
+    StepwiseRemover<Derived>::render_with_steps(remover, scene, camera, target, counters, steps);
+}
 
 // ABI 1.2: the edges a hidden-line remover is asked for (see hsr_line_request).
 class LineRequest {

@@ -1,0 +1,124 @@
+// The octree-zbuffer plugin's class (octree_zbuffer.cpp: the algorithm, its source, and the build
+// of the octrees): its parameters, what it keeps between frames, and its drawing over screen tiles.
+// A header, so that octree_zbuffer_steps.cpp can compile the drawing with steps apart
+// (hsr::sdk::StepsDrawing).
+#pragma once
+
+#include "octree.hpp"
+#include "tile_renderer.hpp"
+
+#include "hsr/scene_key.hpp"
+#include "hsr/sdk.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace octree_zbuffer {
+
+using hsr::sdk::ParamSpec;
+
+class OctreeZBuffer final : public hsr::sdk::StepwiseRemover<OctreeZBuffer> {
+public:
+    static constexpr hsr::sdk::PluginInfo info{
+        "octree-zbuffer", "1.0.0",
+        "octree z-buffer (Greene, Kass & Miller 1993): object-space octrees, front to back, culled against a z-pyramid"};
+    static inline const ParamSpec params[] = {
+        ParamSpec::integer("max-depth", "8", 0, 20, "deepest octree level (the root is level 0)"),
+        ParamSpec::integer("leaf-triangles", "64", 1, 65536,
+                           "an octree cell with at most this many triangles is not split further"),
+        ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
+        ParamSpec::integer("tile-size", "512", 0, 65536,
+                           "pixels per side of the screen tiles drawn in parallel, rounded up to a multiple of "
+                           "8 (0: the whole image as one tile)"),
+    };
+
+    explicit OctreeZBuffer(const hsr::sdk::Params& p) : cull_backfaces_(p.boolean("cull-backfaces")) {
+        build_params_.max_depth = uint32_t(p.integer("max-depth"));
+        build_params_.leaf_triangles = uint32_t(p.integer("leaf-triangles"));
+        tile_size_ = int32_t((p.integer("tile-size") + 7) / 8 * 8);
+    }
+
+    // render_steps (from StepwiseRemover) takes steps in traversal order: each box test of a node (of
+    // the instance hierarchy or of an octree), visited or culled, and each triangle of a visible
+    // leaf; the whole image as one tile. Compiled in octree_zbuffer_steps.cpp.
+
+private:
+    friend class hsr::sdk::StepwiseRemover<OctreeZBuffer>;
+
+    template <class Steps>
+    void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
+                     hsr::sdk::Counters& counters, Steps& steps) {
+        raster::validate_frame(info.name, scene.raw(), camera, target.raw());
+
+        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
+
+        const int32_t width = int32_t(camera.width), height = int32_t(camera.height);
+        const int32_t size = Steps::enabled || tile_size_ == 0 ? std::max(width, height) : tile_size_;
+        const int32_t across = (width + size - 1) / size, down = (height + size - 1) / size;
+        const size_t count = size_t(across) * size_t(down);
+        while (tiles_.size() < count) tiles_.push_back(std::make_unique<TileRenderer>(built_));
+        auto tile = [&](size_t k) {
+            PixelTile t;
+            t.x0 = int32_t(k % size_t(across)) * size;
+            t.y0 = int32_t(k / size_t(across)) * size;
+            t.x1 = std::min(t.x0 + size, width) - 1;
+            t.y1 = std::min(t.y0 + size, height) - 1;
+            return t;
+        };
+        if (count == 1) {
+            try {
+                tiles_[0]->draw(scene, camera, target, cull_backfaces_, tile(0), geometry_.local(), steps);
+            } catch (const hsr::sdk::StepLimitReached&) {
+                report(counters, 1);
+                throw;
+            }
+        } else {
+            // Tiles own disjoint pixels and pyramids: nothing is shared but what was built.
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& range) {
+                for (size_t k = range.begin(); k != range.end(); ++k) {
+                    hsr::sdk::NoSteps no_steps;
+                    tiles_[k]->draw(scene, camera, target, cull_backfaces_, tile(k), geometry_.local(), no_steps);
+                }
+            });
+        }
+        report(counters, count);
+    }
+
+    // The counters of the first `count` tiles, summed: a node or triangle that reaches several tiles
+    // is counted in each.
+    void report(hsr::sdk::Counters& counters, size_t count) const;
+
+    // Builds what is missing for this scene; true when anything was built.
+    bool prepare(const hsr::sdk::Scene& scene);
+
+    // Parameters
+    bool cull_backfaces_;
+    BuildParams build_params_;
+    int32_t tile_size_;
+
+    // Built once per scene
+    bool has_built_ = false;
+    hsr::sdk::SceneKey scene_key_;
+    hsr::sdk::InstanceKey instance_key_;
+    BuiltScene built_;
+    std::map<std::array<uint32_t, 4>, uint32_t> object_of_range_;
+    uint64_t drawn_triangles_ = 0;
+    uint64_t non_finite_triangles_ = 0;
+
+    // Per frame: one renderer per tile, one geometry stage per thread (both kept between frames).
+    std::vector<std::unique_ptr<TileRenderer>> tiles_;
+    tbb::enumerable_thread_specific<raster::GeometryStage> geometry_;
+};
+
+}  // namespace octree_zbuffer
+
+extern template class hsr::sdk::StepsDrawing<octree_zbuffer::OctreeZBuffer>;
