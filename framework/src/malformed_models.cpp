@@ -126,6 +126,64 @@ const std::string too_many_corners = fmt::format("a face with more than {} verti
 // Text from the file in single quotes, as printable() makes it.
 std::string in_quotes(std::string_view text) { return fmt::format("'{}'", printable(text)); }
 
+// The PLY scalar types: each name, its size in bytes and what a value of it is in memory.
+enum class PlyScalar { int8, uint8, int16, uint16, int32, uint32, float32, float64 };
+struct PlyType {
+    std::string_view name;
+    int size;
+    PlyScalar scalar;
+};
+constexpr std::array<PlyType, 16> ply_types = {{
+    {"char", 1, PlyScalar::int8}, {"uchar", 1, PlyScalar::uint8}, {"short", 2, PlyScalar::int16},
+    {"ushort", 2, PlyScalar::uint16}, {"int", 4, PlyScalar::int32}, {"uint", 4, PlyScalar::uint32},
+    {"float", 4, PlyScalar::float32}, {"double", 8, PlyScalar::float64}, {"int8", 1, PlyScalar::int8},
+    {"uint8", 1, PlyScalar::uint8}, {"int16", 2, PlyScalar::int16}, {"uint16", 2, PlyScalar::uint16},
+    {"int32", 4, PlyScalar::int32}, {"uint32", 4, PlyScalar::uint32}, {"float32", 4, PlyScalar::float32},
+    {"float64", 8, PlyScalar::float64}}};
+
+// The type a word of a PLY header names, nullptr for a word that is none.
+const PlyType* ply_type(std::string_view name) {
+    for (const PlyType& type : ply_types)
+        if (type.name == name) return &type;
+    return nullptr;
+}
+
+// What a PLY header declares. The types are looked up once, there, rather than for every value.
+struct PlyProperty {
+    std::string name;
+    const PlyType* type;                  // scalar type, or the item type of a list
+    const PlyType* count_type = nullptr;  // lists only
+};
+struct PlyElement {
+    std::string name;
+    long long count = 0;
+    std::vector<PlyProperty> properties;
+};
+struct PlyHeader {
+    std::vector<PlyElement> elements;
+    std::string format;
+};
+
+// The byte offset of a PLY file's body: just after the header's end_header line (npos without one).
+std::size_t ply_header_end(std::string_view text) {
+    for (std::size_t pos = 0; pos < text.size();) {
+        std::size_t eol = text.find('\n', pos);
+        std::string_view line = text.substr(pos, eol == std::string_view::npos ? std::string_view::npos : eol - pos);
+        while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.remove_suffix(1);
+        if (line == "end_header") return eol == std::string_view::npos ? text.size() : eol + 1;
+        if (eol == std::string_view::npos) break;
+        pos = eol + 1;
+    }
+    return std::string_view::npos;
+}
+
+// Appends the bytes of a value as they lie in memory.
+template <class T>
+void append_bytes(std::string& out, T value) {
+    const auto bytes = std::bit_cast<std::array<char, sizeof value>>(value);
+    out.append(bytes.data(), bytes.size());
+}
+
 class TextChecker {
 public:
     explicit TextChecker(const std::filesystem::path& file) : file_(file) {}
@@ -484,206 +542,21 @@ public:
     // double colour, a short list count) without consuming its bytes, and then reads the rest of the
     // file out of step: counts of billions from a few hundred bytes.
     std::string check_ply(std::string_view text) {
-        // The header: lines up to end_header.
-        std::size_t header_end = std::string_view::npos;  // byte offset of the body
-        for (std::size_t pos = 0; pos < text.size();) {
-            std::size_t eol = text.find('\n', pos);
-            std::string_view line = text.substr(pos, eol == std::string_view::npos ? std::string_view::npos : eol - pos);
-            while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.remove_suffix(1);
-            if (line == "end_header") {
-                header_end = eol == std::string_view::npos ? text.size() : eol + 1;
-                break;
-            }
-            if (eol == std::string_view::npos) break;
-            pos = eol + 1;
-        }
-        LineReader lines(text.substr(0, header_end == std::string_view::npos ? text.size() : header_end), '\0');
-        const Line* first = lines.next();
-        if (!first || first->number != 1 || first->tokens.size() != 1 || first->tokens[0] != "ply")
-            fail(1, "not a PLY file (its first line must be ply)");
-        if (header_end == std::string_view::npos) fail("the PLY header has no end_header line");
-
-        struct Property {
-            std::string name;
-            std::string type;        // scalar type, or the item type of a list
-            std::string count_type;  // lists only
-        };
-        struct Element {
-            std::string name;
-            long long count = 0;
-            std::vector<Property> properties;
-        };
-        static const std::array<std::pair<std::string_view, int>, 16> types = {{
-            {"char", 1}, {"uchar", 1}, {"short", 2}, {"ushort", 2}, {"int", 4}, {"uint", 4}, {"float", 4},
-            {"double", 8}, {"int8", 1}, {"uint8", 1}, {"int16", 2}, {"uint16", 2}, {"int32", 4}, {"uint32", 4},
-            {"float32", 4}, {"float64", 8}}};
-        auto type_size = [&](std::string_view t) {
-            for (auto [name, size] : types)
-                if (name == t) return size;
-            return 0;
-        };
-
-        std::vector<Element> elements;
-        std::string format;
-        while (const Line* next_line = lines.next()) {
-            const Line& line = *next_line;
-            std::string_view key = line.tokens[0];
-            if (key == "end_header") break;
-            if (key == "format") {
-                if (line.tokens.size() != 3 || line.tokens[2] != "1.0")
-                    fail(line.number, "expected: format ascii|binary_little_endian|binary_big_endian 1.0");
-                format = std::string(line.tokens[1]);
-                if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-                    fail(line.number, fmt::format("unknown PLY format {}", in_quotes(format)));
-            } else if (key == "element") {
-                std::optional<long long> count =
-                    line.tokens.size() == 3 ? parse_integer(line.tokens[2]) : std::nullopt;
-                if (!count || *count < 0) fail(line.number, "expected: element <name> <count>");
-                if (elements.size() == max_ply_elements)
-                    fail(line.number, fmt::format("more than {} elements", max_ply_elements));
-                elements.push_back({std::string(line.tokens[1]), *count, {}});
-            } else if (key == "property") {
-                if (elements.empty()) fail(line.number, "property before any element");
-                if (elements.back().properties.size() == max_ply_properties)
-                    fail(line.number, fmt::format("more than {} properties in one element", max_ply_properties));
-                bool list = line.tokens.size() >= 2 && line.tokens[1] == "list";
-                if (list ? (line.tokens.size() != 5 || !type_size(line.tokens[2]) || !type_size(line.tokens[3]))
-                         : (line.tokens.size() != 3 || !type_size(line.tokens[1])))
-                    fail(line.number, "expected: property <type> <name> or property list <type> <type> <name>");
-                if (list)
-                    elements.back().properties.push_back(
-                        {std::string(line.tokens[4]), std::string(line.tokens[3]), std::string(line.tokens[2])});
-                else
-                    elements.back().properties.push_back({std::string(line.tokens[2]), std::string(line.tokens[1]), {}});
-            } else if (key != "comment" && key != "obj_info") {
-                fail(line.number, fmt::format("unknown PLY header line {}", in_quotes(key)));
-            }
-        }
-        if (format.empty()) fail("the PLY header has no format line");
-        for (const Element& element : elements)
-            if (element.properties.empty() && element.count > 0)  // nothing bounds a reader's loop over it
-                fail(fmt::format("element {} has {} entries but no properties", in_quotes(element.name), element.count));
-
-        // The body, as a stream of numbers: tokens for ASCII, fixed-size values for binary.
-        // `where` is a line number for ASCII (0 when binary, whose messages name no line).
-        const bool ascii = format == "ascii";
-        const bool swap = (format == "binary_big_endian") == (std::endian::native == std::endian::little);
-        const std::string_view body = text.substr(header_end);
-        const auto header_lines = static_cast<std::size_t>(
-            std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(header_end), '\n'));
-        LineReader body_lines(ascii ? body : std::string_view(), '\0', header_lines);
-        const Line* line = nullptr;
-        std::size_t token_index = 0, byte = 0;
-        std::size_t where = 0;
-        auto fail_at = [&](const std::string& message) {
-            if (ascii) fail(where, message);
-            fail(message);
-        };
-        auto next = [&](const Element& element, std::string_view type) -> double {
-            if (ascii) {
-                while (line == nullptr || token_index >= line->tokens.size()) {
-                    line = body_lines.next();
-                    token_index = 0;
-                    if (line == nullptr)
-                        fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
-                }
-                where = line->number;
-                std::string_view token = line->tokens[token_index++];
-                std::optional<double> v = parse_number(token);
-                if (!v) fail(where, fmt::format("{} is not a number", in_quotes(token)));
-                return *v;
-            }
-            const std::size_t size = static_cast<std::size_t>(type_size(type));
-            if (body.size() - byte < size)
-                fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
-            unsigned char raw[8];
-            std::memcpy(raw, body.data() + byte, size);
-            byte += size;
-            if (swap) std::reverse(raw, raw + size);
-            auto as = [&raw](auto value) {
-                std::memcpy(&value, raw, sizeof value);
-                return static_cast<double>(value);
-            };
-            if (type == "char" || type == "int8") return as(int8_t{});
-            if (type == "uchar" || type == "uint8") return as(uint8_t{});
-            if (type == "short" || type == "int16") return as(int16_t{});
-            if (type == "ushort" || type == "uint16") return as(uint16_t{});
-            if (type == "int" || type == "int32") return as(int32_t{});
-            if (type == "uint" || type == "uint32") return as(uint32_t{});
-            if (type == "float" || type == "float32") return as(float{});
-            return as(double{});
-        };
-
-        const Element* vertex_element = nullptr;
-        const Element* face_element = nullptr;
-        for (const Element& element : elements) {
-            const Element** known = element.name == "vertex" ? &vertex_element
-                                    : element.name == "face" ? &face_element : nullptr;
-            if (!known) continue;
-            if (*known) fail(fmt::format("the PLY header declares two {} elements", in_quotes(element.name)));
-            *known = &element;
-        }
-        if (vertex_element)
-            for (std::string_view axis : {"x", "y", "z"})
-                if (std::none_of(vertex_element->properties.begin(), vertex_element->properties.end(),
-                                 [&](const Property& p) { return p.name == axis && p.count_type.empty(); }))
-                    fail(fmt::format("the vertex element has no {} property", axis));
+        const std::size_t header_end = ply_header_end(text);
+        const PlyHeader header = read_ply_header(text, header_end);
+        PlyValues values(*this, text, header_end, header.format);
+        const PlyElement* vertex_element = nullptr;
+        const PlyElement* face_element = nullptr;
+        find_vertices_and_faces(header.elements, vertex_element, face_element);
         const long long vertex_count = vertex_element ? vertex_element->count : 0;
-
-        std::string vertices, faces;
-        auto append = [](std::string& out, auto value) {
-            const auto bytes = std::bit_cast<std::array<char, sizeof value>>(value);
-            out.append(bytes.data(), bytes.size());
-        };
-        long long face_count = 0;
-        for (const Element& element : elements) {
-            const bool is_vertex = &element == vertex_element;
-            const bool is_face = &element == face_element;
-            for (long long e = 0; e < element.count; ++e) {
-                float position[3] = {0, 0, 0};
-                bool face_listed = false;
-                for (const Property& property : element.properties) {
-                    if (property.count_type.empty()) {
-                        double v = next(element, property.type);
-                        if (!is_vertex || property.name.size() != 1 || property.name[0] < 'x' || property.name[0] > 'z')
-                            continue;
-                        if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
-                            fail_at(fmt::format("vertex {} has a coordinate that is not a finite number", e));
-                        position[property.name[0] - 'x'] = static_cast<float>(v);
-                        continue;
-                    }
-                    double count = next(element, property.count_type);
-                    if (!(count >= 0) || count != std::floor(count)) fail_at(fmt::format("{} is not a list length", count));
-                    const bool indices = is_face && !face_listed &&
-                                         (property.name == "vertex_indices" || property.name == "vertex_index");
-                    if (indices && count < 3) fail_at(fmt::format("face {} has fewer than 3 vertices", e));
-                    if (indices && count > max_face_corners) fail_at(too_many_corners);
-                    if (indices) {
-                        count_face(static_cast<uint64_t>(count));
-                        append(faces, static_cast<int32_t>(count));
-                        ++face_count;
-                        face_listed = true;
-                    }
-                    for (double i = 0; i < count; ++i) {
-                        double index = next(element, property.type);
-                        if (!indices) continue;
-                        if (index != std::floor(index) || index < 0 || index >= static_cast<double>(vertex_count))
-                            fail_at(fmt::format("vertex index {} is out of range (the file has {} vertices)", index,
-                                                vertex_count));
-                        append(faces, static_cast<int32_t>(index));
-                    }
-                }
-                if (is_vertex)
-                    for (float c : position) append(vertices, c);
-            }
-        }
+        const PlyMesh mesh = read_ply_body(header.elements, vertex_element, face_element, vertex_count, values);
         const bool little = std::endian::native == std::endian::little;
         std::string clean = fmt::format(
             "ply\nformat {} 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
             "element face {}\nproperty list int int vertex_indices\nend_header\n",
-            little ? "binary_little_endian" : "binary_big_endian", vertex_count, face_count);
-        clean.reserve(clean.size() + vertices.size() + faces.size());
-        return clean.append(vertices).append(faces);
+            little ? "binary_little_endian" : "binary_big_endian", vertex_count, mesh.face_count);
+        clean.reserve(clean.size() + mesh.vertices.size() + mesh.faces.size());
+        return clean.append(mesh.vertices).append(mesh.faces);
     }
 
     void check_stl(std::string_view text) {
@@ -722,6 +595,199 @@ public:
     }
 
 private:
+    // The header: its lines up to end_header (which ends at header_end, npos when it has none).
+    PlyHeader read_ply_header(std::string_view text, std::size_t header_end) const {
+        LineReader lines(text.substr(0, header_end == std::string_view::npos ? text.size() : header_end), '\0');
+        const Line* first = lines.next();
+        if (!first || first->number != 1 || first->tokens.size() != 1 || first->tokens[0] != "ply")
+            fail(1, "not a PLY file (its first line must be ply)");
+        if (header_end == std::string_view::npos) fail("the PLY header has no end_header line");
+
+        PlyHeader header;
+        std::vector<PlyElement>& elements = header.elements;
+        std::string& format = header.format;
+        while (const Line* next_line = lines.next()) {
+            const Line& line = *next_line;
+            std::string_view key = line.tokens[0];
+            if (key == "end_header") break;
+            if (key == "format") {
+                if (line.tokens.size() != 3 || line.tokens[2] != "1.0")
+                    fail(line.number, "expected: format ascii|binary_little_endian|binary_big_endian 1.0");
+                format = std::string(line.tokens[1]);
+                if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+                    fail(line.number, fmt::format("unknown PLY format {}", in_quotes(format)));
+            } else if (key == "element") {
+                std::optional<long long> count =
+                    line.tokens.size() == 3 ? parse_integer(line.tokens[2]) : std::nullopt;
+                if (!count || *count < 0) fail(line.number, "expected: element <name> <count>");
+                if (elements.size() == max_ply_elements)
+                    fail(line.number, fmt::format("more than {} elements", max_ply_elements));
+                elements.push_back({std::string(line.tokens[1]), *count, {}});
+            } else if (key == "property") {
+                if (elements.empty()) fail(line.number, "property before any element");
+                if (elements.back().properties.size() == max_ply_properties)
+                    fail(line.number, fmt::format("more than {} properties in one element", max_ply_properties));
+                bool list = line.tokens.size() >= 2 && line.tokens[1] == "list";
+                if (list ? (line.tokens.size() != 5 || !ply_type(line.tokens[2]) || !ply_type(line.tokens[3]))
+                         : (line.tokens.size() != 3 || !ply_type(line.tokens[1])))
+                    fail(line.number, "expected: property <type> <name> or property list <type> <type> <name>");
+                if (list)
+                    elements.back().properties.push_back(
+                        {std::string(line.tokens[4]), ply_type(line.tokens[3]), ply_type(line.tokens[2])});
+                else
+                    elements.back().properties.push_back({std::string(line.tokens[2]), ply_type(line.tokens[1])});
+            } else if (key != "comment" && key != "obj_info") {
+                fail(line.number, fmt::format("unknown PLY header line {}", in_quotes(key)));
+            }
+        }
+        if (format.empty()) fail("the PLY header has no format line");
+        for (const PlyElement& element : elements)
+            if (element.properties.empty() && element.count > 0)  // nothing bounds a reader's loop over it
+                fail(fmt::format("element {} has {} entries but no properties", in_quotes(element.name), element.count));
+        return header;
+    }
+
+    // The body, as a stream of numbers: tokens for ASCII, fixed-size values for binary.
+    class PlyValues {
+    public:
+        PlyValues(const TextChecker& checker, std::string_view text, std::size_t header_end, const std::string& format)
+            : checker_(checker),
+              ascii_(format == "ascii"),
+              swap_((format == "binary_big_endian") == (std::endian::native == std::endian::little)),
+              body_(text.substr(header_end)),
+              lines_(ascii_ ? body_ : std::string_view(), '\0',
+                     static_cast<std::size_t>(
+                         std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(header_end), '\n'))) {}
+
+        // Fails with the line of the last number read for ASCII (binary messages name no line).
+        [[noreturn]] void fail_at(const std::string& message) const {
+            if (ascii_) checker_.fail(where_, message);
+            checker_.fail(message);
+        }
+
+        // The next number, of the given type when binary, in an entry of the element.
+        double next(const PlyElement& element, const PlyType& type) {
+            if (ascii_) {
+                while (line_ == nullptr || token_index_ >= line_->tokens.size()) {
+                    line_ = lines_.next();
+                    token_index_ = 0;
+                    if (line_ == nullptr)
+                        checker_.fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
+                }
+                where_ = line_->number;
+                std::string_view token = line_->tokens[token_index_++];
+                std::optional<double> v = parse_number(token);
+                if (!v) checker_.fail(where_, fmt::format("{} is not a number", in_quotes(token)));
+                return *v;
+            }
+            const std::size_t size = static_cast<std::size_t>(type.size);
+            if (body_.size() - byte_ < size)
+                checker_.fail(fmt::format("ends early while reading the {} elements", in_quotes(element.name)));
+            unsigned char raw[8];
+            std::memcpy(raw, body_.data() + byte_, size);
+            byte_ += size;
+            if (swap_) std::reverse(raw, raw + size);
+            auto as = [&raw](auto value) {
+                std::memcpy(&value, raw, sizeof value);
+                return static_cast<double>(value);
+            };
+            switch (type.scalar) {
+                case PlyScalar::int8: return as(int8_t{});
+                case PlyScalar::uint8: return as(uint8_t{});
+                case PlyScalar::int16: return as(int16_t{});
+                case PlyScalar::uint16: return as(uint16_t{});
+                case PlyScalar::int32: return as(int32_t{});
+                case PlyScalar::uint32: return as(uint32_t{});
+                case PlyScalar::float32: return as(float{});
+                case PlyScalar::float64: break;
+            }
+            return as(double{});
+        }
+
+    private:
+        const TextChecker& checker_;
+        const bool ascii_;
+        const bool swap_;
+        const std::string_view body_;
+        LineReader lines_;
+        const Line* line_ = nullptr;
+        std::size_t token_index_ = 0, byte_ = 0;
+        std::size_t where_ = 0;  // the line of the last number read (ASCII)
+    };
+
+    // The vertex and the face element (nullptr for none); the vertices must have x, y and z.
+    void find_vertices_and_faces(const std::vector<PlyElement>& elements, const PlyElement*& vertex_element,
+                                 const PlyElement*& face_element) const {
+        for (const PlyElement& element : elements) {
+            const PlyElement** known = element.name == "vertex" ? &vertex_element
+                                       : element.name == "face" ? &face_element : nullptr;
+            if (!known) continue;
+            if (*known) fail(fmt::format("the PLY header declares two {} elements", in_quotes(element.name)));
+            *known = &element;
+        }
+        if (vertex_element)
+            for (std::string_view axis : {"x", "y", "z"})
+                if (std::none_of(vertex_element->properties.begin(), vertex_element->properties.end(),
+                                 [&](const PlyProperty& p) { return p.name == axis && !p.count_type; }))
+                    fail(fmt::format("the vertex element has no {} property", axis));
+    }
+
+    // The positions (float x y z) and faces (int count, int indices) of a PLY body, in the bytes
+    // of the clean file.
+    struct PlyMesh {
+        std::string vertices, faces;
+        long long face_count = 0;
+    };
+
+    // Reads every element's entries from values, checking the vertices and faces.
+    PlyMesh read_ply_body(const std::vector<PlyElement>& elements, const PlyElement* vertex_element,
+                          const PlyElement* face_element, long long vertex_count, PlyValues& values) {
+        PlyMesh mesh;
+        for (const PlyElement& element : elements) {
+            const bool is_vertex = &element == vertex_element;
+            const bool is_face = &element == face_element;
+            for (long long e = 0; e < element.count; ++e) {
+                float position[3] = {0, 0, 0};
+                bool face_listed = false;
+                for (const PlyProperty& property : element.properties) {
+                    if (!property.count_type) {
+                        double v = values.next(element, *property.type);
+                        if (!is_vertex || property.name.size() != 1 || property.name[0] < 'x' || property.name[0] > 'z')
+                            continue;
+                        if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
+                            values.fail_at(fmt::format("vertex {} has a coordinate that is not a finite number", e));
+                        position[property.name[0] - 'x'] = static_cast<float>(v);
+                        continue;
+                    }
+                    double count = values.next(element, *property.count_type);
+                    if (!(count >= 0) || count != std::floor(count))
+                        values.fail_at(fmt::format("{} is not a list length", count));
+                    const bool indices = is_face && !face_listed &&
+                                         (property.name == "vertex_indices" || property.name == "vertex_index");
+                    if (indices && count < 3) values.fail_at(fmt::format("face {} has fewer than 3 vertices", e));
+                    if (indices && count > max_face_corners) values.fail_at(too_many_corners);
+                    if (indices) {
+                        count_face(static_cast<uint64_t>(count));
+                        append_bytes(mesh.faces, static_cast<int32_t>(count));
+                        ++mesh.face_count;
+                        face_listed = true;
+                    }
+                    for (double i = 0; i < count; ++i) {
+                        double index = values.next(element, *property.type);
+                        if (!indices) continue;
+                        if (index != std::floor(index) || index < 0 || index >= static_cast<double>(vertex_count))
+                            values.fail_at(fmt::format("vertex index {} is out of range (the file has {} vertices)",
+                                                       index, vertex_count));
+                        append_bytes(mesh.faces, static_cast<int32_t>(index));
+                    }
+                }
+                if (is_vertex)
+                    for (float c : position) append_bytes(mesh.vertices, c);
+            }
+        }
+        return mesh;
+    }
+
     // A face of `corners` vertices is stored as corners - 2 triangles; the stored-triangles limit is
     // checked as faces are counted, before OpenMesh allocates anything.
     void count_face(uint64_t corners, uint64_t faces = 1) {

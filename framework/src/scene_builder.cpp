@@ -103,6 +103,273 @@ void push3(std::vector<float>& out, glm::dvec3 v) {
     out.push_back(static_cast<float>(v.z));
 }
 
+// Room in the merged arrays for every triangle and vertex of the objects.
+void reserve_for(const std::vector<Object>& objects, SceneData& scene, std::vector<glm::dvec3>& world,
+                 std::vector<glm::dvec3>& normals) {
+    std::size_t total_triangles = 0;
+    for (const Object& object : objects) total_triangles += object.indices.size() / 3;
+    scene.indices.reserve(3 * total_triangles);
+    scene.edge_neighbors.reserve(3 * total_triangles);
+    scene.face_normals.reserve(3 * total_triangles);
+    scene.face_colors.reserve(3 * total_triangles);
+    scene.face_object.reserve(total_triangles);
+    std::size_t total_positions = 0;
+    for (const Object& object : objects) total_positions += object.positions.size();
+    world.reserve(total_positions);
+    normals.reserve(total_triangles);
+}
+
+// An object's options: a finite transform, a crease angle in [0, 180] degrees, a colour in [0, 1].
+void check_options(const MeshOptions& options) {
+    const std::string& name = options.name;
+    for (int c = 0; c < 4; ++c)
+        if (!finite(glm::vec3(options.transform[c])) || !std::isfinite(options.transform[c][3]))
+            throw Error("{}: the transform has a value that is not a finite number", name);
+    if (!(options.crease_angle_degrees >= 0.0f && options.crease_angle_degrees <= 180.0f))
+        throw Error("{}: crease angle {} is outside [0, 180] degrees", name, options.crease_angle_degrees);
+    for (int k = 0; k < 3; ++k)
+        if (!(options.color[k] >= 0.0f && options.color[k] <= 1.0f))
+            throw Error("{}: colour channel {} is outside [0, 1]", name, options.color[k]);
+}
+
+// The object's vertices in world space, each within float range.
+std::vector<glm::dvec3> to_world(const Object& object, const glm::dmat4& transform) {
+    std::vector<glm::dvec3> local_world(object.positions.size());
+    for (std::size_t v = 0; v < object.positions.size(); ++v) {
+        glm::dvec4 p = transform * glm::dvec4(glm::dvec3(object.positions[v]), 1.0);
+        local_world[v] = glm::dvec3(p) / p.w;
+        if (!std::isfinite(local_world[v].x) || !std::isfinite(local_world[v].y) ||
+            !std::isfinite(local_world[v].z) || std::fabs(local_world[v].x) > FLT_MAX ||
+            std::fabs(local_world[v].y) > FLT_MAX || std::fabs(local_world[v].z) > FLT_MAX)
+            throw Error("{}: the transform moves vertex {} to a non-finite position", object.options.name, v);
+    }
+    return local_world;
+}
+
+// Which triangles of an object enter the scene, and how many were dropped for each reason.
+struct KeptTriangles {
+    std::vector<int32_t> new_triangle;  // per triangle of the object: its number in the scene, or -1
+    uint32_t without_area = 0, repeated = 0;
+};
+
+// Keep triangles with a well-defined normal that no earlier triangle of the object repeats;
+// number them in the merged scene from first_triangle, appending their unit normals. A repeated
+// triangle adds nothing to a picture, but each copy has edges of its own (the loader gives
+// non-manifold faces their own vertices), which make the hidden-line algorithms quadratic: 3,388
+// copies of one face took Appel 10 s.
+KeptTriangles keep_triangles(const Object& object, const std::vector<glm::dvec3>& local_world, bool mirrored,
+                             uint32_t first_triangle, std::vector<glm::dvec3>& normals) {
+    const std::size_t triangle_count = object.indices.size() / 3;
+    KeptTriangles kept{std::vector<int32_t>(triangle_count, -1)};
+    SeenTriangles seen(triangle_count);
+    const auto key_of = [&](uint32_t t) { return triangle_key(object.positions, &object.indices[3 * std::size_t(t)]); };
+    std::vector<uint64_t> hashes(triangle_count);
+    in_parallel(triangle_count, 4096, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t t = begin; t < end; ++t) hashes[t] = triangle_key_hash(key_of(uint32_t(t)));
+    });
+    constexpr std::size_t prefetch_ahead = 16;
+    uint32_t count = 0;
+    for (std::size_t t = 0; t < triangle_count; ++t) {
+        if (t + prefetch_ahead < triangle_count) seen.prefetch(hashes[t + prefetch_ahead]);
+        const glm::dvec3& a = local_world[object.indices[3 * t]];
+        const glm::dvec3& b = local_world[object.indices[3 * t + 1]];
+        const glm::dvec3& c = local_world[object.indices[3 * t + 2]];
+        glm::dvec3 n = glm::cross(b - a, c - a);
+        if (mirrored) n = -n;
+        double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+        double length = glm::length(n);
+        if (!(length > 1e-12 * longest * longest) || !std::isfinite(length)) {
+            ++kept.without_area;
+            continue;
+        }
+        if (!seen.insert(uint32_t(t), hashes[t], key_of)) {
+            ++kept.repeated;
+            continue;
+        }
+        kept.new_triangle[t] = static_cast<int32_t>(first_triangle + count++);
+        normals.push_back(n / length);
+    }
+    return kept;
+}
+
+// One line each for the triangles dropped and the faces the loader separated.
+void warn_about(const Object& object, const KeptTriangles& kept, std::vector<std::string>& warnings) {
+    if (kept.without_area > 0)
+        warnings.push_back(fmt::format("{}: {} triangle{} without area dropped", object.source, kept.without_area,
+                                       kept.without_area == 1 ? "" : "s"));
+    if (kept.repeated > 0)
+        warnings.push_back(fmt::format("{}: {} triangle{} repeating an earlier one dropped", object.source,
+                                       kept.repeated, kept.repeated == 1 ? "" : "s"));
+    if (object.separated_faces > 0)
+        warnings.push_back(fmt::format("{}: {} non-manifold face{} given separate vertices", object.source,
+                                       object.separated_faces, object.separated_faces == 1 ? "" : "s"));
+}
+
+// The kept triangles of object number o into the scene: their corners, neighbours across their
+// edges, object and colour. Only vertices of kept triangles enter the scene (and world).
+void add_kept_triangles(const Object& object, uint32_t o, const std::vector<glm::dvec3>& local_world,
+                        const std::vector<int32_t>& new_triangle, bool mirrored, std::vector<glm::dvec3>& world,
+                        SceneData& scene) {
+    const MeshOptions& options = object.options;
+    const std::size_t triangle_count = object.indices.size() / 3;
+    std::vector<int64_t> new_vertex(object.positions.size(), -1);
+    for (std::size_t t = 0; t < triangle_count; ++t) {
+        if (new_triangle[t] < 0) continue;
+        std::array<uint32_t, 3> corner;
+        std::array<int32_t, 3> across;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t v = object.indices[3 * t + k];
+            if (new_vertex[v] < 0) {
+                new_vertex[v] = static_cast<int64_t>(world.size());
+                world.push_back(local_world[v]);
+            }
+            corner[k] = static_cast<uint32_t>(new_vertex[v]);
+            int32_t neighbor = object.neighbors[3 * t + k];
+            across[k] = neighbor < 0 ? HSR_NO_NEIGHBOR : new_triangle[static_cast<std::size_t>(neighbor)];
+        }
+        if (mirrored) {  // (a, b, c) -> (a, c, b): edges a-c, c-b, b-a were edges 2, 1, 0
+            std::swap(corner[1], corner[2]);
+            std::swap(across[0], across[2]);
+        }
+        scene.indices.insert(scene.indices.end(), corner.begin(), corner.end());
+        scene.edge_neighbors.insert(scene.edge_neighbors.end(), across.begin(), across.end());
+        scene.face_object.push_back(o);
+        scene.face_colors.insert(scene.face_colors.end(), {options.color.r, options.color.g, options.color.b});
+    }
+}
+
+// Object number o added to the scene: its kept triangles, their vertices (into world) and unit
+// normals (into normals, and as floats into the scene), its name and warnings.
+void add_object(const Object& object, uint32_t o, SceneData& scene, std::vector<glm::dvec3>& world,
+                std::vector<glm::dvec3>& normals) {
+    const MeshOptions& options = object.options;
+    const glm::dmat4 transform(options.transform);
+    check_options(options);
+    const bool mirrored = glm::determinant(glm::dmat3(transform)) < 0.0;
+    const std::vector<glm::dvec3> local_world = to_world(object, transform);
+    const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
+    const KeptTriangles kept = keep_triangles(object, local_world, mirrored, first_triangle, normals);
+    warn_about(object, kept, scene.warnings);
+    add_kept_triangles(object, o, local_world, kept.new_triangle, mirrored, world, scene);
+    for (std::size_t t = first_triangle; t < normals.size(); ++t) push3(scene.face_normals, normals[t]);
+    scene.object_names.push_back(options.name);
+}
+
+// The scene's float positions and bounds, from the kept vertices.
+void set_positions(const std::vector<glm::dvec3>& world, SceneData& scene) {
+    scene.positions.reserve(3 * world.size());
+    for (const glm::dvec3& p : world) push3(scene.positions, p);
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& p : world) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    scene.bounds_min = glm::vec3(lo);
+    scene.bounds_max = glm::vec3(hi);
+}
+
+// For each vertex v, the (triangle, corner) pairs around it: corner ids 3t+k in
+// around[start[v] .. start[v + 1]), in the order of the scene's triangles.
+struct VertexFans {
+    std::vector<uint32_t> start;
+    std::vector<uint32_t> around;
+};
+
+VertexFans vertex_fans(const std::vector<uint32_t>& indices, std::size_t vertex_count) {
+    VertexFans fans{std::vector<uint32_t>(vertex_count + 1, 0), std::vector<uint32_t>(indices.size())};
+    std::vector<uint32_t>& start = fans.start;
+    for (uint32_t v : indices) ++start[v + 1];
+    for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t corner = 0; corner < indices.size(); ++corner) fans.around[fill[indices[corner]]++] = corner;
+    return fans;
+}
+
+// What corner_normals_of_fan reads, and the scratch space it reuses from vertex to vertex.
+struct FanInput {
+    const std::vector<glm::dvec3>& world;
+    const std::vector<uint32_t>& indices;
+    const std::vector<glm::dvec3>& normals;  // per triangle
+};
+struct FanScratch {
+    std::vector<glm::dvec3> normals;
+    std::vector<double> angles;
+    std::vector<uint64_t> beyond_crease;  // per corner of the fan: bit j for corner j (fans up to 64)
+};
+
+// The corner normals of the `count` corners around[0 .. count) of one vertex, into corner_normals
+// (9 per triangle). The normals and angles of its corners side by side, which pairs of them are
+// within the crease limit (each pair tested once, the test being symmetric), and the sum over all of
+// them, which is each corner's sum unless some face is beyond its crease. Every sum adds its terms
+// in the order of `around`.
+void corner_normals_of_fan(const FanInput& in, const uint32_t* around, uint32_t count, double limit,
+                           FanScratch& fan, std::vector<float>& corner_normals) {
+    const auto angle_at = [&](uint32_t corner) {
+        const std::size_t t = corner / 3, k = corner % 3;
+        return corner_angle(in.world[in.indices[3 * t + k]], in.world[in.indices[3 * t + (k + 1) % 3]],
+                            in.world[in.indices[3 * t + (k + 2) % 3]]);
+    };
+    if (fan.normals.size() < count) {
+        fan.normals.resize(count);
+        fan.angles.resize(count);
+    }
+    for (uint32_t i = 0; i < count; ++i) {
+        fan.normals[i] = in.normals[around[i] / 3];
+        fan.angles[i] = angle_at(around[i]);
+    }
+    auto store = [&](uint32_t corner, glm::dvec3 sum) {
+        const double length = glm::length(sum);
+        const glm::dvec3 n = length > 1e-12 ? sum / length : in.normals[corner / 3];
+        for (int k = 0; k < 3; ++k) corner_normals[3 * std::size_t(corner) + k] = static_cast<float>(n[k]);
+    };
+    if (count > 64) {
+        for (uint32_t i = 0; i < count; ++i) {
+            glm::dvec3 sum(0.0);
+            for (uint32_t j = 0; j < count; ++j)
+                if (glm::dot(fan.normals[i], fan.normals[j]) >= limit) sum += fan.angles[j] * fan.normals[j];
+            store(around[i], sum);
+        }
+        return;
+    }
+    fan.beyond_crease.assign(count, 0);
+    for (uint32_t i = 0; i < count; ++i)
+        for (uint32_t j = i; j < count; ++j)
+            if (!(glm::dot(fan.normals[i], fan.normals[j]) >= limit)) {
+                fan.beyond_crease[i] |= uint64_t(1) << j;
+                fan.beyond_crease[j] |= uint64_t(1) << i;
+            }
+    glm::dvec3 all(0.0);
+    for (uint32_t j = 0; j < count; ++j) all += fan.angles[j] * fan.normals[j];
+    for (uint32_t i = 0; i < count; ++i) {
+        glm::dvec3 sum = all;
+        if (fan.beyond_crease[i] != 0) {
+            sum = glm::dvec3(0.0);
+            for (uint32_t j = 0; j < count; ++j)
+                if (!(fan.beyond_crease[i] >> j & 1)) sum += fan.angles[j] * fan.normals[j];
+        }
+        store(around[i], sum);
+    }
+}
+
+// Corner normals, vertex by vertex (its corners all belong to one object, so share one crease
+// limit): the crease_cosines are per object.
+void set_corner_normals(const std::vector<glm::dvec3>& world, const std::vector<glm::dvec3>& normals,
+                        const std::vector<float>& crease_cosines, SceneData& scene) {
+    const VertexFans fans = vertex_fans(scene.indices, world.size());
+    const FanInput in{world, scene.indices, normals};
+    scene.corner_normals.resize(9 * std::size_t(scene.triangle_count()));
+    in_parallel(world.size(), 2048, [&](std::size_t begin, std::size_t end) {
+        FanScratch fan;
+        for (std::size_t v = begin; v < end; ++v) {
+            const uint32_t first = fans.start[v], count = fans.start[v + 1] - fans.start[v];
+            if (count == 0) continue;
+            const uint32_t* around = &fans.around[first];
+            const double limit = static_cast<double>(crease_cosines[scene.face_object[around[0] / 3]]) - 1e-6;
+            corner_normals_of_fan(in, around, count, limit, fan, scene.corner_normals);
+        }
+    });
+}
+
 }  // namespace
 
 void SceneBuilder::add_model_file(const std::filesystem::path& file, const MeshOptions& options) {
@@ -135,205 +402,18 @@ void SceneBuilder::add_polygon(std::span<const glm::vec3> vertices, glm::vec3 co
 
 SceneData SceneBuilder::build() const {
     SceneData scene;
-    std::vector<float> crease_cosines;  // per object
-    std::size_t total_triangles = 0;
-    for (const Object& object : objects_) total_triangles += object.indices.size() / 3;
-    scene.indices.reserve(3 * total_triangles);
-    scene.edge_neighbors.reserve(3 * total_triangles);
-    scene.face_normals.reserve(3 * total_triangles);
-    scene.face_colors.reserve(3 * total_triangles);
-    scene.face_object.reserve(total_triangles);
     std::vector<glm::dvec3> world;      // all kept vertices, double precision for normals
-    std::size_t total_positions = 0;
-    for (const Object& object : objects_) total_positions += object.positions.size();
-    world.reserve(total_positions);
     std::vector<glm::dvec3> normals;    // per kept triangle
-    normals.reserve(total_triangles);
-
+    std::vector<float> crease_cosines;  // per object
+    reserve_for(objects_, scene, world, normals);
     for (std::size_t o = 0; o < objects_.size(); ++o) {
-        const Object& object = objects_[o];
-        const MeshOptions& options = object.options;
-        const std::string& name = options.name;
-        const glm::dmat4 transform(options.transform);
-        for (int c = 0; c < 4; ++c)
-            if (!finite(glm::vec3(options.transform[c])) || !std::isfinite(options.transform[c][3]))
-                throw Error("{}: the transform has a value that is not a finite number", name);
-        if (!(options.crease_angle_degrees >= 0.0f && options.crease_angle_degrees <= 180.0f))
-            throw Error("{}: crease angle {} is outside [0, 180] degrees", name, options.crease_angle_degrees);
-        for (int k = 0; k < 3; ++k)
-            if (!(options.color[k] >= 0.0f && options.color[k] <= 1.0f))
-                throw Error("{}: colour channel {} is outside [0, 1]", name, options.color[k]);
-        const bool mirrored = glm::determinant(glm::dmat3(transform)) < 0.0;
-
-        std::vector<glm::dvec3> local_world(object.positions.size());
-        for (std::size_t v = 0; v < object.positions.size(); ++v) {
-            glm::dvec4 p = transform * glm::dvec4(glm::dvec3(object.positions[v]), 1.0);
-            local_world[v] = glm::dvec3(p) / p.w;
-            if (!std::isfinite(local_world[v].x) || !std::isfinite(local_world[v].y) ||
-                !std::isfinite(local_world[v].z) || std::fabs(local_world[v].x) > FLT_MAX ||
-                std::fabs(local_world[v].y) > FLT_MAX || std::fabs(local_world[v].z) > FLT_MAX)
-                throw Error("{}: the transform moves vertex {} to a non-finite position", name, v);
-        }
-
-        // Keep triangles with a well-defined normal that no earlier triangle of the object repeats;
-        // number them in the merged scene. A repeated triangle adds nothing to a picture, but each
-        // copy has edges of its own (the loader gives non-manifold faces their own vertices), which
-        // make the hidden-line algorithms quadratic: 3,388 copies of one face took Appel 10 s.
-        const std::size_t triangle_count = object.indices.size() / 3;
-        const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
-        std::vector<int32_t> new_triangle(triangle_count, -1);
-        SeenTriangles seen(triangle_count);
-        const auto key_of = [&](uint32_t t) { return triangle_key(object.positions, &object.indices[3 * std::size_t(t)]); };
-        std::vector<uint64_t> hashes(triangle_count);
-        in_parallel(triangle_count, 4096, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t t = begin; t < end; ++t) hashes[t] = triangle_key_hash(key_of(uint32_t(t)));
-        });
-        constexpr std::size_t prefetch_ahead = 16;
-        uint32_t kept = 0, without_area = 0, repeated = 0;
-        for (std::size_t t = 0; t < triangle_count; ++t) {
-            if (t + prefetch_ahead < triangle_count) seen.prefetch(hashes[t + prefetch_ahead]);
-            const glm::dvec3& a = local_world[object.indices[3 * t]];
-            const glm::dvec3& b = local_world[object.indices[3 * t + 1]];
-            const glm::dvec3& c = local_world[object.indices[3 * t + 2]];
-            glm::dvec3 n = glm::cross(b - a, c - a);
-            if (mirrored) n = -n;
-            double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-            double length = glm::length(n);
-            if (!(length > 1e-12 * longest * longest) || !std::isfinite(length)) {
-                ++without_area;
-                continue;
-            }
-            if (!seen.insert(uint32_t(t), hashes[t], key_of)) {
-                ++repeated;
-                continue;
-            }
-            new_triangle[t] = static_cast<int32_t>(first_triangle + kept++);
-            normals.push_back(n / length);
-        }
-        if (without_area > 0)
-            scene.warnings.push_back(fmt::format("{}: {} triangle{} without area dropped", object.source,
-                                                 without_area, without_area == 1 ? "" : "s"));
-        if (repeated > 0)
-            scene.warnings.push_back(fmt::format("{}: {} triangle{} repeating an earlier one dropped", object.source,
-                                                 repeated, repeated == 1 ? "" : "s"));
-        if (object.separated_faces > 0)
-            scene.warnings.push_back(fmt::format("{}: {} non-manifold face{} given separate vertices",
-                                                 object.source, object.separated_faces,
-                                                 object.separated_faces == 1 ? "" : "s"));
-
-        // Only vertices of kept triangles enter the scene.
-        std::vector<int64_t> new_vertex(object.positions.size(), -1);
-        for (std::size_t t = 0; t < triangle_count; ++t) {
-            if (new_triangle[t] < 0) continue;
-            std::array<uint32_t, 3> corner;
-            std::array<int32_t, 3> across;
-            for (int k = 0; k < 3; ++k) {
-                uint32_t v = object.indices[3 * t + k];
-                if (new_vertex[v] < 0) {
-                    new_vertex[v] = static_cast<int64_t>(world.size());
-                    world.push_back(local_world[v]);
-                }
-                corner[k] = static_cast<uint32_t>(new_vertex[v]);
-                int32_t neighbor = object.neighbors[3 * t + k];
-                across[k] = neighbor < 0 ? HSR_NO_NEIGHBOR : new_triangle[static_cast<std::size_t>(neighbor)];
-            }
-            if (mirrored) {  // (a, b, c) -> (a, c, b): edges a-c, c-b, b-a were edges 2, 1, 0
-                std::swap(corner[1], corner[2]);
-                std::swap(across[0], across[2]);
-            }
-            scene.indices.insert(scene.indices.end(), corner.begin(), corner.end());
-            scene.edge_neighbors.insert(scene.edge_neighbors.end(), across.begin(), across.end());
-            scene.face_object.push_back(static_cast<uint32_t>(o));
-            scene.face_colors.insert(scene.face_colors.end(), {options.color.r, options.color.g, options.color.b});
-        }
-        for (std::size_t t = first_triangle; t < normals.size(); ++t) push3(scene.face_normals, normals[t]);
-        scene.object_names.push_back(name);
-        crease_cosines.push_back(static_cast<float>(std::cos(glm::radians(double(options.crease_angle_degrees)))));
+        add_object(objects_[o], static_cast<uint32_t>(o), scene, world, normals);
+        const double crease_angle = double(objects_[o].options.crease_angle_degrees);
+        crease_cosines.push_back(static_cast<float>(std::cos(glm::radians(crease_angle))));
     }
     if (scene.indices.empty()) throw Error("the scene has no triangles");
-
-    scene.positions.reserve(3 * world.size());
-    for (const glm::dvec3& p : world) push3(scene.positions, p);
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec3& p : world) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    scene.bounds_min = glm::vec3(lo);
-    scene.bounds_max = glm::vec3(hi);
-
-    // Corner normals: for each vertex, the (triangle, corner) pairs around it.
-    const std::size_t triangles = scene.triangle_count();
-    std::vector<uint32_t> start(world.size() + 1, 0);
-    for (uint32_t v : scene.indices) ++start[v + 1];
-    for (std::size_t v = 0; v < world.size(); ++v) start[v + 1] += start[v];
-    std::vector<uint32_t> around(scene.indices.size());  // corner ids 3t+k
-    {
-        std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-        for (uint32_t corner = 0; corner < scene.indices.size(); ++corner) around[fill[scene.indices[corner]]++] = corner;
-    }
-    const auto angle_at = [&](uint32_t corner) {
-        const std::size_t t = corner / 3, k = corner % 3;
-        return corner_angle(world[scene.indices[3 * t + k]], world[scene.indices[3 * t + (k + 1) % 3]],
-                            world[scene.indices[3 * t + (k + 2) % 3]]);
-    };
-    // Vertex by vertex (its corners all belong to one object, so share one crease limit): the
-    // normals and angles of its corners side by side, which pairs of them are within the crease
-    // angle (each pair tested once, the test being symmetric), and the sum over all of them, which
-    // is each corner's sum unless some face is beyond its crease. Every sum adds its terms in the
-    // order of `around`.
-    scene.corner_normals.resize(9 * triangles);
-    in_parallel(world.size(), 2048, [&](std::size_t begin, std::size_t end) {
-        std::vector<glm::dvec3> fan_normals;
-        std::vector<double> fan_angles;
-        std::vector<uint64_t> beyond_crease;  // per corner of the fan: bit j for corner j (fans up to 64)
-        for (std::size_t v = begin; v < end; ++v) {
-            const uint32_t first = start[v], count = start[v + 1] - start[v];
-            if (count == 0) continue;
-            if (fan_normals.size() < count) {
-                fan_normals.resize(count);
-                fan_angles.resize(count);
-            }
-            for (uint32_t i = 0; i < count; ++i) {
-                fan_normals[i] = normals[around[first + i] / 3];
-                fan_angles[i] = angle_at(around[first + i]);
-            }
-            const double limit = static_cast<double>(crease_cosines[scene.face_object[around[first] / 3]]) - 1e-6;
-            auto store = [&](uint32_t corner, glm::dvec3 sum) {
-                const double length = glm::length(sum);
-                const glm::dvec3 n = length > 1e-12 ? sum / length : normals[corner / 3];
-                for (int k = 0; k < 3; ++k)
-                    scene.corner_normals[3 * std::size_t(corner) + k] = static_cast<float>(n[k]);
-            };
-            if (count > 64) {
-                for (uint32_t i = 0; i < count; ++i) {
-                    glm::dvec3 sum(0.0);
-                    for (uint32_t j = 0; j < count; ++j)
-                        if (glm::dot(fan_normals[i], fan_normals[j]) >= limit) sum += fan_angles[j] * fan_normals[j];
-                    store(around[first + i], sum);
-                }
-                continue;
-            }
-            beyond_crease.assign(count, 0);
-            for (uint32_t i = 0; i < count; ++i)
-                for (uint32_t j = i; j < count; ++j)
-                    if (!(glm::dot(fan_normals[i], fan_normals[j]) >= limit)) {
-                        beyond_crease[i] |= uint64_t(1) << j;
-                        beyond_crease[j] |= uint64_t(1) << i;
-                    }
-            glm::dvec3 all(0.0);
-            for (uint32_t j = 0; j < count; ++j) all += fan_angles[j] * fan_normals[j];
-            for (uint32_t i = 0; i < count; ++i) {
-                glm::dvec3 sum = all;
-                if (beyond_crease[i] != 0) {
-                    sum = glm::dvec3(0.0);
-                    for (uint32_t j = 0; j < count; ++j)
-                        if (!(beyond_crease[i] >> j & 1)) sum += fan_angles[j] * fan_normals[j];
-                }
-                store(around[first + i], sum);
-            }
-        }
-    });
+    set_positions(world, scene);
+    set_corner_normals(world, normals, crease_cosines, scene);
     return scene;
 }
 

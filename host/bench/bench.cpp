@@ -45,8 +45,6 @@ namespace {
 
 using hsr::host::UsageError;
 
-constexpr const char* default_light = "dir:-0.5,0.6,1";
-
 // The items of a comma-separated option. An option given with no item ("", ",") is a mistake, not a
 // request for the default list.
 std::vector<std::string> split_list(const std::string& text, const char* option) {
@@ -202,123 +200,147 @@ hsr_camera bench_camera(const PreparedModel& model, uint32_t width, uint32_t hei
     }
 }
 
-}  // namespace
+using Size = std::pair<uint32_t, uint32_t>;  // width, height
 
-int hsr::host::run_bench(const std::vector<std::string>& args) {
+// The command line as given, with --quick's defaults for what it leaves out.
+struct BenchOptions {
     std::string algorithms_list, models_list, sizes_list = "1024", lighting_text = "blinn-phong";
     std::vector<std::string> algorithm_specs, plugin_dirs, limit_settings;
     std::string csv_path, svg_path, png_path, models_dir_text;
     int64_t repetitions = 5, warmup = 1, threads = 0;
     bool quick = false, vs_llvmpipe = false;
+    po::variables_map vm;
 
+    // Whether the option is on the command line (not just at its default).
+    bool given(const char* option) const { return vm.count(option) && !vm[option].defaulted(); }
+};
+
+// The options of hsr bench, each stored in its field of o.
+po::options_description describe_options(BenchOptions& o) {
     po::options_description options(
         "hsr bench [options]: time hidden-surface plugins on models and deep scenes\n"
         "(render time = the hidden-surface plugin's visibility call, without loading, camera setup,\n"
         "image writing, or the acceleration-structure build a plugin reports; medians over repetitions)");
     options.add_options()
         ("help,h", "show this help")
-        ("algorithms", po::value(&algorithms_list),
+        ("algorithms", po::value(&o.algorithms_list),
          "hidden-surface plugins, comma-separated (default: every one found)")
-        ("algorithm,a", po::value(&algorithm_specs)->composing(),
+        ("algorithm,a", po::value(&o.algorithm_specs)->composing(),
          "one more, with parameters: NAME[:key=value,...] (repeatable)")
-        ("models", po::value(&models_list),
+        ("models", po::value(&o.models_list),
          "comma-separated: cube, monkey, bunny, NAME-loop (Loop-subdivided), deep-N[:NAME] (N layers of "
          "NAME, default monkey), random-N[:SEED] (N random triangles, seed 1 unless given), or file paths "
          "(default: cube,monkey,bunny,bunny-loop,deep-3,deep-24,deep-63, the deep ones at depth complexity "
          "4.7, 20.3, 49.8)")
-        ("sizes", po::value(&sizes_list)->default_value("1024"), "image sizes, comma-separated: 512,1024 or 800x600")
-        ("repetitions,r", po::value(&repetitions)->default_value(5), "timed runs of each measurement")
-        ("warmup,w", po::value(&warmup)->default_value(1), "untimed runs first (caches, acceleration structures)")
-        ("lighting,l", po::value(&lighting_text)->default_value("blinn-phong"), "lighting plugin: NAME[:key=value,...]")
-        ("csv", po::value(&csv_path), "write every number to this CSV file")
-        ("svg", po::value(&svg_path), "plot render time against face count to this SVG file")
-        ("png", po::value(&png_path), "the same plot as a PNG image")
-        ("quick", po::bool_switch(&quick),
+        ("sizes", po::value(&o.sizes_list)->default_value("1024"), "image sizes, comma-separated: 512,1024 or 800x600")
+        ("repetitions,r", po::value(&o.repetitions)->default_value(5), "timed runs of each measurement")
+        ("warmup,w", po::value(&o.warmup)->default_value(1), "untimed runs first (caches, acceleration structures)")
+        ("lighting,l", po::value(&o.lighting_text)->default_value("blinn-phong"), "lighting plugin: NAME[:key=value,...]")
+        ("csv", po::value(&o.csv_path), "write every number to this CSV file")
+        ("svg", po::value(&o.svg_path), "plot render time against face count to this SVG file")
+        ("png", po::value(&o.png_path), "the same plot as a PNG image")
+        ("quick", po::bool_switch(&o.quick),
          "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
-        ("threads", po::value(&threads)->default_value(0), "threads for loading, visibility and shading (0 = one per core)")
-        ("vs-llvmpipe", po::bool_switch(&vs_llvmpipe),
+        ("threads", po::value(&o.threads)->default_value(0), "threads for loading, visibility and shading (0 = one per core)")
+        ("vs-llvmpipe", po::bool_switch(&o.vs_llvmpipe),
          "also draw each scene with Mesa's llvmpipe (build/hsr-llvmpipe, -DHSR_LLVMPIPE=ON) and print both "
          "frame times and their ratio (zbuffer + blinn-phong; default algorithm zbuffer only)")
-        ("models-dir", po::value(&models_dir_text), "folder of the named models (default: ./models or the source tree's)")
-        ("plugin-path", po::value(&plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
-        ("limit", po::value(&limit_settings)->composing(), hsr::describe_limit_option().c_str());
-    po::variables_map vm;
+        ("models-dir", po::value(&o.models_dir_text), "folder of the named models (default: ./models or the source tree's)")
+        ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
+        ("limit", po::value(&o.limit_settings)->composing(), hsr::describe_limit_option().c_str());
+    return options;
+}
+
+// The command line read; nullopt once --help has printed the options.
+std::optional<BenchOptions> parse_options(const std::vector<std::string>& args) {
+    BenchOptions o;
+    const po::options_description options = describe_options(o);
     const po::parsed_options parsed = po::command_line_parser(args).options(options).run();
-    po::store(parsed, vm);
-    po::notify(vm);
-    if (vm.count("help")) {
+    po::store(parsed, o.vm);
+    po::notify(o.vm);
+    if (o.vm.count("help")) {
         std::cout << options;
-        return 0;
+        return std::nullopt;
     }
     // Words that are not options: program_options would drop them silently and run the default study.
     for (const std::string& word : po::collect_unrecognized(parsed.options, po::include_positional))
         throw UsageError("bench: unexpected argument '{}' (models go in --models)", word);
-    auto given = [&](const char* option) { return vm.count(option) && !vm[option].defaulted(); };
-    if (quick) {
-        if (!given("sizes")) sizes_list = "128";
-        if (!given("repetitions")) repetitions = 3;
+    if (o.quick) {
+        if (!o.given("sizes")) o.sizes_list = "128";
+        if (!o.given("repetitions")) o.repetitions = 3;
     }
-    if (repetitions < 1 || repetitions > 100000) throw UsageError("--repetitions must be between 1 and 100000");
-    if (warmup < 0 || warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
-    if (threads < 0 || threads > hsr::host::kMaxThreads)
+    return o;
+}
+
+// The numbers, limits, sizes and output files checked; returns the sizes.
+std::vector<Size> check_settings(const BenchOptions& o) {
+    if (o.repetitions < 1 || o.repetitions > 100000) throw UsageError("--repetitions must be between 1 and 100000");
+    if (o.warmup < 0 || o.warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
+    if (o.threads < 0 || o.threads > hsr::host::kMaxThreads)
         throw UsageError("--threads must be between 0 and {}", hsr::host::kMaxThreads);
     try {
-        hsr::set_limits(hsr::limits_from_settings(limit_settings));
+        hsr::set_limits(hsr::limits_from_settings(o.limit_settings));
     } catch (const hsr::Error& e) {
         throw UsageError("{}", e.what());
     }
-    std::vector<std::pair<uint32_t, uint32_t>> sizes;
-    for (const std::string& s : split_list(sizes_list, "sizes")) sizes.push_back(parse_size(s));
+    std::vector<Size> sizes;
+    for (const std::string& s : split_list(o.sizes_list, "sizes")) sizes.push_back(parse_size(s));
     refuse_repeats(sizes, [](const auto& size) { return fmt::format("size {}x{}", size.first, size.second); });
     std::vector<hsr::host::OutputFile> outputs;
-    if (given("csv")) outputs.push_back({"csv", csv_path, {".csv"}});
-    if (given("svg")) outputs.push_back({"svg", svg_path, {".svg"}});
-    if (given("png")) outputs.push_back({"png", png_path, {".png"}});
-    check_outputs(outputs);
+    if (o.given("csv")) outputs.push_back({"csv", o.csv_path, {".csv"}});
+    if (o.given("svg")) outputs.push_back({"svg", o.svg_path, {".svg"}});
+    if (o.given("png")) outputs.push_back({"png", o.png_path, {".png"}});
+    hsr::host::check_outputs(outputs);
+    return sizes;
+}
 
-    // Plugins, then models: every name is checked before anything large is loaded.
-    hsr::PluginRegistry registry = scan_plugins(plugin_dirs);
-    std::vector<hsr::PluginSpec> algorithms;
-    // As shown: the name, with its parameters when given.
-    std::vector<std::string> labels = given("algorithms") ? split_list(algorithms_list, "algorithms")
-                                                          : std::vector<std::string>{};
-    labels.insert(labels.end(), algorithm_specs.begin(), algorithm_specs.end());
-    if (labels.empty()) labels = vs_llvmpipe ? std::vector<std::string>{"zbuffer"} : all_algorithms(registry);
+// The algorithms as shown: each name, with its parameters when given.
+std::vector<std::string> algorithm_labels(const BenchOptions& o, const hsr::PluginRegistry& registry) {
+    std::vector<std::string> labels = o.given("algorithms") ? split_list(o.algorithms_list, "algorithms")
+                                                            : std::vector<std::string>{};
+    labels.insert(labels.end(), o.algorithm_specs.begin(), o.algorithm_specs.end());
+    if (labels.empty()) labels = o.vs_llvmpipe ? std::vector<std::string>{"zbuffer"} : all_algorithms(registry);
     if (labels.empty()) throw hsr::Error("no hidden-surface plugins found (see hsr plugins)");
     refuse_repeats(labels, [](const std::string& label) { return fmt::format("algorithm '{}'", label); });
+    return labels;
+}
+
+// The plugins the labels name, with their parameters.
+std::vector<hsr::PluginSpec> algorithm_specs(const std::vector<std::string>& labels,
+                                             const hsr::PluginRegistry& registry) {
+    std::vector<hsr::PluginSpec> algorithms;
     for (const std::string& label : labels) {
         algorithms.push_back(hsr::parse_plugin_spec(label));
         // Unknown names and bad parameters fail here, before any model is loaded.
         hsr::HiddenSurfaceRemover check(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms.back().name),
                                         algorithms.back().settings);
     }
-    const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(lighting_text);
-    const fs::path llvmpipe_program = vs_llvmpipe ? hsr::host::find_llvmpipe_program(labels, lighting_text) : fs::path();
-    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+    return algorithms;
+}
 
-    const std::vector<std::string> model_names = given("models") ? split_list(models_list, "models")
-                                                 : quick                ? hsr::bench::quick_models()
+// The models to time, and the folder of the named ones.
+struct ModelChoice {
+    fs::path models_dir;
+    std::vector<hsr::bench::ModelSpec> models;
+};
+
+ModelChoice model_specs(const BenchOptions& o) {
+    const std::vector<std::string> model_names = o.given("models") ? split_list(o.models_list, "models")
+                                                 : o.quick              ? hsr::bench::quick_models()
                                                                         : hsr::bench::default_models();
     refuse_repeats(model_names, [](const std::string& name) { return fmt::format("model '{}'", name); });
-    const fs::path models_dir = find_models_dir(models_dir_text);
-    std::vector<hsr::bench::ModelSpec> models;
-    for (const std::string& name : model_names) models.push_back(hsr::bench::parse_model_spec(name, models_dir));
+    ModelChoice choice{find_models_dir(o.models_dir_text), {}};
+    for (const std::string& name : model_names)
+        choice.models.push_back(hsr::bench::parse_model_spec(name, choice.models_dir));
+    return choice;
+}
 
-    hsr::bench::TimingSettings timing_settings;
-    timing_settings.warmup = unsigned(warmup);
-    timing_settings.repetitions = unsigned(repetitions);
-    timing_settings.frame.threads = unsigned(threads);
-    const hsr::host::ThreadBound thread_bound(threads);
-    const std::size_t rows = models.size() * sizes.size() * algorithms.size();
-    Progress progress(rows * (timing_settings.warmup + timing_settings.repetitions));
-    std::vector<hsr::bench::Result> results;
-    std::size_t row = 0, scene_index = 0;
-    const std::size_t scenes = models.size() * sizes.size();
-
-    // Every model is loaded and its cameras made before any timing, so that a bad file fails in a
-    // moment rather than after the models before it have been timed. Holding them all is cheap: the
-    // peak is Loop-subdividing the bunny (96 MB alone), the loaded meshes are a few MB and a deep
-    // scene stores its mesh once (`hsr bench -r 1 -w 0`: 110 MB peak). Each is dropped once measured.
+// Every model is loaded and its cameras made before any timing, so that a bad file fails in a
+// moment rather than after the models before it have been timed. Holding them all is cheap: the
+// peak is Loop-subdividing the bunny (96 MB alone), the loaded meshes are a few MB and a deep
+// scene stores its mesh once (`hsr bench -r 1 -w 0`: 110 MB peak). Each is dropped once measured.
+std::vector<PreparedModel> prepare_models(const std::vector<hsr::bench::ModelSpec>& models,
+                                          const std::vector<Size>& sizes, Progress& progress) {
     std::vector<PreparedModel> prepared;
     for (const hsr::bench::ModelSpec& spec : models) {
         progress.loading(spec.name);
@@ -327,106 +349,188 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
         for (const std::string& w : model.renderer->loaded().scene().warnings) progress.message("hsr: warning: " + w);
         for (const auto& [width, height] : sizes) model.cameras.push_back(bench_camera(model, width, height));
     }
+    return prepared;
+}
 
-    for (PreparedModel& model : prepared) {
-        const std::string& name = model.scene.name;
+// The measurements, model after model, size after size, algorithm after algorithm: one row of
+// results each, shown as progress.
+class Study {
+public:
+    Study(const hsr::PluginRegistry& registry, const std::vector<hsr::PluginSpec>& algorithms,
+          const std::vector<std::string>& labels, hsr::LightingModel& lighting,
+          const hsr::bench::TimingSettings& settings, Progress& progress, std::size_t scenes)
+        : registry_(registry), algorithms_(algorithms), labels_(labels), lighting_(lighting), settings_(settings),
+          progress_(progress), scenes_(scenes), rows_(scenes * algorithms.size()) {}
+
+    // Every size of the model; the model is dropped once measured.
+    void measure(PreparedModel& model, const std::vector<Size>& sizes) {
         const hsr_scene view = model.renderer->loaded().scene().view();
-        for (std::size_t size = 0; size < sizes.size(); ++size) {
-            const auto [width, height] = sizes[size];
-            const hsr_camera& camera = model.cameras[size];
-            const std::vector<hsr_light> lights = model.renderer->lights({}, camera);
-            const hsr_shading_context context = hsr::make_shading_context(camera, lights);
-            progress.measuring(fmt::format("depth complexity of {} at {}x{}", name, width, height));
-            const std::optional<hsr::DepthComplexity> depth_complexity = model.renderer->depth_complexity(camera);
-
-            // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
-            // algorithm makes all its calls in a row, warm-up first, as an application rendering frame
-            // after frame would, with the processor caches its own. A plugin that refuses the scene (an
-            // error from any of its calls) is shown as n/a with its reason; the others are still timed.
-            std::vector<hsr::bench::Timing> timings;
-            std::vector<std::string> refusals(algorithms.size());
-            ++scene_index;
-            for (std::size_t a = 0; a < algorithms.size(); ++a) {
-                const unsigned calls = timing_settings.warmup + timing_settings.repetitions;
-                unsigned made = 0;
-                timings.emplace_back();
-                try {
-                    hsr::HiddenSurfaceRemover remover(
-                        registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms[a].name), algorithms[a].settings);
-                    hsr::bench::FrameTimer timer(view, camera, remover, lighting, context, timing_settings);
-                    for (; made < calls; ++made) {
-                        const bool warm = made < timing_settings.warmup;
-                        progress.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index, scenes, name, width,
-                                                  height, labels[a], warm ? "warm-up" : "run",
-                                                  warm ? made + 1 : made + 1 - timing_settings.warmup,
-                                                  warm ? timing_settings.warmup : timing_settings.repetitions));
-                        timer.call();
-                        progress.advance();
-                    }
-                    timings.back() = timer.timing();
-                } catch (const hsr::Error& e) {
-                    refusals[a] = e.what();
-                    for (; made < calls; ++made) progress.advance();
-                }
-            }
-
-            for (std::size_t a = 0; a < algorithms.size(); ++a) {
-                ++row;
-                if (!refusals[a].empty()) {
-                    hsr::bench::Result result;
-                    result.algorithm = labels[a];
-                    result.model = name;
-                    result.width = width;
-                    result.height = height;
-                    result.faces = hsr::drawn_triangle_count(view);
-                    result.stored_faces = view.triangle_count;
-                    result.instances = view.instance_count;
-                    if (depth_complexity) {
-                        result.depth_complexity = depth_complexity->mean_over_covered();
-                        result.depth_complexity_max = depth_complexity->max;
-                    }
-                    result.refused = refusals[a];
-                    progress.row(fmt::format("[{}/{}] {} on {} {}x{}: n/a: {}", row, rows, labels[a], name, width,
-                                             height, result.refused));
-                    results.push_back(std::move(result));
-                    continue;
-                }
-                hsr::bench::Result result = hsr::bench::make_result(labels[a], name, view, camera, timings[a],
-                                                                    timing_settings.warmup, depth_complexity);
-                result.layers = model.scene.layers;
-                result.zoom = model.scene.camera.zoom;
-                progress.row(fmt::format("[{}/{}] {} on {} {}x{}: {} ms [{}-{}]{}", row, rows, labels[a], name, width,
-                                         height, ms(result.visibility.median), ms(result.visibility.min),
-                                         ms(result.visibility.max),
-                                         result.build_ms > 0 ? fmt::format(" + {} ms build", ms(result.build_ms)) : ""));
-                results.push_back(std::move(result));
-            }
-        }
+        for (std::size_t size = 0; size < sizes.size(); ++size) measure_scene(model, view, size, sizes[size]);
         model = {};
     }
-    progress.finish();
 
+    std::vector<hsr::bench::Result>& results() { return results_; }
+
+private:
+    // One scene at one size, as every algorithm sees it.
+    struct Shot {
+        const std::string& name;
+        const hsr_scene& view;
+        const hsr_camera& camera;
+        uint32_t width, height;
+    };
+
+    void measure_scene(const PreparedModel& model, const hsr_scene& view, std::size_t size, Size pixels) {
+        const auto [width, height] = pixels;
+        const Shot shot{model.scene.name, view, model.cameras[size], width, height};
+        const std::vector<hsr_light> lights = model.renderer->lights({}, shot.camera);
+        const hsr_shading_context context = hsr::make_shading_context(shot.camera, lights);
+        progress_.measuring(fmt::format("depth complexity of {} at {}x{}", shot.name, width, height));
+        const std::optional<hsr::DepthComplexity> depth_complexity = model.renderer->depth_complexity(shot.camera);
+
+        // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
+        // algorithm makes all its calls in a row, warm-up first, as an application rendering frame
+        // after frame would, with the processor caches its own. A plugin that refuses the scene (an
+        // error from any of its calls) is shown as n/a with its reason; the others are still timed.
+        std::vector<hsr::bench::Timing> timings;
+        std::vector<std::string> refusals(algorithms_.size());
+        ++scene_index_;
+        for (std::size_t a = 0; a < algorithms_.size(); ++a)
+            refusals[a] = time_algorithm(a, shot, context, timings.emplace_back());
+
+        for (std::size_t a = 0; a < algorithms_.size(); ++a) {
+            ++row_;
+            if (refusals[a].empty())
+                add_measured_row(a, model, shot, timings[a], depth_complexity);
+            else
+                add_refused_row(a, shot, refusals[a], depth_complexity);
+        }
+    }
+
+    // Algorithm a's calls on the shot into timing; returns the error that refused it, or "".
+    std::string time_algorithm(std::size_t a, const Shot& shot, const hsr_shading_context& context,
+                               hsr::bench::Timing& timing) {
+        const unsigned calls = settings_.warmup + settings_.repetitions;
+        unsigned made = 0;
+        try {
+            hsr::HiddenSurfaceRemover remover(registry_.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms_[a].name),
+                                              algorithms_[a].settings);
+            hsr::bench::FrameTimer timer(shot.view, shot.camera, remover, lighting_, context, settings_);
+            for (; made < calls; ++made) {
+                const bool warm = made < settings_.warmup;
+                progress_.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index_, scenes_, shot.name,
+                                           shot.width, shot.height, labels_[a], warm ? "warm-up" : "run",
+                                           warm ? made + 1 : made + 1 - settings_.warmup,
+                                           warm ? settings_.warmup : settings_.repetitions));
+                timer.call();
+                progress_.advance();
+            }
+            timing = timer.timing();
+        } catch (const hsr::Error& e) {
+            for (; made < calls; ++made) progress_.advance();
+            return e.what();
+        }
+        return {};
+    }
+
+    void add_refused_row(std::size_t a, const Shot& shot, const std::string& refusal,
+                         const std::optional<hsr::DepthComplexity>& depth_complexity) {
+        hsr::bench::Result result;
+        result.algorithm = labels_[a];
+        result.model = shot.name;
+        result.width = shot.width;
+        result.height = shot.height;
+        result.faces = hsr::drawn_triangle_count(shot.view);
+        result.stored_faces = shot.view.triangle_count;
+        result.instances = shot.view.instance_count;
+        if (depth_complexity) {
+            result.depth_complexity = depth_complexity->mean_over_covered();
+            result.depth_complexity_max = depth_complexity->max;
+        }
+        result.refused = refusal;
+        progress_.row(fmt::format("[{}/{}] {} on {} {}x{}: n/a: {}", row_, rows_, labels_[a], shot.name, shot.width,
+                                  shot.height, result.refused));
+        results_.push_back(std::move(result));
+    }
+
+    void add_measured_row(std::size_t a, const PreparedModel& model, const Shot& shot,
+                          const hsr::bench::Timing& timing, const std::optional<hsr::DepthComplexity>& depth_complexity) {
+        hsr::bench::Result result = hsr::bench::make_result(labels_[a], shot.name, shot.view, shot.camera, timing,
+                                                            settings_.warmup, depth_complexity);
+        result.layers = model.scene.layers;
+        result.zoom = model.scene.camera.zoom;
+        progress_.row(fmt::format("[{}/{}] {} on {} {}x{}: {} ms [{}-{}]{}", row_, rows_, labels_[a], shot.name,
+                                  shot.width, shot.height, ms(result.visibility.median), ms(result.visibility.min),
+                                  ms(result.visibility.max),
+                                  result.build_ms > 0 ? fmt::format(" + {} ms build", ms(result.build_ms)) : ""));
+        results_.push_back(std::move(result));
+    }
+
+    const hsr::PluginRegistry& registry_;
+    const std::vector<hsr::PluginSpec>& algorithms_;
+    const std::vector<std::string>& labels_;
+    hsr::LightingModel& lighting_;
+    const hsr::bench::TimingSettings& settings_;
+    Progress& progress_;
+    const std::size_t scenes_, rows_;
+    std::size_t row_ = 0, scene_index_ = 0;
+    std::vector<hsr::bench::Result> results_;
+};
+
+// The table on stdout, then the files asked for. Written only once the results are ready, and
+// replaced together once all are written: neither a run nor a writer that fails leaves an existing
+// file changed. The CSV and the plot hold what was measured; the table also shows what was refused.
+void report(const BenchOptions& o, const std::vector<hsr::bench::Result>& results) {
     std::cout << hsr::bench::format_table(results);
     std::cout.flush();
-    // Written only once the results are ready, and replaced together once all are written: neither a
-    // run nor a writer that fails leaves an existing file changed.
-    // The CSV and the plot hold what was measured; the table also shows what was refused.
     std::vector<hsr::bench::Result> measured;
     for (const hsr::bench::Result& r : results)
         if (r.refused.empty()) measured.push_back(r);
     hsr::AtomicFileSet files;
-    if (given("csv")) hsr::bench::write_csv(files.add(csv_path).stream(), measured);
+    if (o.given("csv")) hsr::bench::write_csv(files.add(o.csv_path).stream(), measured);
     const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(measured);
     using hsr::bench::PlotFormat;
-    if (given("svg")) write_plot(files.add(svg_path).stream(), plots, PlotFormat::svg);
-    if (given("png")) write_plot(files.add(png_path).stream(), plots, PlotFormat::png);
+    if (o.given("svg")) hsr::bench::write_plot(files.add(o.svg_path).stream(), plots, PlotFormat::svg);
+    if (o.given("png")) hsr::bench::write_plot(files.add(o.png_path).stream(), plots, PlotFormat::png);
     files.commit();
-    for (const auto& [option, path] : {std::pair{"csv", &csv_path}, {"svg", &svg_path}, {"png", &png_path}})
-        if (given(option)) std::fprintf(stderr, "wrote %s\n", path->c_str());
-    if (vs_llvmpipe)  // last: the table and files above stand even if llvmpipe fails
-        hsr::host::print_llvmpipe_comparison(llvmpipe_program, results,
-                                             {models_dir, lighting_text, unsigned(warmup), unsigned(repetitions),
-                                              unsigned(threads), plugin_dirs, limit_settings},
-                                             std::cout);
+    for (const auto& [option, path] : {std::pair{"csv", &o.csv_path}, {"svg", &o.svg_path}, {"png", &o.png_path}})
+        if (o.given(option)) std::fprintf(stderr, "wrote %s\n", path->c_str());
+}
+
+}  // namespace
+
+int hsr::host::run_bench(const std::vector<std::string>& args) {
+    const std::optional<BenchOptions> parsed = parse_options(args);
+    if (!parsed) return 0;
+    const BenchOptions& o = *parsed;
+    const std::vector<Size> sizes = check_settings(o);
+
+    // Plugins, then models: every name is checked before anything large is loaded.
+    hsr::PluginRegistry registry = scan_plugins(o.plugin_dirs);
+    const std::vector<std::string> labels = algorithm_labels(o, registry);
+    const std::vector<hsr::PluginSpec> algorithms = algorithm_specs(labels, registry);
+    const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(o.lighting_text);
+    const fs::path llvmpipe_program = o.vs_llvmpipe ? find_llvmpipe_program(labels, o.lighting_text) : fs::path();
+    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+    const ModelChoice choice = model_specs(o);
+
+    hsr::bench::TimingSettings timing_settings;
+    timing_settings.warmup = unsigned(o.warmup);
+    timing_settings.repetitions = unsigned(o.repetitions);
+    timing_settings.frame.threads = unsigned(o.threads);
+    const ThreadBound thread_bound(o.threads);
+    const std::size_t scenes = choice.models.size() * sizes.size();
+    Progress progress(scenes * algorithms.size() * (timing_settings.warmup + timing_settings.repetitions));
+    std::vector<PreparedModel> prepared = prepare_models(choice.models, sizes, progress);
+    Study study(registry, algorithms, labels, lighting, timing_settings, progress, scenes);
+    for (PreparedModel& model : prepared) study.measure(model, sizes);
+    progress.finish();
+
+    report(o, study.results());
+    if (o.vs_llvmpipe)  // last: the table and files above stand even if llvmpipe fails
+        print_llvmpipe_comparison(llvmpipe_program, study.results(),
+                                  {choice.models_dir, o.lighting_text, unsigned(o.warmup), unsigned(o.repetitions),
+                                   unsigned(o.threads), o.plugin_dirs, o.limit_settings},
+                                  std::cout);
     return 0;
 }

@@ -72,21 +72,37 @@ void BodyBuilder::build(const hsr::sdk::Scene& scene, BodySet& out) {
 
 void BodyBuilder::build_body(const hsr::sdk::Scene& scene, uint32_t object, BodySet& out) {
     const hsr_scene& s = scene.raw();
-    const uint32_t* const triangles = object_triangles_.data() + object_offsets_[object];
-    const uint32_t triangle_count = object_offsets_[object + 1] - object_offsets_[object];
+    const std::span<const uint32_t> triangles(object_triangles_.data() + object_offsets_[object],
+                                              object_offsets_[object + 1] - object_offsets_[object]);
 
     Body body;
     body.object = object;
-    body.first_vertex = uint32_t(out.vertices.size());
+    gather_vertices(s, triangles, body, out);
+    const double outward = orient(s, triangles, body);
+    check_convex_edges(s, triangles, body);
+    check_closed(s, object, triangles);
+    check_connected(s, object, triangles);
+    grow_faces(s, triangles, outward, body, out);
+    if (body.plane_count == 0) refuse("object %u has no volume: all its triangles have zero area", object);
+    place_thin_triangles(s, triangles, body, out);
+    check_inside(body, out);
+    check_convex_globally(s, body, out);
 
-    // Distinct vertices, bounds, mean (the interior point of a convex body).
+    out.body_of_object[object] = uint32_t(out.bodies.size());
+    out.bodies.push_back(body);
+}
+
+// Distinct vertices, bounds, mean (the interior point of a convex body).
+void BodyBuilder::gather_vertices(const hsr_scene& s, std::span<const uint32_t> triangles, Body& body, BodySet& out) {
+    const uint32_t object = body.object;
+    body.first_vertex = uint32_t(out.vertices.size());
     glm::dvec3 sum(0.0);
     double largest_coordinate = 0;
     body.box_min = glm::dvec3(std::numeric_limits<double>::infinity());
     body.box_max = -body.box_min;
-    for (uint32_t k = 0; k < triangle_count; ++k)
+    for (const uint32_t t : triangles)
         for (int c = 0; c < 3; ++c) {
-            const uint32_t v = s.indices[3 * size_t(triangles[k]) + c];
+            const uint32_t v = s.indices[3 * size_t(t) + c];
             if (vertex_stamp_[v] == object) continue;
             vertex_stamp_[v] = object;
             out.vertices.push_back(v);
@@ -103,30 +119,33 @@ void BodyBuilder::build_body(const hsr::sdk::Scene& scene, uint32_t object, Body
     // well above that and well below anything a user would model on purpose.
     body.tolerance = 1e-5 * size + 1e-6 * largest_coordinate;
     body.shrink = 1e-6 * size + 1e-6 * largest_coordinate;
+}
 
-    // Orientation: the scene's front side is counter-clockwise; a body given inside out has a
-    // negative signed volume and its triangle normals point inward.
+// Orientation: the scene's front side is counter-clockwise; a body given inside out has a
+// negative signed volume and its triangle normals point inward. Returns the sign that turns the
+// counter-clockwise normals outward, having stored the outward unit normals.
+double BodyBuilder::orient(const hsr_scene& s, std::span<const uint32_t> triangles, const Body& body) {
     double six_volume = 0;
-    for (uint32_t k = 0; k < triangle_count; ++k) {
-        const uint32_t t = triangles[k];
+    for (const uint32_t t : triangles)
         six_volume += glm::dot(corner(s, t, 0) - body.interior_point,
                                glm::cross(corner(s, t, 1) - body.interior_point, corner(s, t, 2) - body.interior_point));
-    }
     const double outward = six_volume < 0 ? -1.0 : 1.0;
+    const double size = glm::length(body.box_max - body.box_min);
     const double degenerate_area = 1e-24 * size * size + 1e-300;
-    for (uint32_t k = 0; k < triangle_count; ++k) {
-        const uint32_t t = triangles[k];
+    for (const uint32_t t : triangles) {
         const glm::dvec3 n = area_normal(s, t);
         const double length = glm::length(n);
         unit_normals_[t] = length > degenerate_area ? outward * n / length : glm::dvec3(0.0);
     }
+    return outward;
+}
 
-    // Convex at every edge: across each edge, the neighbour's far corner lies on or inside the
-    // triangle's plane. The worst fold is the one reported.
+// Convex at every edge: across each edge, the neighbour's far corner lies on or inside the
+// triangle's plane. The worst fold is the one reported.
+void BodyBuilder::check_convex_edges(const hsr_scene& s, std::span<const uint32_t> triangles, const Body& body) const {
     double worst_outside = body.tolerance;
     uint32_t worst_vertex = 0, worst_triangle = 0;
-    for (uint32_t k = 0; k < triangle_count; ++k) {
-        const uint32_t t = triangles[k];
+    for (const uint32_t t : triangles) {
         if (unit_normals_[t] == glm::dvec3(0.0)) continue;
         for (int i = 0; i < 3; ++i) {
             const uint32_t a = s.indices[3 * size_t(t) + i], b = s.indices[3 * size_t(t) + (i + 1) % 3];
@@ -149,12 +168,13 @@ void BodyBuilder::build_body(const hsr::sdk::Scene& scene, uint32_t object, Body
         refuse("object %u is not convex: vertex %u at (%g, %g, %g) lies %g outside the plane of the face containing "
                "triangle %u (tolerance %g); Roberts' algorithm takes convex bodies only: give each convex part as an "
                "object of its own",
-               object, worst_vertex, p.x, p.y, p.z, worst_outside, worst_triangle, body.tolerance);
+               body.object, worst_vertex, p.x, p.y, p.z, worst_outside, worst_triangle, body.tolerance);
     }
+}
 
-    // Closed: every edge has a face of the same object on either side.
-    for (uint32_t k = 0; k < triangle_count; ++k) {
-        const uint32_t t = triangles[k];
+// Closed: every edge has a face of the same object on either side.
+void BodyBuilder::check_closed(const hsr_scene& s, uint32_t object, std::span<const uint32_t> triangles) {
+    for (const uint32_t t : triangles) {
         for (int i = 0; i < 3; ++i) {
             const int32_t neighbor = s.edge_neighbors[3 * size_t(t) + i];
             if (neighbor == HSR_NO_NEIGHBOR)
@@ -167,15 +187,17 @@ void BodyBuilder::build_body(const hsr::sdk::Scene& scene, uint32_t object, Body
                        object, t, neighbor, s.face_object[uint32_t(neighbor)]);
         }
     }
+}
 
-    // One connected surface (two boxes given as one object are two bodies).
+// One connected surface (two boxes given as one object are two bodies).
+void BodyBuilder::check_connected(const hsr_scene& s, uint32_t object, std::span<const uint32_t> triangles) {
     uint32_t components = 0;
-    for (uint32_t k = 0; k < triangle_count; ++k) {
-        if (triangle_stamp_[triangles[k]] == object) continue;
+    for (const uint32_t first : triangles) {
+        if (triangle_stamp_[first] == object) continue;
         ++components;
         stack_.clear();
-        stack_.push_back(triangles[k]);
-        triangle_stamp_[triangles[k]] = object;
+        stack_.push_back(first);
+        triangle_stamp_[first] = object;
         while (!stack_.empty()) {
             const uint32_t t = stack_.back();
             stack_.pop_back();
@@ -191,12 +213,14 @@ void BodyBuilder::build_body(const hsr::sdk::Scene& scene, uint32_t object, Body
         refuse("object %u is not one convex body: it is made of %u separate closed surfaces; give each as an object of "
                "its own",
                object, components);
+}
 
-    // Faces: grow each from a first triangle over neighbours lying in its plane. A convex face is
-    // connected, so this finds it whole; the seed's plane is the reference, so no drift builds up.
+// Faces: grow each from a first triangle over neighbours lying in its plane. A convex face is
+// connected, so this finds it whole; the seed's plane is the reference, so no drift builds up.
+void BodyBuilder::grow_faces(const hsr_scene& s, std::span<const uint32_t> triangles, double outward, Body& body,
+                             BodySet& out) {
     body.first_plane = uint32_t(out.planes.size());
-    for (uint32_t k = 0; k < triangle_count; ++k) {
-        const uint32_t seed = triangles[k];
+    for (const uint32_t seed : triangles) {
         if (out.plane_of_triangle[seed] != kNoPlane || unit_normals_[seed] == glm::dvec3(0.0)) continue;
         const uint32_t plane = uint32_t(out.planes.size());
         const glm::dvec3 seed_normal = unit_normals_[seed];
@@ -232,10 +256,12 @@ void BodyBuilder::build_body(const hsr::sdk::Scene& scene, uint32_t object, Body
         out.plane_face.push_back(seed);
     }
     body.plane_count = uint32_t(out.planes.size()) - body.first_plane;
-    if (body.plane_count == 0) refuse("object %u has no volume: all its triangles have zero area", object);
-    // Triangles too thin to have a normal go with a neighbour's face.
-    for (uint32_t k = 0; k < triangle_count; ++k) {
-        const uint32_t t = triangles[k];
+}
+
+// Triangles too thin to have a normal go with a neighbour's face.
+void BodyBuilder::place_thin_triangles(const hsr_scene& s, std::span<const uint32_t> triangles, const Body& body,
+                                       BodySet& out) {
+    for (const uint32_t t : triangles) {
         if (out.plane_of_triangle[t] != kNoPlane) continue;
         uint32_t plane = body.first_plane;
         for (int i = 0; i < 3; ++i) {
@@ -244,35 +270,35 @@ void BodyBuilder::build_body(const hsr::sdk::Scene& scene, uint32_t object, Body
         }
         out.plane_of_triangle[t] = plane;
     }
+}
 
-    // The interior point must lie inside every plane by more than the tolerance (else the body is
-    // flat or too thin to tell its sides apart).
+// The interior point must lie inside every plane by more than the tolerance (else the body is
+// flat or too thin to tell its sides apart).
+void BodyBuilder::check_inside(const Body& body, const BodySet& out) {
     for (uint32_t j = body.first_plane; j < body.first_plane + body.plane_count; ++j) {
         const double depth = glm::dot(out.planes[j], glm::dvec4(body.interior_point, 1.0));
         if (depth <= body.tolerance)
             refuse("object %u has no volume: its vertices lie within %g of the plane of the face containing triangle %u "
                    "(tolerance %g); Roberts' algorithm takes solid convex bodies",
-                   object, depth, out.plane_face[j], body.tolerance);
+                   body.object, depth, out.plane_face[j], body.tolerance);
     }
+}
 
-    // Convex as a whole: every vertex on the inner side of every plane.
-    if (double(body.plane_count) * double(body.vertex_count) <= kGlobalCheckBudget) {
-        for (uint32_t j = body.first_plane; j < body.first_plane + body.plane_count; ++j) {
-            const glm::dvec4 column = out.planes[j];
-            for (uint32_t k = body.first_vertex; k < body.first_vertex + body.vertex_count; ++k) {
-                const glm::dvec3 p = position(s, out.vertices[k]);
-                const double value = glm::dot(column, glm::dvec4(p, 1.0));
-                if (value < -body.tolerance)
-                    refuse("object %u is not convex: vertex %u at (%g, %g, %g) lies %g outside the plane of the face "
-                           "containing triangle %u (tolerance %g); Roberts' algorithm takes convex bodies only: give each "
-                           "convex part as an object of its own",
-                           object, out.vertices[k], p.x, p.y, p.z, -value, out.plane_face[j], body.tolerance);
-            }
+// Convex as a whole: every vertex on the inner side of every plane (skipped above a budget).
+void BodyBuilder::check_convex_globally(const hsr_scene& s, const Body& body, const BodySet& out) {
+    if (double(body.plane_count) * double(body.vertex_count) > kGlobalCheckBudget) return;
+    for (uint32_t j = body.first_plane; j < body.first_plane + body.plane_count; ++j) {
+        const glm::dvec4 column = out.planes[j];
+        for (uint32_t k = body.first_vertex; k < body.first_vertex + body.vertex_count; ++k) {
+            const glm::dvec3 p = position(s, out.vertices[k]);
+            const double value = glm::dot(column, glm::dvec4(p, 1.0));
+            if (value < -body.tolerance)
+                refuse("object %u is not convex: vertex %u at (%g, %g, %g) lies %g outside the plane of the face "
+                       "containing triangle %u (tolerance %g); Roberts' algorithm takes convex bodies only: give each "
+                       "convex part as an object of its own",
+                       body.object, out.vertices[k], p.x, p.y, p.z, -value, out.plane_face[j], body.tolerance);
         }
     }
-
-    out.body_of_object[object] = uint32_t(out.bodies.size());
-    out.bodies.push_back(body);
 }
 
 }  // namespace roberts

@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace roberts {
@@ -55,6 +56,17 @@ public:
 
 private:
     void build_body(const hsr::sdk::Scene& scene, uint32_t object, BodySet& out);
+    // Its phases, in order, on the object's triangles; each check refuse()s what fails it.
+    void gather_vertices(const hsr_scene& s, std::span<const uint32_t> triangles, Body& body, BodySet& out);
+    double orient(const hsr_scene& s, std::span<const uint32_t> triangles, const Body& body);
+    void check_convex_edges(const hsr_scene& s, std::span<const uint32_t> triangles, const Body& body) const;
+    static void check_closed(const hsr_scene& s, uint32_t object, std::span<const uint32_t> triangles);
+    void check_connected(const hsr_scene& s, uint32_t object, std::span<const uint32_t> triangles);
+    void grow_faces(const hsr_scene& s, std::span<const uint32_t> triangles, double outward, Body& body, BodySet& out);
+    static void place_thin_triangles(const hsr_scene& s, std::span<const uint32_t> triangles, const Body& body,
+                                     BodySet& out);
+    static void check_inside(const Body& body, const BodySet& out);
+    static void check_convex_globally(const hsr_scene& s, const Body& body, const BodySet& out);
 
     std::vector<uint32_t> object_offsets_;    // triangles of object o: object_triangles_[offsets[o] .. offsets[o+1])
     std::vector<uint32_t> object_triangles_;
