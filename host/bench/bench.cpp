@@ -182,23 +182,6 @@ struct PreparedModel {
     std::vector<hsr_camera> cameras;  // one per size
 };
 
-// The bench scene's orbit camera at one size, made by the renderer (as make_bench_camera makes it).
-hsr_camera bench_camera(const PreparedModel& model, uint32_t width, uint32_t height) {
-    const hsr::CameraSettings& settings = model.scene.camera;
-    hsr::ViewRequest view;
-    view.width = width;
-    view.height = height;
-    view.yaw_degrees = settings.yaw_degrees;
-    view.pitch_degrees = settings.pitch_degrees;
-    view.zoom = settings.zoom;
-    view.fov_y_degrees = settings.fov_y_degrees;
-    view.orthographic = settings.orthographic;
-    try {
-        return model.renderer->camera(view);
-    } catch (const hsr::Error& e) {
-        throw hsr::Error("model '{}': {}", model.scene.name, e.what());
-    }
-}
 
 using Size = std::pair<uint32_t, uint32_t>;  // width, height
 
@@ -347,7 +330,7 @@ std::vector<PreparedModel> prepare_models(const std::vector<hsr::bench::ModelSpe
         PreparedModel& model = prepared.emplace_back(PreparedModel{hsr::bench::load_bench_scene(spec), {}, {}});
         model.renderer = std::make_shared<hsr::Renderer>(hsr::LoadedScene::of(std::move(model.scene.scene)));
         for (const std::string& w : model.renderer->loaded().scene().warnings) progress.message("hsr: warning: " + w);
-        for (const auto& [width, height] : sizes) model.cameras.push_back(bench_camera(model, width, height));
+        for (const auto& [width, height] : sizes) model.cameras.push_back(hsr::bench::make_bench_camera(*model.renderer, model.scene, width, height));
     }
     return prepared;
 }

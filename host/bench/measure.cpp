@@ -292,15 +292,29 @@ BenchScene load_bench_scene(const ModelSpec& spec, const DeepGrid& grid) {
     return out;
 }
 
-hsr_camera make_bench_camera(const BenchScene& scene, uint32_t width, uint32_t height) {
-    CameraSettings settings = scene.camera;
-    settings.width = width;
-    settings.height = height;
+ViewRequest bench_view(const BenchScene& scene, uint32_t width, uint32_t height) {
+    const CameraSettings& settings = scene.camera;
+    ViewRequest view;
+    view.width = width;
+    view.height = height;
+    view.yaw_degrees = settings.yaw_degrees;
+    view.pitch_degrees = settings.pitch_degrees;
+    view.zoom = settings.zoom;
+    view.fov_y_degrees = settings.fov_y_degrees;
+    view.orthographic = settings.orthographic;
+    return view;
+}
+
+hsr_camera make_bench_camera(const Renderer& renderer, const BenchScene& scene, uint32_t width, uint32_t height) {
     try {
-        return make_orbit_camera(scene.scene.bounds_min, scene.scene.bounds_max, settings);
+        return renderer.camera(bench_view(scene, width, height));
     } catch (const Error& e) {
         throw Error("model '{}': {}", scene.name, e.what());
     }
+}
+
+hsr_camera make_bench_camera(const BenchScene& scene, uint32_t width, uint32_t height) {
+    return make_bench_camera(Renderer(LoadedScene::of(scene.scene)), scene, width, height);
 }
 
 // ---------------------------------------------------------------------------------------------

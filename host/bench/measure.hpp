@@ -81,8 +81,13 @@ struct BenchScene {
     uint32_t layers = 0;    // deep scenes: the layer count
 };
 BenchScene load_bench_scene(const ModelSpec& spec, const DeepGrid& grid = {});
-// The scene's orbit camera at one image size. Throws hsr::Error naming the model when no camera
-// can view it (coordinates so large, ~1e38, that its matrices would overflow).
+// The scene's orbit camera at one image size, as a Renderer's view: the BenchScene's camera
+// settings, nothing of a .scene file but what load_bench_scene took from it.
+ViewRequest bench_view(const BenchScene& scene, uint32_t width, uint32_t height);
+// bench_view's camera, made by a Renderer of the scene's mesh. Throws hsr::Error naming the model
+// when no camera can view it (coordinates so large, ~1e38, that its matrices would overflow).
+hsr_camera make_bench_camera(const Renderer& renderer, const BenchScene& scene, uint32_t width, uint32_t height);
+// The same while the BenchScene still holds its mesh (a Renderer made for a copy of it).
 hsr_camera make_bench_camera(const BenchScene& scene, uint32_t width, uint32_t height);
 
 // The deep scene of `layers` layers, and the zoom at which its front layer fills the view (the

@@ -5,11 +5,10 @@
 // --compare also renders the scene with hsr (zbuffer + the same lighting) and reports how far the
 // two pictures agree; --check makes that a pass/fail test. docs/speed/llvmpipe.md.
 #include "bench/llvmpipe/osmesa_renderer.hpp"
-
-#include "common/options.hpp"  // the default light and background
-
 #include "bench/measure.hpp"
+
 #include "hsr/camera.hpp"
+#include "hsr/defaults.hpp"
 #include "hsr/error.hpp"
 #include "hsr/image.hpp"
 #include "hsr/instancing.hpp"
@@ -17,6 +16,7 @@
 #include "hsr/params.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
+#include "hsr/renderer.hpp"
 #include "hsr/scene_file.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
@@ -43,7 +43,7 @@ namespace {
 
 struct Options {
     std::string model = "bunny", models_dir, size = "1024", lighting = "blinn-phong", algorithm = "zbuffer";
-    std::string png, background = hsr::host::default_background;
+    std::string png, background = hsr::default_background;
     std::vector<std::string> lights, plugin_dirs, limit_settings;
     std::optional<float> yaw, pitch, zoom, fov;
     bool orthographic = false, machine = false, compare = false, check = false;
@@ -200,12 +200,14 @@ int run(const std::vector<std::string>& args) {
     if (o.zoom) bench_scene.camera.zoom = *o.zoom;
     if (o.fov) bench_scene.camera.fov_y_degrees = *o.fov;
     if (o.orthographic) bench_scene.camera.orthographic = true;
-    const hsr_camera camera = hsr::bench::make_bench_camera(bench_scene, width, height);
+    // OSMesa draws plain triangles: the instances copied out, for hsr's frame too.
     if (!bench_scene.scene.instances.empty()) bench_scene.scene = hsr::flatten_instances(bench_scene.scene);
-    const hsr_scene scene = bench_scene.scene.view();
-    std::vector<hsr_light> lights;
-    if (o.lights.empty()) o.lights.push_back(hsr::host::default_light);
-    for (const std::string& spec : o.lights) lights.push_back(hsr::resolve_light(hsr::parse_light_spec(spec), camera));
+    hsr::Renderer hsr_renderer(hsr::LoadedScene::of(std::move(bench_scene.scene)));
+    const hsr_camera camera = hsr::bench::make_bench_camera(hsr_renderer, bench_scene, width, height);
+    const hsr_scene scene = hsr_renderer.loaded().scene().view();
+    std::vector<hsr::LightSpec> light_specs;
+    for (const std::string& spec : o.lights) light_specs.push_back(hsr::parse_light_spec(spec));
+    const std::vector<hsr_light> lights = hsr_renderer.lights(light_specs, camera);
     const hsr_shading_context context = hsr::make_shading_context(camera, lights);
 
     hsr::llvmpipe::OsmesaRenderer renderer(width, height);
@@ -241,10 +243,13 @@ int run(const std::vector<std::string>& args) {
     const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(o.lighting);
     hsr::HiddenSurfaceRemover remover(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithm.name), algorithm.settings);
     hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
-    hsr::FrameSettings frame_settings;
-    frame_settings.background = background;
-    frame_settings.threads = threads;
-    const hsr::Frame frame = hsr::render_frame(scene, camera, remover, lighting, context, frame_settings);
+    hsr::PictureRequest request;
+    request.view = hsr::bench::bench_view(bench_scene, width, height);
+    request.lights = light_specs;
+    request.background = background;
+    request.samples = 1;
+    request.threads = threads;
+    const hsr::Frame frame = hsr_renderer.picture(request, remover, lighting).frame;
     const Agreement a = compare(frame, rgba);
     std::printf("compared with hsr %s: %llu pixels drawn by both, %llu by hsr only, %llu by llvmpipe only "
                 "(%.3f %% of the drawn pixels)\n",
