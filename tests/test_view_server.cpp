@@ -68,6 +68,7 @@ struct RunningServer {
         config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_TEST_PLUGIN_DIR, third_party.string()};
         config.initial_model = root / "models" / "cube.obj";
         config.upload_parent = root;
+        config.worker_executable = fs::path(HSR_BINARY_DIR) / "hsr";
         server = std::make_unique<hsr::host::ViewServer>(config);
         port = server->bind("127.0.0.1", 0);
         thread = std::thread([this] { server->run(); });

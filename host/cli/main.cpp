@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
         if (command == "plugins") return hsr::host::run_plugins(args);
         if (command == "bench") return hsr::host::run_bench(args);
         if (command == "view") return hsr::host::run_view(args);
+        if (command == "view-worker") return hsr::host::run_view_worker(args);
         throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", command);
     } catch (const UsageError& e) {
         std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";

@@ -13,5 +13,7 @@ int run_render(const std::vector<std::string>& args);
 int run_plugins(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 int run_view(const std::vector<std::string>& args);
+// hsr view's worker process (view/server/view_workers.hpp), started by hsr view, not by people.
+int run_view_worker(const std::vector<std::string>& args);
 
 }  // namespace hsr::host

@@ -38,6 +38,9 @@ struct ViewOptions {
     std::vector<std::string> plugin_dirs;
     std::vector<std::string> limits;
     int64_t threads = 0;
+    int64_t workers = 3;
+    double time_limit_seconds = 60;
+    int64_t worker_memory_mib = 8192;
     bool open = false;
 };
 
@@ -54,8 +57,14 @@ po::options_description view_option_descriptions(ViewOptions& o) {
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
         ("limit", po::value(&o.limits)->composing(), hsr::describe_limit_option().c_str())
         ("threads", po::value(&o.threads)->default_value(0),
-         fmt::format("threads for loading, visibility and shading of all requests together, at most {} (0 = one "
-                     "per core)", hsr::host::kMaxThreads).c_str())
+         fmt::format("threads for loading, visibility and shading of each worker, at most {} (0 = one per core)",
+                     hsr::host::kMaxThreads).c_str())
+        ("workers", po::value(&o.workers)->default_value(o.workers),
+         "worker processes that run the plugins, at most this many at once (1 to 64)")
+        ("time-limit", po::value(&o.time_limit_seconds)->default_value(o.time_limit_seconds),
+         "seconds one request may take in a worker before it is stopped and answered with an error")
+        ("worker-memory", po::value(&o.worker_memory_mib)->default_value(o.worker_memory_mib),
+         "MiB of address space of one worker (0: no bound); a plugin that needs more fails in its worker alone")
         ("open", po::bool_switch(&o.open), "open the page in the default browser (xdg-open)");
     return options;
 }
@@ -121,7 +130,11 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
     const auto [host, port] = parse_listen(o.listen);
     if (o.threads < 0 || o.threads > hsr::host::kMaxThreads)
         throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, hsr::host::kMaxThreads);
-    const hsr::host::ThreadBound thread_bound(o.threads);
+    if (o.workers < 1 || o.workers > 64) throw UsageError("--workers {}: expected 1 to 64", o.workers);
+    if (!(o.time_limit_seconds >= 0.1 && o.time_limit_seconds <= 86400))
+        throw UsageError("--time-limit {}: expected 0.1 to 86400 seconds", o.time_limit_seconds);
+    if (o.worker_memory_mib < 0 || o.worker_memory_mib > (int64_t(1) << 30))
+        throw UsageError("--worker-memory {}: expected 0 (no bound) to {} MiB", o.worker_memory_mib, int64_t(1) << 30);
 
     ViewConfig config;
     std::error_code ec;
@@ -141,6 +154,11 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
         config.initial_model = o.model;
     }
     config.plugin_dirs = o.plugin_dirs;
+    config.limits = o.limits;
+    config.threads = o.threads;
+    config.workers = static_cast<std::size_t>(o.workers);
+    config.time_limit = std::chrono::milliseconds(static_cast<int64_t>(o.time_limit_seconds * 1000));
+    config.worker_memory_bytes = static_cast<uint64_t>(o.worker_memory_mib) << 20;
 
     // SIGINT and SIGTERM wait for a thread of their own (sigwait), which stops the server; every
     // thread started from here on inherits the blocked mask.

@@ -48,7 +48,7 @@ struct CachedModel {
 
 // The model as the renderer loads it; a .scene file reads only meshes inside the folders hsr view
 // serves (ModelCatalog::read_policy).
-std::shared_ptr<CachedModel> load_model_entry(const hsr::host::ModelEntry& entry, const hsr::host::ModelCatalog& models) {
+std::shared_ptr<CachedModel> load_model_entry(const hsr::host::ModelEntry& entry, const hsr::ReadPolicy& read_policy) {
     auto cached = std::make_shared<CachedModel>();
     std::error_code ec;
     cached->modified = fs::last_write_time(entry.path, ec);
@@ -57,7 +57,7 @@ std::shared_ptr<CachedModel> load_model_entry(const hsr::host::ModelEntry& entry
     source.model = entry.path;
     source.mesh.crease_angle_degrees = 40;
     try {
-        cached->renderer = std::make_shared<hsr::Renderer>(hsr::LoadedScene::load(source, models.read_policy()));
+        cached->renderer = std::make_shared<hsr::Renderer>(hsr::LoadedScene::load(source, read_policy));
     } catch (const hsr::Error& e) {
         throw ViewError(400, "model", e.what());
     }
@@ -143,20 +143,22 @@ std::string hsr::host::base64(const void* bytes, std::size_t size) {
 
 struct hsr::host::FrameRenderer::State {
     const hsr::PluginRegistry& registry;
-    const ModelCatalog& models;
+    FindModel find_model;
+    hsr::ReadPolicy read_policy;
     std::mutex mutex;  // one frame at a time: plugin instances are never called concurrently
     std::list<std::pair<std::string, std::shared_ptr<CachedModel>>> model_cache;  // most recent first
     std::map<std::string, std::unique_ptr<hsr::HiddenSurfaceRemover>> surface_removers;
     std::map<std::string, std::unique_ptr<hsr::HiddenLineRemover>> line_removers;
     std::map<std::string, std::unique_ptr<hsr::LightingModel>> lighting_models;
 
-    State(const hsr::PluginRegistry& registry, const ModelCatalog& models) : registry(registry), models(models) {}
+    State(const hsr::PluginRegistry& registry, FindModel find_model, hsr::ReadPolicy read_policy)
+        : registry(registry), find_model(std::move(find_model)), read_policy(std::move(read_policy)) {}
 
     std::shared_ptr<CachedModel> model(const std::string& id) {
         for (auto it = model_cache.begin(); it != model_cache.end(); ++it) {
             if (it->first != id) continue;
             std::error_code ec;
-            const ModelEntry entry = models.find(id);  // still listed, and unchanged
+            const ModelEntry entry = find_model(id);  // still listed, and unchanged
             if (entry.bytes == it->second->bytes && fs::last_write_time(entry.path, ec) == it->second->modified) {
                 model_cache.splice(model_cache.begin(), model_cache, it);
                 return model_cache.front().second;
@@ -164,7 +166,7 @@ struct hsr::host::FrameRenderer::State {
             model_cache.erase(it);
             break;
         }
-        std::shared_ptr<CachedModel> loaded = load_model_entry(models.find(id), models);
+        std::shared_ptr<CachedModel> loaded = load_model_entry(find_model(id), read_policy);
         model_cache.emplace_front(id, loaded);
         // The newest stays; older ones go while there are too many or they hold too much.
         uint64_t held = 0;
@@ -368,8 +370,9 @@ struct hsr::host::FrameRenderer::State {
     }
 };
 
-hsr::host::FrameRenderer::FrameRenderer(const hsr::PluginRegistry& registry, const ModelCatalog& models)
-    : state_(std::make_unique<State>(registry, models)) {}
+hsr::host::FrameRenderer::FrameRenderer(const hsr::PluginRegistry& registry, FindModel find_model,
+                                        hsr::ReadPolicy read_policy)
+    : state_(std::make_unique<State>(registry, std::move(find_model), std::move(read_policy))) {}
 
 hsr::host::FrameRenderer::~FrameRenderer() = default;
 

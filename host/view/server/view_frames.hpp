@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -16,7 +17,10 @@ namespace hsr::host {
 
 class FrameRenderer {
 public:
-    FrameRenderer(const hsr::PluginRegistry& registry, const ModelCatalog& models);
+    // find_model: the entry of a model id (ViewError 404 for none); read_policy: what a model's
+    // .scene file may read besides.
+    using FindModel = std::function<ModelEntry(const std::string& id)>;
+    FrameRenderer(const hsr::PluginRegistry& registry, FindModel find_model, hsr::ReadPolicy read_policy);
     ~FrameRenderer();
     FrameRenderer(const FrameRenderer&) = delete;
     FrameRenderer& operator=(const FrameRenderer&) = delete;

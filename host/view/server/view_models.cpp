@@ -158,8 +158,14 @@ std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, co
     return entry.id;
 }
 
-hsr::ReadPolicy hsr::host::ModelCatalog::read_policy() const {
+std::vector<fs::path> hsr::host::ModelCatalog::read_folders() const {
     std::vector<fs::path> folders = folders_;
     folders.push_back(upload_dir_);
+    return folders;
+}
+
+hsr::ReadPolicy hsr::host::ModelCatalog::read_policy() const { return served_read_policy(read_folders()); }
+
+hsr::ReadPolicy hsr::host::served_read_policy(std::vector<fs::path> folders) {
     return hsr::ReadPolicy(std::move(folders), "the folders hsr view serves");
 }

@@ -54,6 +54,8 @@ public:
     // What a model of the catalog may read: files inside the folders and the uploads, links
     // resolved as far as the path exists (a .scene file's meshes, say).
     hsr::ReadPolicy read_policy() const;
+    // The folders of read_policy(): those served, then the uploads'.
+    std::vector<std::filesystem::path> read_folders() const;
 
 private:
     std::vector<std::filesystem::path> folders_;
@@ -62,6 +64,10 @@ private:
     std::map<std::string, ModelEntry> uploads_;
     uint64_t next_upload_ = 1;
 };
+
+// What a model of hsr view may read: files inside these folders, links resolved as far as the path
+// exists.
+hsr::ReadPolicy served_read_policy(std::vector<std::filesystem::path> folders);
 
 // The model file extensions hsr view lists: ".obj", ".off", ".ply", ".stl", ".scene".
 bool is_model_file_name(const std::string& name);

@@ -3,13 +3,12 @@
 // from the file system.
 #include "view/server/view_server.hpp"
 
+#include "common/child_process.hpp"
 #include "common/options.hpp"
-#include "common/plugins.hpp"
 #include "view/server/view_assets.hpp"
-#include "view/server/view_frames.hpp"
 #include "view/server/view_models.hpp"
 #include "view/server/view_request.hpp"
-#include "view/server/view_theory.hpp"
+#include "view/server/view_workers.hpp"
 
 #include "hsr/abi.h"
 #include "hsr/limits.hpp"
@@ -78,54 +77,21 @@ json parse_body(const httplib::Request& req) {
     }
 }
 
-json describe_plugin(const hsr::Plugin& plugin, bool steps) {
-    const hsr_plugin_descriptor& d = plugin.descriptor;
-    json params = json::array();
-    for (uint32_t i = 0; i < d.param_count; ++i) {
-        const hsr_param_desc& p = hsr::param_desc(d, i);
-        json param{{"name", p.name ? p.name : ""}, {"default", p.default_value ? p.default_value : ""},
-                   {"help", p.help ? p.help : ""}};
-        switch (p.type) {
-        case HSR_PARAM_BOOL: param["type"] = "bool"; break;
-        case HSR_PARAM_INT: param["type"] = "int"; break;
-        case HSR_PARAM_FLOAT: param["type"] = "float"; break;
-        case HSR_PARAM_ENUM: param["type"] = "enum"; break;
-        case HSR_PARAM_COLOR: param["type"] = "color"; break;
-        default: param["type"] = "string"; break;
-        }
-        if (p.type == HSR_PARAM_INT || p.type == HSR_PARAM_FLOAT) {
-            param["min"] = p.min;
-            param["max"] = p.max;
-        }
-        if (p.type == HSR_PARAM_ENUM) param["choices"] = hsr::split_choices(p.choices);
-        params.push_back(std::move(param));
-    }
-    return {{"name", d.name},
-            {"version", d.version ? d.version : ""},
-            {"description", d.description ? d.description : ""},
-            {"abi", fmt::format("{}.{}", d.abi_major, d.abi_minor)},
-            {"steps", steps},
-            {"params", std::move(params)}};
-}
-
 }  // namespace
 
 struct hsr::host::ViewServer::State {
     ViewConfig config;
-    hsr::PluginRegistry registry;
     ModelCatalog models;
-    FrameRenderer frames;
-    json plugins;  // GET /api/plugins, made once
+    WorkerPool workers;
     std::optional<std::string> initial_model;
     uint64_t upload_bytes = hsr::limits().upload_bytes;  // the limit in force when the server started
     httplib::Server server;
 
     explicit State(ViewConfig c)
         : config(std::move(c)),
-          registry(scan_plugins(config.plugin_dirs)),
           models(config.model_folders, config.upload_parent.empty() ? fs::temp_directory_path() : config.upload_parent),
-          frames(registry, models) {
-        plugins = describe_plugins();
+          workers(worker_settings(config, models)) {
+        workers.plugins();
         if (!config.initial_model.empty()) {
             std::error_code ec;
             const fs::path wanted = fs::canonical(config.initial_model, ec);
@@ -135,26 +101,51 @@ struct hsr::host::ViewServer::State {
         routes();
     }
 
-    json describe_plugins() {
-        json out{{"hidden_surface", json::array()}, {"hidden_line", json::array()}, {"lighting", json::array()}};
-        for (const hsr::Plugin& p : registry.plugins()) {
-            switch (p.descriptor.kind) {
-            case HSR_KIND_HIDDEN_SURFACE_REMOVER: {
-                // has_steps() is a property of an instance's table; a default instance tells.
-                bool steps = false;
-                try {
-                    steps = hsr::HiddenSurfaceRemover(p, {}).has_steps();
-                } catch (const hsr::Error&) {
-                }
-                out["hidden_surface"].push_back(describe_plugin(p, steps));
-                break;
-            }
-            case HSR_KIND_HIDDEN_LINE_REMOVER: out["hidden_line"].push_back(describe_plugin(p, true)); break;
-            case HSR_KIND_LIGHTING_MODEL: out["lighting"].push_back(describe_plugin(p, false)); break;
-            default: break;
+    static WorkerSettings worker_settings(const ViewConfig& config, const ModelCatalog& models) {
+        WorkerSettings settings;
+        settings.executable = config.worker_executable.empty() ? running_executable() : config.worker_executable;
+        settings.plugin_dirs = config.plugin_dirs;
+        settings.read_folders = models.read_folders();
+        settings.limits = config.limits;
+        settings.threads = config.threads;
+        settings.max_workers = config.workers;
+        settings.time_limit = config.time_limit;
+        settings.memory_bytes = config.worker_memory_bytes;
+        return settings;
+    }
+
+    // The entries of the models a frame or compare request names, for the worker, which opens
+    // nothing else; an id that names no model is left for the worker to answer 404 about.
+    json job_models(const std::vector<const json*>& requests) const {
+        json out = json::object();
+        for (const json* request : requests) {
+            const std::string id = string_field(request, "model");
+            if (id.empty()) continue;
+            try {
+                const ModelEntry entry = models.find(id);
+                out[id] = {{"name", entry.name}, {"path", entry.path.string()}, {"bytes", entry.bytes}, {"scene", entry.scene}};
+            } catch (const ViewError&) {
             }
         }
         return out;
+    }
+
+    // A string field of a request, or "" when there is none.
+    static std::string string_field(const json* request, const char* field) {
+        if (request == nullptr || !request->is_object()) return "";
+        const auto it = request->find(field);
+        return it != request->end() && it->is_string() ? it->get<std::string>() : "";
+    }
+
+    // "rendering 'model' with 'algorithm'", for the messages of a job that went wrong.
+    static std::string doing(const json* request) {
+        return fmt::format("rendering '{}' with '{}'", hsr::printable(string_field(request, "model")),
+                           hsr::printable(string_field(request, "algorithm")));
+    }
+
+    static void send(httplib::Response& res, const Answer& answer) {
+        res.status = answer.status;
+        res.set_content(answer.body, answer.content_type);
     }
 
     // Runs a handler, turning whatever it throws into a JSON error.
@@ -197,10 +188,14 @@ struct hsr::host::ViewServer::State {
             });
         });
         server.Get("/api/plugins", [this](const httplib::Request&, httplib::Response& res) {
-            guarded(res, [&] { send_json(res, 200, plugins); });
+            guarded(res, [&] { send_json(res, 200, workers.plugins()); });
         });
         server.Get(R"(/api/theory/([^/]+))", [this](const httplib::Request& req, httplib::Response& res) {
-            guarded(res, [&] { send_json(res, 200, theory_page(registry, req.matches[1].str())); });
+            guarded(res, [&] {
+                const std::string name = req.matches[1].str();
+                send(res, workers.call({{"op", "theory"}, {"name", name}}, "",
+                                       fmt::format("making the page of '{}'", hsr::printable(name))));
+            });
         });
         server.Post("/api/upload", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
@@ -211,10 +206,26 @@ struct hsr::host::ViewServer::State {
             });
         });
         server.Post("/api/frame", [this](const httplib::Request& req, httplib::Response& res) {
-            guarded(res, [&] { send_json(res, 200, frames.frame(parse_body(req))); });
+            guarded(res, [&] {
+                json request = parse_body(req);
+                json models = job_models({&request});
+                const std::string affinity = string_field(&request, "model");
+                const std::string what = doing(&request);
+                send(res, workers.call({{"op", "frame"}, {"request", std::move(request)}, {"models", std::move(models)}},
+                                       affinity, what));
+            });
         });
         server.Post("/api/compare", [this](const httplib::Request& req, httplib::Response& res) {
-            guarded(res, [&] { send_json(res, 200, frames.compare(parse_body(req))); });
+            guarded(res, [&] {
+                json request = parse_body(req);
+                const json* a = request.is_object() && request.contains("a") ? &request["a"] : nullptr;
+                const json* b = request.is_object() && request.contains("b") ? &request["b"] : nullptr;
+                json models = job_models({a, b});
+                const std::string what = fmt::format("comparing: {} and {}", doing(a), doing(b));
+                const std::string affinity = string_field(a, "model");
+                send(res, workers.call({{"op", "compare"}, {"request", std::move(request)}, {"models", std::move(models)}},
+                                       affinity, what));
+            });
         });
         // What no handler answered (404, 405) and bodies over the limit (413), as JSON too.
         server.set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
@@ -264,6 +275,9 @@ int hsr::host::ViewServer::bind(const std::string& host, int port) {
 
 bool hsr::host::ViewServer::run() { return state_->server.listen_after_bind(); }
 
-void hsr::host::ViewServer::stop() { state_->server.stop(); }
+void hsr::host::ViewServer::stop() {
+    state_->workers.shutdown();
+    state_->server.stop();
+}
 
 std::size_t hsr::host::ViewServer::model_count() const { return state_->models.list().size(); }

@@ -3,8 +3,8 @@
 // class of its own so that a test can start it on a free port, talk to it and stop it.
 #pragma once
 
-#include "hsr/plugin_registry.hpp"
-
+#include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -18,11 +18,19 @@ struct ViewConfig {
     std::vector<std::string> plugin_dirs;              // searched besides the default ones
     std::filesystem::path initial_model;  // a file in one of the folders, or empty: GET /api/info initial_model
     std::filesystem::path upload_parent;               // where the uploads folder is made (default: temp)
+    // The workers that run the plugins (view_workers.hpp).
+    std::filesystem::path worker_executable;           // hsr (default: the running executable)
+    std::vector<std::string> limits;                   // --limit NAME=N, for the workers
+    int64_t threads = 0;                               // --threads of each worker
+    std::size_t workers = 3;                           // at most this many at once
+    std::chrono::milliseconds time_limit{std::chrono::seconds(60)};  // of one request's work
+    uint64_t worker_memory_bytes = uint64_t(8) << 30;  // address space of a worker; 0 for no bound
 };
 
 class ViewServer {
 public:
-    // Scans the plugins; the limits in force (hsr/limits.hpp) bound every request.
+    // Starts a worker, which scans and describes the plugins; the limits in force (hsr/limits.hpp)
+    // and those of the config bound every request.
     explicit ViewServer(ViewConfig config);
     ~ViewServer();
     ViewServer(const ViewServer&) = delete;
