@@ -52,6 +52,21 @@ fs::path make_model_folder() {
     return root;
 }
 
+// An answer with arrays (application/vnd.hsr.frame): its JSON and the bytes its arrays point into.
+struct FrameWithArrays {
+    json body;
+    std::string arrays;
+};
+
+FrameWithArrays split_frame_answer(const std::string& bytes) {
+    REQUIRE(bytes.size() >= 4);
+    uint32_t length = 0;
+    for (int i = 0; i < 4; ++i) length |= uint32_t(uint8_t(bytes[i])) << (8 * i);
+    REQUIRE(bytes.size() >= 4 + length);
+    const std::size_t arrays = (4 + length + 3) / 4 * 4;
+    return {json::parse(bytes.substr(4, length)), bytes.substr(arrays)};
+}
+
 struct RunningServer {
     fs::path root = make_model_folder();
     fs::path third_party = root / "third-party";  // a plugin folder: a plugin with a page beside it
@@ -92,6 +107,15 @@ struct RunningServer {
     // frame compressed with Brotli takes seconds).
     httplib::Result post(const std::string& path, const json& body) const {
         return client().Post(path.c_str(), {{"Accept-Encoding", "gzip, deflate, br"}}, body.dump(), "application/json");
+    }
+    // A frame or comparison asked with buffers: its arrays come as bytes after the JSON.
+    FrameWithArrays post_arrays(const std::string& path, const json& body) const {
+        httplib::Result r = post(path, body);
+        REQUIRE(r);
+        INFO(path << " " << body.dump() << " -> " << r->body.substr(0, 400));
+        REQUIRE(r->status == 200);
+        CHECK(r->get_header_value("Content-Type") == "application/vnd.hsr.frame");
+        return split_frame_answer(r->body);
     }
     // The response as JSON, after checking its status.
     json post_json(const std::string& path, const json& body, int status = 200) const {
@@ -136,11 +160,14 @@ std::string png_bytes(const json& frame) {
     return decode_base64(url.substr(prefix.size()));
 }
 
+// The values of an array of the answer ({"array": type, "offset": bytes, "length": values}).
 template <class T>
-std::vector<T> decode_array(const json& base64_text) {
-    const std::string bytes = decode_base64(base64_text.get<std::string>());
-    std::vector<T> values(bytes.size() / sizeof(T));
-    std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+std::vector<T> decode_array(const FrameWithArrays& answer, const json& array) {
+    const std::size_t offset = array.at("offset").get<std::size_t>(), length = array.at("length").get<std::size_t>();
+    CHECK(offset % 4 == 0);
+    REQUIRE(offset + length * sizeof(T) <= answer.arrays.size());
+    std::vector<T> values(length);
+    std::memcpy(values.data(), answer.arrays.data() + offset, length * sizeof(T));
     return values;
 }
 
@@ -225,7 +252,8 @@ TEST_CASE("view: a frame, and the CLI's messages for bad values", "[view]") {
     RunningServer s;
     json request = frame_request("0/cube.obj", "zbuffer", 64);
     request["buffers"] = true;
-    const json frame = s.post_json("/api/frame", request);
+    const FrameWithArrays answer = s.post_arrays("/api/frame", request);
+    const json& frame = answer.body;
     CHECK(frame["kind"] == "surface");
     CHECK(frame["width"] == 64);
     CHECK(frame["stats"]["triangles"] == 12);
@@ -239,10 +267,10 @@ TEST_CASE("view: a frame, and the CLI's messages for bad values", "[view]") {
     CHECK(uint8_t(png[23]) == 64);
     // Buffers: each width * height; the covered pixels are those with a face and a finite depth, and
     // each has its face's object (cube.obj: one object, 0).
-    const auto depth = decode_array<float>(frame["buffers"]["depth"]);
-    const auto face = decode_array<uint32_t>(frame["buffers"]["face"]);
-    const auto object = decode_array<uint32_t>(frame["buffers"]["object"]);
-    const auto complexity = decode_array<uint32_t>(frame["buffers"]["depth_complexity"]);
+    const auto depth = decode_array<float>(answer, frame["buffers"]["depth"]);
+    const auto face = decode_array<uint32_t>(answer, frame["buffers"]["face"]);
+    const auto object = decode_array<uint32_t>(answer, frame["buffers"]["object"]);
+    const auto complexity = decode_array<uint32_t>(answer, frame["buffers"]["depth_complexity"]);
     REQUIRE(depth.size() == 64 * 64);
     REQUIRE(face.size() == 64 * 64);
     REQUIRE(complexity.size() == 64 * 64);
@@ -258,6 +286,41 @@ TEST_CASE("view: a frame, and the CLI's messages for bad values", "[view]") {
     }
     CHECK(covered == frame["stats"]["counters"]["fragments-shaded"]);
     CHECK(frame["buffers"]["instance"].is_null());
+    CHECK(frame["buffers"]["region"] == json::array({0, 0, 64, 64}));
+    // Four bytes a pixel a buffer on the wire, and the JSON.
+    CHECK(answer.arrays.size() == 5 * 64 * 64 * 4);
+
+    // Some buffers over a rectangle, twice in one request: the same values as the whole frame's.
+    request["buffers"] = json::array({{{"names", {"face", "depth"}}, {"region", {8, 16, 24, 8}}},
+                                      {{"names", {"object"}}, {"region", {60, 60, 10, 10}}}});
+    const FrameWithArrays parts = s.post_arrays("/api/frame", request);
+    REQUIRE(parts.body["buffers"].size() == 2);
+    const json& tile = parts.body["buffers"][0];
+    CHECK(tile["region"] == json::array({8, 16, 24, 8}));
+    CHECK(tile["object"].is_null());
+    const auto tile_face = decode_array<uint32_t>(parts, tile["face"]);
+    const auto tile_depth = decode_array<float>(parts, tile["depth"]);
+    REQUIRE(tile_face.size() == 24 * 8);
+    for (uint32_t y = 0; y < 8; ++y)
+        for (uint32_t x = 0; x < 24; ++x) {
+            CHECK(tile_face[y * 24 + x] == face[(16 + y) * 64 + 8 + x]);
+            CHECK(tile_depth[y * 24 + x] == depth[(16 + y) * 64 + 8 + x]);
+        }
+    const json& corner = parts.body["buffers"][1];
+    CHECK(corner["region"] == json::array({60, 60, 4, 4}));  // clipped to the picture
+    CHECK(decode_array<uint32_t>(parts, corner["object"]).size() == 16);
+    CHECK(parts.arrays.size() == (2 * 24 * 8 + 16) * 4);
+    // Only the buffers, without the picture.
+    request["picture"] = false;
+    CHECK(s.post_arrays("/api/frame", request).body["png"].is_null());
+    request["picture"] = true;
+    for (const json& bad : {json("all"), json::array({"depth"}), json({{"names", {"colour"}}}),
+                            json({{"region", {0, 0, 0, 4}}}), json({{"region", {64, 0, 4, 4}}}), json({{"size", 1}})}) {
+        request["buffers"] = bad;
+        INFO(bad.dump());
+        CHECK(s.post_json("/api/frame", request, 400)["field"].get<std::string>().starts_with("buffers"));
+    }
+    request["buffers"] = false;
 
     const std::string cube = test_models::path("cube.obj").string();
     struct Case {
@@ -471,16 +534,17 @@ TEST_CASE("view: compare two plugins' visibility", "[view]") {
     json b = a;
     b["params"] = {{"depth-test", "greater"}};
     a["buffers"] = b["buffers"] = true;
-    const json result = s.post_json("/api/compare", {{"a", a}, {"b", b}});
-    const auto face_a = decode_array<uint32_t>(result["a"]["buffers"]["face"]);
-    const auto face_b = decode_array<uint32_t>(result["b"]["buffers"]["face"]);
+    const FrameWithArrays answer = s.post_arrays("/api/compare", {{"a", a}, {"b", b}});
+    const json& result = answer.body;
+    const auto face_a = decode_array<uint32_t>(answer, result["a"]["buffers"]["face"]);
+    const auto face_b = decode_array<uint32_t>(answer, result["b"]["buffers"]["face"]);
     REQUIRE(face_a.size() == face_b.size());
     uint64_t differing = 0;
     for (std::size_t p = 0; p < face_a.size(); ++p) differing += face_a[p] != face_b[p];
     CHECK(differing > 0);
     CHECK(result["differing_pixels"] == differing);
     CHECK(png_bytes({{"png", result["diff_png"]}}).substr(1, 3) == "PNG");
-    CHECK(s.post_json("/api/compare", {{"a", a}, {"b", a}})["differing_pixels"] == 0);
+    CHECK(s.post_arrays("/api/compare", {{"a", a}, {"b", a}}).body["differing_pixels"] == 0);
     json other_size = a;
     other_size["width"] = 40;
     CHECK(s.post_json("/api/compare", {{"a", a}, {"b", other_size}}, 400)["field"] == "b.width");

@@ -288,10 +288,14 @@ async function main() {
     const request = await page.evaluate(() => window.hsrView.lastRequest);
     const answer = await fetch(new URL('api/frame', serverUrl), {
       method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ ...request, buffers: true }) });
-    const json = await answer.json();
-    const bytes = Buffer.from(json.buffers.face, 'base64');
+    // The answer with buffers: the JSON's length, the JSON, then the arrays it points into.
+    assert(answer.headers.get('content-type') === 'application/vnd.hsr.frame', 'the answer with buffers is not binary');
+    const bytes = await answer.arrayBuffer();
+    const length = new DataView(bytes).getUint32(0, true);
+    const json = JSON.parse(new TextDecoder().decode(new Uint8Array(bytes, 4, length)));
+    const base = Math.ceil((4 + length) / 4) * 4;
     const face = { width: json.width, height: json.height,
-      ids: new Uint32Array(bytes.buffer, bytes.byteOffset, bytes.length / 4) };
+      ids: new Uint32Array(bytes, base + json.buffers.face.offset, json.buffers.face.length) };
     // The covered pixel nearest the centre.
     let best = null;
     for (let y = 0; y < face.height; y += 1) {

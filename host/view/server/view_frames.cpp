@@ -16,7 +16,9 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <list>
 #include <map>
@@ -81,11 +83,28 @@ hsr::ViewRequest view_of(const hsr::host::FrameRequest& q) {
     return view;
 }
 
-// The arrays go out as their bytes: little-endian on every machine hsr builds for.
-template <class T>
-std::string base64_of(const std::vector<T>& values) {
-    return hsr::host::base64(values.data(), values.size() * sizeof(T));
-}
+// The arrays of an answer, one after the other, as their bytes: little-endian on every machine
+// hsr builds for. Every array here holds 4-byte values, so each starts at a multiple of 4.
+struct ArrayBlock {
+    std::string bytes;
+
+    // The values of `region` (x, y, width, height) of a picture `picture_width` values wide.
+    template <class T>
+    json add(const char* type, const std::vector<T>& values, uint32_t picture_width, const std::array<uint32_t, 4>& region) {
+        static_assert(sizeof(T) == 4);
+        const std::size_t offset = bytes.size();
+        const std::size_t row_bytes = std::size_t(region[2]) * sizeof(T);
+        bytes.resize(offset + row_bytes * region[3]);
+        char* out = bytes.data() + offset;
+        for (uint32_t y = 0; y < region[3]; ++y, out += row_bytes)
+            std::memcpy(out, values.data() + std::size_t(region[1] + y) * picture_width + region[0], row_bytes);
+        return {{"array", type}, {"offset", offset}, {"length", std::size_t(region[2]) * region[3]}};
+    }
+    template <class T>
+    json add_all(const char* type, const std::vector<T>& values, uint32_t width, uint32_t height) {
+        return add(type, values, width, {0, 0, width, height});
+    }
+};
 
 std::string png_data_url(uint32_t width, uint32_t height, std::span<const uint8_t> rgb) {
     const std::vector<uint8_t> png = hsr::encode_png(width, height, 3, rgb);
@@ -105,10 +124,10 @@ struct PictureTimes {
 };
 json picture_response(const char* kind, uint32_t width, uint32_t height, std::span<const uint8_t> rgb,
                       const std::vector<std::pair<std::string, uint64_t>>& counters, PictureTimes times,
-                      uint64_t triangles) {
+                      uint64_t triangles, bool picture) {
     const auto encode_start = std::chrono::steady_clock::now();
     json response;
-    response["png"] = png_data_url(width, height, rgb);
+    response["png"] = picture ? json(png_data_url(width, height, rgb)) : json(nullptr);
     const double encode_ms = ms_since(encode_start);
     response["width"] = width;
     response["height"] = height;
@@ -122,6 +141,18 @@ json picture_response(const char* kind, uint32_t width, uint32_t height, std::sp
 }
 
 }  // namespace
+
+std::string hsr::host::frame_with_arrays(const FrameAnswer& answer) {
+    const std::string text = answer.body.dump(-1, ' ', false, json::error_handler_t::replace);
+    const std::size_t padded = (4 + text.size() + 3) / 4 * 4;
+    std::string body;
+    body.reserve(padded + answer.arrays.size());
+    for (int i = 0; i < 4; ++i) body += char((text.size() >> (8 * i)) & 0xff);
+    body += text;
+    body.resize(padded, ' ');
+    body += answer.arrays;
+    return body;
+}
 
 std::string hsr::host::base64(const void* bytes, std::size_t size) {
     static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -218,7 +249,7 @@ struct hsr::host::FrameRenderer::State {
         hsr::Frame frame;
     };
 
-    Rendered render(const FrameRequest& q) {
+    Rendered render(const FrameRequest& q, ArrayBlock& arrays) {
         const hsr::Plugin& algorithm = algorithm_plugin(q);
         check_settings(algorithm, q.params, "params");
         const std::shared_ptr<CachedModel> model = this->model(q.model);
@@ -238,18 +269,18 @@ struct hsr::host::FrameRenderer::State {
                                                      algorithm.descriptor.abi_minor < 3
                                                          ? "it is built against an ABI before 1.3"
                                                          : "it has no render_steps"));
-        return render_surface(q, renderer, remover, lighting);
+        return render_surface(q, renderer, remover, lighting, arrays);
     }
 
     Rendered render_surface(const FrameRequest& q, hsr::Renderer& renderer, hsr::HiddenSurfaceRemover& remover,
-                            hsr::LightingModel& lighting) {
+                            hsr::LightingModel& lighting, ArrayBlock& arrays) {
         check_camera(q, renderer);
         hsr::PictureRequest request;
         request.view = view_of(q);
         request.samples = 1;
         // Depth-test counts came with ABI 1.1; an older plugin has none (buffers.depth_tests null).
-        request.count_depth_tests = (q.buffers || q.step) && remover.plugin().descriptor.abi_minor >= 1;
-        request.depth_complexity = q.buffers;
+        request.count_depth_tests = (q.wants("depth_tests") || q.step) && remover.plugin().descriptor.abi_minor >= 1;
+        request.depth_complexity = q.wants("depth_complexity");
         if (q.step) {
             request.step = *q.step;
             request.step_context = true;
@@ -262,7 +293,8 @@ struct hsr::host::FrameRenderer::State {
         if (q.step) steps = json{{"total", picture.step_total}, {"current", picture.step_shown}};
 
         json response = picture_response("surface", frame.width, frame.height, frame.rgb, frame.counters,
-                                         {frame.visibility_ms, frame.shading_ms}, hsr::drawn_triangle_count(scene));
+                                         {frame.visibility_ms, frame.shading_ms}, hsr::drawn_triangle_count(scene),
+                                         q.picture);
         if (q.step) {
             const hsr::StepRecord& last = frame.steps->last;
             const bool any = last.index > 0;
@@ -283,24 +315,53 @@ struct hsr::host::FrameRenderer::State {
             steps["rejected"] = pixels.rejected;
             json buffers = json::array();
             for (const hsr::StepBuffer& b : last.buffers)
-                buffers.push_back({{"name", b.name}, {"width", b.width}, {"height", b.height}, {"data", base64_of(b.values)}});
+                buffers.push_back({{"name", b.name},
+                                   {"width", b.width},
+                                   {"height", b.height},
+                                   {"data", arrays.add_all("float32", b.values, b.width, b.height)}});
             steps["buffers"] = std::move(buffers);
         }
         response["steps"] = std::move(steps);
-        response["buffers"] = q.buffers ? buffers_json(frame, scene, *picture.depth_complexity) : json(nullptr);
+        json buffers = q.buffers_as_list ? json::array() : json(nullptr);
+        for (const BufferSpec& spec : q.buffers) {
+            json one = buffers_answer(spec, frame, scene, picture.depth_complexity ? &*picture.depth_complexity : nullptr, arrays);
+            if (q.buffers_as_list) buffers.push_back(std::move(one));
+            else buffers = std::move(one);
+        }
+        response["buffers"] = std::move(buffers);
         return {std::move(response), std::move(frame)};
     }
 
-    static json buffers_json(const hsr::Frame& frame, const hsr_scene& scene, const hsr::DepthComplexity& complexity) {
-        std::vector<uint32_t> object(frame.face.size(), HSR_NO_FACE);
-        for (std::size_t p = 0; p < frame.face.size(); ++p)
-            if (frame.face[p] < scene.triangle_count) object[p] = scene.face_object[frame.face[p]];
-        return {{"depth", base64_of(frame.depth)},
-                {"face", base64_of(frame.face)},
-                {"instance", frame.instance.empty() ? json(nullptr) : json(base64_of(frame.instance))},
-                {"object", base64_of(object)},
-                {"depth_tests", frame.depth_tests.empty() ? json(nullptr) : json(base64_of(frame.depth_tests))},
-                {"depth_complexity", base64_of(complexity.count)}};
+    // The arrays one BufferSpec asks for: each buffer named, over its region (clipped to the
+    // picture), and null for the others and for those the frame does not have.
+    static json buffers_answer(const BufferSpec& spec, const hsr::Frame& frame, const hsr_scene& scene,
+                               const hsr::DepthComplexity* complexity, ArrayBlock& arrays) {
+        std::array<uint32_t, 4> r = spec.region.value_or(std::array<uint32_t, 4>{0, 0, frame.width, frame.height});
+        if (r[0] >= frame.width || r[1] >= frame.height)
+            throw ViewError(400, "buffers.region", fmt::format("buffers.region: ({}, {}) lies outside the {}x{} picture",
+                                                               r[0], r[1], frame.width, frame.height));
+        r[2] = std::min(r[2], frame.width - r[0]);
+        r[3] = std::min(r[3], frame.height - r[1]);
+        json out{{"region", r}};
+        for (const char* name : kBufferNames) out[name] = nullptr;
+        auto wanted = [&](const char* name) { return std::find(spec.names.begin(), spec.names.end(), name) != spec.names.end(); };
+        if (wanted("depth")) out["depth"] = arrays.add("float32", frame.depth, frame.width, r);
+        if (wanted("face")) out["face"] = arrays.add("uint32", frame.face, frame.width, r);
+        if (wanted("instance") && !frame.instance.empty()) out["instance"] = arrays.add("uint32", frame.instance, frame.width, r);
+        if (wanted("depth_tests") && !frame.depth_tests.empty())
+            out["depth_tests"] = arrays.add("uint32", frame.depth_tests, frame.width, r);
+        if (wanted("depth_complexity") && complexity != nullptr)
+            out["depth_complexity"] = arrays.add("uint32", complexity->count, frame.width, r);
+        if (wanted("object")) {
+            std::vector<uint32_t> object(std::size_t(r[2]) * r[3], HSR_NO_FACE);
+            for (uint32_t y = 0; y < r[3]; ++y)
+                for (uint32_t x = 0; x < r[2]; ++x) {
+                    const uint32_t face = frame.face[std::size_t(r[1] + y) * frame.width + r[0] + x];
+                    if (face < scene.triangle_count) object[std::size_t(y) * r[2] + x] = scene.face_object[face];
+                }
+            out["object"] = arrays.add_all("uint32", object, r[2], r[3]);
+        }
+        return out;
     }
 
     Rendered render_lines(const FrameRequest& q, const hsr::Plugin& algorithm, const hsr::Renderer& renderer) {
@@ -320,7 +381,7 @@ struct hsr::host::FrameRenderer::State {
         style.hidden = q.hidden;
         const hsr::Image image = hsr::draw_line_image(drawing, style);
         json response = picture_response("lines", image.width, image.height, image.pixels, drawing.counters,
-                                         {drawing.lines_ms, 0.0}, scene.triangle_count);
+                                         {drawing.lines_ms, 0.0}, scene.triangle_count, q.picture);
         json steps = nullptr;
         if (q.step) {
             steps = json{{"total", drawing.trace_events}, {"current", drawing.stopped_at ? drawing.stopped_at->index : 0}};
@@ -376,13 +437,15 @@ hsr::host::FrameRenderer::FrameRenderer(const hsr::PluginRegistry& registry, Fin
 
 hsr::host::FrameRenderer::~FrameRenderer() = default;
 
-json hsr::host::FrameRenderer::frame(const json& request) {
+hsr::host::FrameAnswer hsr::host::FrameRenderer::frame(const json& request) {
     const FrameRequest q = parse_frame_request(request);
     std::lock_guard lock(state_->mutex);
-    return state_->render(q).response;
+    ArrayBlock arrays;
+    json response = state_->render(q, arrays).response;
+    return {std::move(response), std::move(arrays.bytes)};
 }
 
-json hsr::host::FrameRenderer::compare(const json& request) {
+hsr::host::FrameAnswer hsr::host::FrameRenderer::compare(const json& request) {
     if (!request.is_object() || !request.contains("a") || !request.contains("b"))
         throw ViewError(400, "", "compare: expected {\"a\": <frame request>, \"b\": <frame request>}");
     auto parse = [&](const char* side) {
@@ -394,9 +457,10 @@ json hsr::host::FrameRenderer::compare(const json& request) {
     };
     const FrameRequest qa = parse("a"), qb = parse("b");
     std::lock_guard lock(state_->mutex);
+    ArrayBlock arrays;
     auto render = [&](const FrameRequest& q, const char* side) {
         try {
-            State::Rendered rendered = state_->render(q);
+            State::Rendered rendered = state_->render(q, arrays);
             if (rendered.frame.face.empty())
                 throw ViewError(400, fmt::format("{}.algorithm", side),
                                 fmt::format("compare: '{}' draws lines; compare two hidden-surface plugins", q.algorithm));
@@ -405,7 +469,13 @@ json hsr::host::FrameRenderer::compare(const json& request) {
             throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
         }
     };
-    State::Rendered a = render(qa, "a"), b = render(qb, "b");
+    // Of a's frame only what the comparison needs is kept while b renders.
+    State::Rendered a = render(qa, "a");
+    std::vector<float>().swap(a.frame.depth);
+    std::vector<float>().swap(a.frame.bary);
+    std::vector<uint32_t>().swap(a.frame.depth_tests);
+    std::vector<uint8_t>().swap(a.frame.rgb);
+    State::Rendered b = render(qb, "b");
     if (a.frame.width != b.frame.width || a.frame.height != b.frame.height)
         throw ViewError(400, "b.width", fmt::format("compare: the pictures are {}x{} and {}x{}; give both the same size",
                                                     a.frame.width, a.frame.height, b.frame.width, b.frame.height));
@@ -420,8 +490,9 @@ json hsr::host::FrameRenderer::compare(const json& request) {
         for (int k = 0; k < 3; ++k)
             diff[3 * p + k] = differs ? (k == 1 ? 0 : 255) : uint8_t(b.frame.rgb[3 * p + k] * 2 / 5);
     }
-    return {{"a", std::move(a.response)},
-            {"b", std::move(b.response)},
-            {"diff_png", png_data_url(b.frame.width, b.frame.height, diff)},
-            {"differing_pixels", differing}};
+    json response{{"a", std::move(a.response)},
+                  {"b", std::move(b.response)},
+                  {"diff_png", png_data_url(b.frame.width, b.frame.height, diff)},
+                  {"differing_pixels", differing}};
+    return {std::move(response), std::move(arrays.bytes)};
 }

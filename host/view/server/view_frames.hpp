@@ -15,6 +15,19 @@
 
 namespace hsr::host {
 
+// A frame's answer: JSON, and the bytes of the arrays it refers to. An array appears in the JSON as
+// {"array": "float32" or "uint32", "offset": bytes into `arrays`, "length": values}, each at a
+// multiple of 4 bytes, little-endian.
+struct FrameAnswer {
+    nlohmann::json body;
+    std::string arrays;
+};
+
+// The content type of an answer with arrays, and its body: the JSON's length in bytes (4 bytes,
+// little-endian), the JSON, spaces up to a multiple of 4 bytes, then the arrays.
+inline constexpr const char* kFrameWithArraysType = "application/vnd.hsr.frame";
+std::string frame_with_arrays(const FrameAnswer& answer);
+
 class FrameRenderer {
 public:
     // find_model: the entry of a model id (ViewError 404 for none); read_policy: what a model's
@@ -28,15 +41,15 @@ public:
     // POST /api/frame and POST /api/compare. Throw ViewError for a bad request (status 400 or 404)
     // and hsr::Error for a plugin's failure. Safe to call from several threads: one frame renders at
     // a time, so no plugin instance is ever called concurrently.
-    nlohmann::json frame(const nlohmann::json& request);
-    nlohmann::json compare(const nlohmann::json& request);
+    FrameAnswer frame(const nlohmann::json& request);
+    FrameAnswer compare(const nlohmann::json& request);
 
 private:
     struct State;
     std::unique_ptr<State> state_;
 };
 
-// Standard base64 (RFC 4648, with padding) of bytes.
+// Standard base64 (RFC 4648, with padding) of bytes, for the PNG data URLs.
 std::string base64(const void* bytes, std::size_t size);
 
 }  // namespace hsr::host

@@ -74,7 +74,52 @@ glm::vec3 vector_field(const json& camera, const char* name) {
     }
 }
 
+constexpr std::size_t kMaxBufferSpecs = 4;
+
+// {"names": [...], "region": [x, y, width, height]}, each optional: every buffer, the whole picture.
+hsr::host::BufferSpec buffer_spec(const json& spec) {
+    const char* shape = "buffers: expected {\"names\": [...], \"region\": [x, y, width, height]}";
+    if (!spec.is_object()) throw ViewError(400, "buffers", shape);
+    for (const auto& [key, value] : spec.items())
+        if (key != "names" && key != "region")
+            throw ViewError(400, "buffers", fmt::format("buffers: no field '{}' ({})", hsr::printable(key), shape));
+    hsr::host::BufferSpec out;
+    if (const json* names = member(spec, "names")) {
+        if (!names->is_array()) throw ViewError(400, "buffers.names", "buffers.names: expected a list of buffer names");
+        for (const json& name : *names) {
+            const auto known = std::find_if(std::begin(hsr::host::kBufferNames), std::end(hsr::host::kBufferNames),
+                                            [&](const char* n) { return name.is_string() && name.get<std::string>() == n; });
+            if (known == std::end(hsr::host::kBufferNames))
+                throw ViewError(400, "buffers.names",
+                                fmt::format("buffers.names: {} is not a buffer (depth, face, instance, object, "
+                                            "depth_tests, depth_complexity)", hsr::printable(name.dump(), 40)));
+            if (std::find(out.names.begin(), out.names.end(), *known) == out.names.end()) out.names.push_back(*known);
+        }
+    } else {
+        out.names.assign(std::begin(hsr::host::kBufferNames), std::end(hsr::host::kBufferNames));
+    }
+    if (const json* region = member(spec, "region")) {
+        const bool whole_numbers = region->is_array() && region->size() == 4 &&
+                                   std::all_of(region->begin(), region->end(), [](const json& v) {
+                                       return v.is_number_unsigned() && v.get<uint64_t>() <= hsr::host::view_max_image_side;
+                                   });
+        if (!whole_numbers || (*region)[2].get<uint32_t>() == 0 || (*region)[3].get<uint32_t>() == 0)
+            throw ViewError(400, "buffers.region",
+                            fmt::format("buffers.region: expected [x, y, width, height], whole numbers up to {}, width "
+                                        "and height at least 1", hsr::host::view_max_image_side));
+        out.region = std::array<uint32_t, 4>{(*region)[0].get<uint32_t>(), (*region)[1].get<uint32_t>(),
+                                             (*region)[2].get<uint32_t>(), (*region)[3].get<uint32_t>()};
+    }
+    return out;
+}
+
 }  // namespace
+
+bool hsr::host::FrameRequest::wants(const char* buffer) const {
+    for (const BufferSpec& spec : buffers)
+        if (std::find(spec.names.begin(), spec.names.end(), buffer) != spec.names.end()) return true;
+    return false;
+}
 
 hsr::host::FrameRequest hsr::host::parse_frame_request(const json& r) {
     if (!r.is_object()) throw ViewError(400, "", "the request must be a JSON object");
@@ -142,8 +187,22 @@ hsr::host::FrameRequest hsr::host::parse_frame_request(const json& r) {
         q.step = step->get<double>() > 1e18 ? uint64_t(1e18) : step->get<uint64_t>();
     }
     if (const json* buffers = member(r, "buffers")) {
-        if (!buffers->is_boolean()) throw ViewError(400, "buffers", "buffers: expected true or false");
-        q.buffers = buffers->get<bool>();
+        if (buffers->is_boolean()) {
+            if (buffers->get<bool>()) q.buffers.push_back(buffer_spec(json::object()));
+        } else if (buffers->is_object()) {
+            q.buffers.push_back(buffer_spec(*buffers));
+        } else if (buffers->is_array() && buffers->size() <= kMaxBufferSpecs) {
+            for (const json& spec : *buffers) q.buffers.push_back(buffer_spec(spec));
+            q.buffers_as_list = true;
+        } else {
+            throw ViewError(400, "buffers", fmt::format("buffers: expected true, false, {{\"names\": [...], \"region\": "
+                                                        "[x, y, width, height]}} or a list of at most {} of those",
+                                                        kMaxBufferSpecs));
+        }
+    }
+    if (const json* picture = member(r, "picture")) {
+        if (!picture->is_boolean()) throw ViewError(400, "picture", "picture: expected true or false");
+        q.picture = picture->get<bool>();
     }
     const std::string edges = text_field(r, "edges", "edges", "features");
     if (edges != "features" && edges != "all")

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -22,6 +23,15 @@ namespace hsr::host {
 // The most pixels along one side of a picture hsr view renders (GET /api/info max_image_side).
 constexpr uint32_t view_max_image_side = 4096;
 
+// The per-pixel arrays a frame answer can carry (docs/viewer.md, POST /api/frame `buffers`).
+inline constexpr const char* kBufferNames[] = {"depth", "face", "instance", "object", "depth_tests", "depth_complexity"};
+
+// Some of the buffers, over the whole picture or over a rectangle of it.
+struct BufferSpec {
+    std::vector<std::string> names;  // of kBufferNames, each once
+    std::optional<std::array<uint32_t, 4>> region;  // x, y, width, height; none: the whole picture
+};
+
 // The request, read and checked as far as it can be without the model and the plugins.
 struct FrameRequest {
     std::string model, algorithm, lighting;
@@ -29,7 +39,10 @@ struct FrameRequest {
     hsr::CameraSettings view;
     uint32_t width = 512, height = 512;
     std::optional<uint64_t> step;
-    bool buffers = false;
+    std::vector<BufferSpec> buffers;  // what the answer carries, in order
+    bool buffers_as_list = false;     // asked for as a list: answered as one
+    bool picture = true;              // the PNG (false: only the buffers and stats)
+    bool wants(const char* buffer) const;
     hsr::EdgeSelection edges = hsr::EdgeSelection::kFeatures;
     hsr::HiddenLines hidden = hsr::HiddenLines::kHidden;
     std::string camera_key;  // the camera and size, for the cache of step totals

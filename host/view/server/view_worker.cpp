@@ -154,11 +154,16 @@ private:
     std::map<std::string, hsr::host::ModelEntry> entries_;
 };
 
+Answer frame_answer(const hsr::host::FrameAnswer& frame) {
+    if (frame.arrays.empty()) return hsr::host::json_answer(200, frame.body);
+    return {200, hsr::host::kFrameWithArraysType, hsr::host::frame_with_arrays(frame)};
+}
+
 Answer run_job(const json& job, JobModels& models, hsr::host::FrameRenderer& frames, const hsr::PluginRegistry& registry) {
     const std::string op = job.at("op").get<std::string>();
     models.set(job.value("models", json::object()));
-    if (op == "frame") return hsr::host::json_answer(200, frames.frame(job.at("request")));
-    if (op == "compare") return hsr::host::json_answer(200, frames.compare(job.at("request")));
+    if (op == "frame") return frame_answer(frames.frame(job.at("request")));
+    if (op == "compare") return frame_answer(frames.compare(job.at("request")));
     if (op == "plugins") return hsr::host::json_answer(200, describe_plugins(registry, job.value("skip", json::array())));
     if (op == "theory") return hsr::host::json_answer(200, hsr::host::theory_page(registry, job.at("name").get<std::string>()));
     return hsr::host::error_answer(500, fmt::format("a worker got a job it does not know ('{}')", hsr::printable(op)));

@@ -9,12 +9,34 @@ export class ApiError extends Error {
   }
 }
 
+// A frame answer with buffers: 4 bytes (little-endian) of JSON length, the JSON, spaces to a multiple
+// of 4 bytes, then the arrays the JSON points into as {"array": "float32"|"uint32", "offset", "length"}.
+const FRAME_WITH_ARRAYS = 'application/vnd.hsr.frame';
+const ARRAY_TYPES = { float32: Float32Array, uint32: Uint32Array };
+
+// The answer's JSON with each array reference replaced by a typed array over the bytes (no copy:
+// every browser the page runs on is little-endian, like the server's arrays).
+export function decodeFrameAnswer(buffer) {
+  const length = new DataView(buffer).getUint32(0, true);
+  const text = new TextDecoder().decode(new Uint8Array(buffer, 4, length));
+  const base = Math.ceil((4 + length) / 4) * 4;
+  return JSON.parse(text, (key, value) => {
+    if (value && typeof value === 'object' && !Array.isArray(value) && ARRAY_TYPES[value.array]) {
+      return new ARRAY_TYPES[value.array](buffer, base + value.offset, value.length);
+    }
+    return value;
+  });
+}
+
 async function call(path, options) {
   let response;
   try {
     response = await fetch(path, options);
   } catch (e) {
     throw new ApiError(`the server does not answer (${e.message})`, 0, null);
+  }
+  if (response.ok && (response.headers.get('Content-Type') || '').startsWith(FRAME_WITH_ARRAYS)) {
+    return decodeFrameAnswer(await response.arrayBuffer());
   }
   let body = null;
   const text = await response.text();
@@ -48,13 +70,7 @@ export const uploadModel = (file) => call('/api/upload', {
   body: file,
 });
 
-// Base64 of a little-endian array (the server's `buffers`) to a typed array of the given kind.
-export function decodeArray(base64, ArrayType) {
-  if (typeof base64 !== 'string') return null;
-  const binary = atob(base64);
-  const bytes = new Uint8Array(binary.length);
-  for (let i = 0; i < binary.length; ++i) bytes[i] = binary.charCodeAt(i);
-  const elements = Math.floor(bytes.byteLength / ArrayType.BYTES_PER_ELEMENT);
-  // Every browser the page runs on is little-endian, like the server's arrays.
-  return new ArrayType(bytes.buffer, 0, elements);
+// `value` if it is a typed array of that kind (an array of a frame answer), else null.
+export function typedArray(value, ArrayType) {
+  return value instanceof ArrayType ? value : null;
 }

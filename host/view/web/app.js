@@ -6,7 +6,9 @@ import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
 import { StepControls, drawStepOverlay } from './steps.js';
-import { decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid } from './buffers.js';
+import {
+  BUFFER_NAMES, VIEW_BUFFER, decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid, tileAround,
+} from './buffers.js';
 import { compareRequest, showCompare, hideCompare } from './compare.js';
 import { renderStats } from './stats.js';
 import { LatestWins } from './scheduler.js';
@@ -23,7 +25,7 @@ let hoverTimer = null;
 const HOVER_REST_MS = 250;
 let pointer = null;          // the pixel under the mouse
 let frameSerial = 0;         // frames shown
-let upgradeAskedFor = -1;    // the frame whose buffers a hover asked for
+let upgradeAskedFor = '';    // the frame (and tile) whose buffers were last asked for
 const theoryCache = new Map();
 
 // What is on screen: the last frame's request, response and decoded data.
@@ -135,15 +137,26 @@ function smallImage(size) {
 
 const gridShown = (size) => smallImage(size) && settings.gridMode !== 'off';
 
+// The buffers the page shows: a buffer view's buffer (and the grid's depths) over the whole
+// picture; for the readout, every buffer over the tile under the mouse (the whole of a small picture).
 function wantBuffers() {
   if (camera.dragging) return false;
-  return hovering || settings.bufferView !== 'frame' || (gridShown(settings) && settings.gridMode === 'depth');
+  const whole = new Set();
+  if (VIEW_BUFFER[settings.bufferView]) whole.add(VIEW_BUFFER[settings.bufferView]);
+  if (gridShown(settings) && settings.gridMode === 'depth') whole.add('depth');
+  if (hovering && smallImage(settings)) BUFFER_NAMES.forEach((name) => whole.add(name));
+  const specs = whole.size ? [{ names: [...whole] }] : [];
+  if (hovering && pointer && !smallImage(settings)) specs.push({ names: BUFFER_NAMES, region: tileAround(pointer.x, pointer.y) });
+  return specs.length ? specs : false;
 }
 
-// The shown frame lacks the buffers a view needs: ask for the same frame with them, once.
+// The shown frame lacks the buffers a view or the readout needs: ask for the same frame with them,
+// once for each frame and tile.
 function askForBuffers() {
-  if (upgradeAskedFor === frameSerial || camera.dragging || !shown || shown.response.kind === 'lines') return;
-  upgradeAskedFor = frameSerial;
+  if (camera.dragging || !shown || shown.response.kind === 'lines') return;
+  const key = `${frameSerial} ${pointer ? tileAround(pointer.x, pointer.y).join(',') : ''}`;
+  if (upgradeAskedFor === key) return;
+  upgradeAskedFor = key;
   requestFrame();
 }
 
@@ -303,7 +316,7 @@ function redraw() {
   $('grid-control').hidden = !smallImage(shown.response);
   grid.hidden = !gridShown(shown.response);
   if (!grid.hidden) {
-    if (settings.gridMode === 'depth' && !shown.frameBuffers) askForBuffers();
+    if (settings.gridMode === 'depth' && !shown.frameBuffers?.whole.depth) askForBuffers();
     drawGrid(grid, { width, height, rgba: shown.rgba, frameBuffers: shown.frameBuffers, mode: settings.gridMode,
       steps: shown.isStep ? shown.response.steps : null });
   }
@@ -343,7 +356,7 @@ function updatePixelInfo() {
   }
   if (shown.response.kind === 'lines') {
     info.textContent = `${pointer.x}, ${pointer.y}: a line drawing has no depth buffer`;
-  } else if (shown.frameBuffers) {
+  } else if (pixelInfo(shown.frameBuffers, pointer.x, pointer.y) !== null) {
     info.textContent = pixelInfo(shown.frameBuffers, pointer.x, pointer.y);
   } else {
     info.textContent = `${pointer.x}, ${pointer.y}: ${hovering ? 'loading the buffers…' : 'rest the mouse for its depth'}`;

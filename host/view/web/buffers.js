@@ -1,8 +1,20 @@
 // The buffer viewer: a frame's per-pixel arrays (the `buffers` of /api/frame, and a step's own
-// buffers such as z-pyramid levels) decoded from base64 and drawn in false colour with a legend;
-// the hover readout of one pixel; and the pixel grid that prints each pixel's value in its cell.
+// buffers such as z-pyramid levels) drawn in false colour with a legend; the hover readout of one
+// pixel; and the pixel grid that prints each pixel's value in its cell. The page asks only for what
+// it shows: a buffer view's one buffer over the whole picture, and every buffer over the tile of
+// TILE × TILE pixels under the mouse for the readout.
 
-import { decodeArray } from './api.js';
+import { typedArray } from './api.js';
+
+export const BUFFER_NAMES = ['depth', 'face', 'instance', 'object', 'depth_tests', 'depth_complexity'];
+// The buffer each view shows.
+export const VIEW_BUFFER = { 'depth': 'depth', 'depth-complexity': 'depth_complexity', 'depth-tests': 'depth_tests' };
+export const TILE = 64;
+
+// The tile of the readout around pixel (x, y): [x, y, width, height].
+export function tileAround(x, y) {
+  return [Math.floor(x / TILE) * TILE, Math.floor(y / TILE) * TILE, TILE, TILE];
+}
 
 export const EMPTY_ID = 4294967295;
 
@@ -28,26 +40,35 @@ export function viridis(t) {
 
 const EMPTY_RGB = [24, 24, 30];
 
-// The response's `buffers` as typed arrays (each width*height), or null.
+// The response's `buffers` (one answer or a list of them, each over its region): `whole` holds the
+// arrays over the whole picture, `tiles` those over a part of it. Null when there are none.
 export function decodeFrameBuffers(buffers, width, height) {
-  if (!buffers) return null;
-  const decoded = {
-    width, height,
-    depth: decodeArray(buffers.depth, Float32Array),
-    face: decodeArray(buffers.face, Uint32Array),
-    instance: decodeArray(buffers.instance, Uint32Array),
-    object: decodeArray(buffers.object, Uint32Array),
-    depthTests: decodeArray(buffers.depth_tests, Uint32Array),
-    depthComplexity: decodeArray(buffers.depth_complexity, Uint32Array),
-  };
-  return decoded.depth && decoded.depth.length >= width * height ? decoded : null;
+  const answers = Array.isArray(buffers) ? buffers : (buffers ? [buffers] : []);
+  const decoded = { width, height, whole: {}, tiles: [] };
+  for (const answer of answers) {
+    const [x, y, w, h] = answer.region;
+    const arrays = {
+      depth: typedArray(answer.depth, Float32Array),
+      face: typedArray(answer.face, Uint32Array),
+      instance: typedArray(answer.instance, Uint32Array),
+      object: typedArray(answer.object, Uint32Array),
+      depthTests: typedArray(answer.depth_tests, Uint32Array),
+      depthComplexity: typedArray(answer.depth_complexity, Uint32Array),
+    };
+    if (x === 0 && y === 0 && w === width && h === height) {
+      for (const [name, values] of Object.entries(arrays)) if (values) decoded.whole[name] = values;
+    } else {
+      decoded.tiles.push({ x, y, width: w, height: h, ...arrays });
+    }
+  }
+  return answers.length ? decoded : null;
 }
 
 // A step's own buffers ({name, width, height, data}) decoded.
 export function decodeStepBuffers(steps) {
   if (!steps || !Array.isArray(steps.buffers)) return [];
   return steps.buffers
-    .map((b) => ({ name: b.name, width: b.width, height: b.height, values: decodeArray(b.data, Float32Array) }))
+    .map((b) => ({ name: b.name, width: b.width, height: b.height, values: typedArray(b.data, Float32Array) }))
     .filter((b) => b.values && b.values.length >= b.width * b.height);
 }
 
@@ -94,11 +115,11 @@ export function bufferView(view, frameBuffers, stepBuffers) {
       ...falseColour(b.values, b.width, b.height, { title: `${b.name} (near → far)`, nearIsHigh: true }) };
   }
   if (!frameBuffers) return null;
-  const { width, height } = frameBuffers;
+  const { width, height, whole } = frameBuffers;
   const pick = {
-    'depth': [frameBuffers.depth, { title: 'depth (near → far)', nearIsHigh: true }],
-    'depth-complexity': [frameBuffers.depthComplexity, { title: 'surfaces over the pixel', integer: true }],
-    'depth-tests': [frameBuffers.depthTests, { title: 'depth tests at the pixel', integer: true }],
+    'depth': [whole.depth, { title: 'depth (near → far)', nearIsHigh: true }],
+    'depth-complexity': [whole.depthComplexity, { title: 'surfaces over the pixel', integer: true }],
+    'depth-tests': [whole.depthTests, { title: 'depth tests at the pixel', integer: true }],
   }[view];
   if (!pick || !pick[0]) return null;
   return { width, height, ...falseColour(pick[0], width, height, pick[1]) };
@@ -124,18 +145,31 @@ export function drawLegend(elements, legend) {
 
 const idText = (v) => (v === undefined || v === null || v === EMPTY_ID ? 'none' : String(v));
 
-// "x, y: depth D, face F, object O, instance I" for pixel (x, y) (x from the left, y from the top).
-export function pixelInfo(frameBuffers, x, y) {
+// Every buffer's value at pixel (x, y) from the tile that holds it, or null when no tile does.
+function valuesAt(frameBuffers, x, y) {
+  const tile = frameBuffers?.tiles.find((t) => t.depth && x >= t.x && y >= t.y && x < t.x + t.width && y < t.y + t.height);
+  if (tile) {
+    const i = (y - tile.y) * tile.width + (x - tile.x);
+    return Object.fromEntries(Object.entries(tile).map(([name, values]) => [name, values?.[i]]));
+  }
+  const { whole } = frameBuffers || {};
+  if (!whole || !whole.depth || !whole.face) return null;
   const i = y * frameBuffers.width + x;
-  const depth = frameBuffers.depth[i];
-  const face = frameBuffers.face?.[i];
-  if (!Number.isFinite(depth) && (face === undefined || face === EMPTY_ID)) {
+  return Object.fromEntries(Object.entries(whole).map(([name, values]) => [name, values[i]]));
+}
+
+// "x, y: depth D, face F, object O, instance I" for pixel (x, y) (x from the left, y from the top),
+// or null when the buffers shown do not cover it.
+export function pixelInfo(frameBuffers, x, y) {
+  const v = valuesAt(frameBuffers, x, y);
+  if (!v) return null;
+  if (!Number.isFinite(v.depth) && (v.face === undefined || v.face === EMPTY_ID)) {
     return `${x}, ${y}: empty (no surface), depth ∞`;
   }
-  let text = `${x}, ${y}: depth ${formatValue(depth)}, face ${idText(face)}, object ${idText(frameBuffers.object?.[i])}, `
-    + `instance ${idText(frameBuffers.instance?.[i])}`;
-  if (frameBuffers.depthComplexity) text += `; ${frameBuffers.depthComplexity[i]} surfaces`;
-  if (frameBuffers.depthTests) text += `, ${frameBuffers.depthTests[i]} depth tests`;
+  let text = `${x}, ${y}: depth ${formatValue(v.depth)}, face ${idText(v.face)}, object ${idText(v.object)}, `
+    + `instance ${idText(v.instance)}`;
+  if (v.depthComplexity !== undefined) text += `; ${v.depthComplexity} surfaces`;
+  if (v.depthTests !== undefined) text += `, ${v.depthTests} depth tests`;
   return text;
 }
 
@@ -154,9 +188,9 @@ export function drawGrid(grid, { width, height, rgba, frameBuffers, mode, steps 
       const g = rgba[i * 4 + 1];
       const b = rgba[i * 4 + 2];
       let text;
-      if (mode === 'colour' || !frameBuffers) text = `${r},${g},${b}`;
+      if (mode === 'colour' || !frameBuffers?.whole.depth) text = `${r},${g},${b}`;
       else {
-        const d = frameBuffers.depth[i];
+        const d = frameBuffers.whole.depth[i];
         text = Number.isFinite(d) ? Number(d.toPrecision(3)).toString() : '·';
       }
       const dark = 0.299 * r + 0.587 * g + 0.114 * b < 128;
