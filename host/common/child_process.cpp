@@ -175,8 +175,14 @@ hsr::host::ChildProcess::Received hsr::host::ChildProcess::receive(std::string& 
                 return Received::kGone;
             }
             if (pending_.size() - 8 >= length) {
-                message.assign(pending_, 8, length);
-                pending_.erase(0, 8 + length);
+                if (pending_.size() - 8 == length) {  // the usual case: no byte of the next one yet
+                    pending_.erase(0, 8);
+                    message = std::move(pending_);
+                    pending_.clear();
+                } else {
+                    message.assign(pending_, 8, length);
+                    pending_.erase(0, 8 + length);
+                }
                 return Received::kMessage;
             }
         }
@@ -194,7 +200,10 @@ hsr::host::ChildProcess::Received hsr::host::ChildProcess::receive(std::string& 
         std::size_t want = 1 << 16;
         if (pending_.size() >= 8) {
             const uint64_t length = length_of(pending_.data());
-            if (length <= max_bytes) want = std::max<std::size_t>(want, std::min<uint64_t>(8 + length - pending_.size(), 1 << 24));
+            if (length <= max_bytes) {
+                pending_.reserve(8 + length);  // once, rather than doubling as it comes
+                want = std::max<std::size_t>(want, std::min<uint64_t>(8 + length - pending_.size(), 1 << 24));
+            }
         }
         const std::size_t old_size = pending_.size();
         pending_.resize(old_size + want);
@@ -242,7 +251,14 @@ bool hsr::host::read_message(int fd, std::string& message, uint64_t max_bytes) {
     return read_all(fd, message.data(), length);
 }
 
-bool hsr::host::write_message(int fd, std::string_view message) {
-    const std::array<char, 8> prefix = length_prefix(message.size());
-    return write_all(fd, prefix.data(), prefix.size()) && write_all(fd, message.data(), message.size());
+bool hsr::host::write_message(int fd, std::string_view message) { return write_message(fd, {message}); }
+
+bool hsr::host::write_message(int fd, std::initializer_list<std::string_view> parts) {
+    uint64_t length = 0;
+    for (std::string_view part : parts) length += part.size();
+    const std::array<char, 8> prefix = length_prefix(length);
+    if (!write_all(fd, prefix.data(), prefix.size())) return false;
+    for (std::string_view part : parts)
+        if (!write_all(fd, part.data(), part.size())) return false;
+    return true;
 }

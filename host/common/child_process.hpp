@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -71,5 +72,7 @@ private:
 // a message over max_bytes), and writes one (false when the parent is gone).
 bool read_message(int fd, std::string& message, uint64_t max_bytes = uint64_t(1) << 34);
 bool write_message(int fd, std::string_view message);
+// One message made of these parts one after the other, without joining them first.
+bool write_message(int fd, std::initializer_list<std::string_view> parts);
 
 }  // namespace hsr::host

@@ -142,16 +142,13 @@ json picture_response(const char* kind, uint32_t width, uint32_t height, std::sp
 
 }  // namespace
 
-std::string hsr::host::frame_with_arrays(const FrameAnswer& answer) {
+std::string hsr::host::frame_with_arrays_head(const FrameAnswer& answer) {
     const std::string text = answer.body.dump(-1, ' ', false, json::error_handler_t::replace);
-    const std::size_t padded = (4 + text.size() + 3) / 4 * 4;
-    std::string body;
-    body.reserve(padded + answer.arrays.size());
-    for (int i = 0; i < 4; ++i) body += char((text.size() >> (8 * i)) & 0xff);
-    body += text;
-    body.resize(padded, ' ');
-    body += answer.arrays;
-    return body;
+    std::string head;
+    for (int i = 0; i < 4; ++i) head += char((text.size() >> (8 * i)) & 0xff);
+    head += text;
+    head.resize((head.size() + 3) / 4 * 4, ' ');
+    return head;
 }
 
 std::string hsr::host::base64(const void* bytes, std::size_t size) {
@@ -323,6 +320,11 @@ struct hsr::host::FrameRenderer::State {
         }
         response["steps"] = std::move(steps);
         json buffers = q.buffers_as_list ? json::array() : json(nullptr);
+        std::size_t array_bytes = 0;  // at most: the block grows once, not by doubling
+        for (const BufferSpec& spec : q.buffers)
+            array_bytes += spec.names.size() * 4 *
+                           (spec.region ? std::size_t((*spec.region)[2]) * (*spec.region)[3] : frame.face.size());
+        arrays.bytes.reserve(arrays.bytes.size() + array_bytes);
         for (const BufferSpec& spec : q.buffers) {
             json one = buffers_answer(spec, frame, scene, picture.depth_complexity ? &*picture.depth_complexity : nullptr, arrays);
             if (q.buffers_as_list) buffers.push_back(std::move(one));

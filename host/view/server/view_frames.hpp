@@ -23,10 +23,10 @@ struct FrameAnswer {
     std::string arrays;
 };
 
-// The content type of an answer with arrays, and its body: the JSON's length in bytes (4 bytes,
-// little-endian), the JSON, spaces up to a multiple of 4 bytes, then the arrays.
+// The content type of an answer with arrays, and the start of its body: the JSON's length in bytes
+// (4 bytes, little-endian), the JSON, spaces up to a multiple of 4 bytes; the arrays follow.
 inline constexpr const char* kFrameWithArraysType = "application/vnd.hsr.frame";
-std::string frame_with_arrays(const FrameAnswer& answer);
+std::string frame_with_arrays_head(const FrameAnswer& answer);
 
 class FrameRenderer {
 public:

@@ -143,9 +143,11 @@ struct hsr::host::ViewServer::State {
                            hsr::printable(string_field(request, "algorithm")));
     }
 
-    static void send(httplib::Response& res, const Answer& answer) {
+    // What set_content does, without copying a body that may be hundreds of MB.
+    static void send(httplib::Response& res, Answer answer) {
         res.status = answer.status;
-        res.set_content(answer.body, answer.content_type);
+        res.body = std::move(answer.body);
+        res.set_header("Content-Type", answer.content_type);
     }
 
     // Runs a handler, turning whatever it throws into a JSON error.

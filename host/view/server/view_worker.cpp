@@ -154,9 +154,9 @@ private:
     std::map<std::string, hsr::host::ModelEntry> entries_;
 };
 
-Answer frame_answer(const hsr::host::FrameAnswer& frame) {
+Answer frame_answer(hsr::host::FrameAnswer frame) {
     if (frame.arrays.empty()) return hsr::host::json_answer(200, frame.body);
-    return {200, hsr::host::kFrameWithArraysType, hsr::host::frame_with_arrays(frame)};
+    return {200, hsr::host::kFrameWithArraysType, hsr::host::frame_with_arrays_head(frame), std::move(frame.arrays)};
 }
 
 Answer run_job(const json& job, JobModels& models, hsr::host::FrameRenderer& frames, const hsr::PluginRegistry& registry) {
@@ -208,7 +208,7 @@ int hsr::host::run_view_worker(const std::vector<std::string>& args) {
     while (read_message(kChildSocketFd, message, kMaxJobBytes)) {
         const Answer answer = answer_job(message, models, frames, registry);
         const json header{{"status", answer.status}, {"content_type", answer.content_type}};
-        if (!write_message(kChildSocketFd, header.dump() + "\n" + answer.body)) break;
+        if (!write_message(kChildSocketFd, {header.dump() + "\n", answer.body, answer.body_tail})) break;
     }
     return 0;
 }

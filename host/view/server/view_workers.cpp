@@ -54,7 +54,7 @@ std::optional<std::string> plugin_fault_in(const std::string& output) {
 }  // namespace
 
 hsr::host::Answer hsr::host::json_answer(int status, const json& body) {
-    return {status, "application/json; charset=utf-8", body.dump(-1, ' ', false, json::error_handler_t::replace)};
+    return {status, "application/json; charset=utf-8", body.dump(-1, ' ', false, json::error_handler_t::replace), {}};
 }
 
 hsr::host::Answer hsr::host::error_answer(int status, const std::string& message, const std::string& field) {
@@ -195,7 +195,8 @@ hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string
     } catch (const json::exception&) {
         return error_answer(500, fmt::format("{}: the worker's answer is not understood", doing));
     }
-    answer.body = newline == std::string::npos ? std::string() : received.substr(newline + 1);
+    received.erase(0, newline == std::string::npos ? received.size() : newline + 1);
+    answer.body = std::move(received);
     return answer;
 }
 

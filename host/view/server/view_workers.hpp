@@ -28,6 +28,7 @@ struct Answer {
     int status = 200;
     std::string content_type;
     std::string body;
+    std::string body_tail;  // sent after body: a frame's arrays, kept apart to save a copy
 };
 Answer json_answer(int status, const nlohmann::json& body);
 // {"error": message on one line, "field": field (when not empty)}
