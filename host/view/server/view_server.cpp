@@ -19,7 +19,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cctype>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <new>
 
 namespace fs = std::filesystem;
@@ -83,6 +86,10 @@ struct hsr::host::ViewServer::State {
     ViewConfig config;
     ModelCatalog models;
     WorkerPool workers;
+    // The frame or comparison each page (its X-HSR-Page header) waits for, to cancel when the page
+    // sends a newer one or asks to stop.
+    std::mutex pages_mutex;
+    std::map<std::string, std::shared_ptr<std::atomic<bool>>> page_requests;
     std::optional<std::string> initial_model;
     uint64_t upload_bytes = hsr::limits().upload_bytes;  // the limit in force when the server started
     httplib::Server server;
@@ -142,6 +149,42 @@ struct hsr::host::ViewServer::State {
         return fmt::format("rendering '{}' with '{}'", hsr::printable(string_field(request, "model")),
                            hsr::printable(string_field(request, "algorithm")));
     }
+
+    // The page a request comes from: X-HSR-Page, a token the page makes (at most 64 letters, digits
+    // and '-'), or "" for a client that sends none.
+    static std::string page_of(const httplib::Request& req) {
+        std::string page = req.get_header_value("X-HSR-Page");
+        const bool plain = page.size() <= 64 && std::all_of(page.begin(), page.end(), [](char c) {
+                               return std::isalnum(static_cast<unsigned char>(c)) || c == '-';
+                           });
+        return plain ? page : "";
+    }
+
+    // The request in flight for a page while it lives: a newer one from the same page cancels it.
+    class PageRequest {
+    public:
+        PageRequest(State& state, std::string page) : state_(state), page_(std::move(page)) {
+            if (page_.empty()) return;
+            std::lock_guard lock(state_.pages_mutex);
+            std::shared_ptr<std::atomic<bool>>& slot = state_.page_requests[page_];
+            if (slot) *slot = true;
+            slot = cancel_;
+        }
+        ~PageRequest() {
+            if (page_.empty()) return;
+            std::lock_guard lock(state_.pages_mutex);
+            const auto it = state_.page_requests.find(page_);
+            if (it != state_.page_requests.end() && it->second == cancel_) state_.page_requests.erase(it);
+        }
+        PageRequest(const PageRequest&) = delete;
+        PageRequest& operator=(const PageRequest&) = delete;
+        const std::atomic<bool>* cancel() const { return cancel_.get(); }
+
+    private:
+        State& state_;
+        std::string page_;
+        std::shared_ptr<std::atomic<bool>> cancel_ = std::make_shared<std::atomic<bool>>(false);
+    };
 
     // What set_content does, without copying a body that may be hundreds of MB.
     static void send(httplib::Response& res, Answer answer) {
@@ -213,8 +256,9 @@ struct hsr::host::ViewServer::State {
                 json models = job_models({&request});
                 const std::string affinity = string_field(&request, "model");
                 const std::string what = doing(&request);
+                const PageRequest page(*this, page_of(req));
                 send(res, workers.call({{"op", "frame"}, {"request", std::move(request)}, {"models", std::move(models)}},
-                                       affinity, what));
+                                       affinity, what, page.cancel()));
             });
         });
         server.Post("/api/compare", [this](const httplib::Request& req, httplib::Response& res) {
@@ -225,8 +269,23 @@ struct hsr::host::ViewServer::State {
                 json models = job_models({a, b});
                 const std::string what = fmt::format("comparing: {} and {}", doing(a), doing(b));
                 const std::string affinity = string_field(a, "model");
+                const PageRequest page(*this, page_of(req));
                 send(res, workers.call({{"op", "compare"}, {"request", std::move(request)}, {"models", std::move(models)}},
-                                       affinity, what));
+                                       affinity, what, page.cancel()));
+            });
+        });
+        // The page's Stop: its frame or comparison in flight, if any, ends with 409.
+        server.Post("/api/cancel", [this](const httplib::Request& req, httplib::Response& res) {
+            guarded(res, [&] {
+                const std::string page = page_of(req);
+                if (page.empty()) throw ViewError(400, "", "cancel: the X-HSR-Page header names no page");
+                bool cancelled = false;
+                {
+                    std::lock_guard lock(pages_mutex);
+                    const auto it = page_requests.find(page);
+                    if (it != page_requests.end()) cancelled = !it->second->exchange(true);
+                }
+                send_json(res, 200, {{"cancelled", cancelled}});
             });
         });
         // What no handler answered (404, 405) and bodies over the limit (413), as JSON too.

@@ -22,6 +22,9 @@ namespace {
 constexpr uint64_t kMaxAnswerBytes = uint64_t(2) << 30;
 // How often a waiting call looks at its cancel flag and at shutdown.
 constexpr auto kCancelSlice = std::chrono::milliseconds(50);
+// A job cancelled sooner than this after it started is left to finish (its answer dropped): a new
+// worker and its loading cost more than a short frame.
+constexpr auto kCancelGrace = std::chrono::milliseconds(300);
 // Plugins left out of /api/plugins, at most, before hsr view gives up starting.
 constexpr int kMaxPluginsLeftOut = 16;
 
@@ -100,7 +103,7 @@ hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string
     auto cancelled = [&] { return state_->stopping.load() || (cancel != nullptr && cancel->load()); };
     auto cancelled_answer = [&] {
         return state_->stopping ? error_answer(503, "hsr view is stopping")
-                                : error_answer(409, fmt::format("{}: replaced by a newer request from the same page", doing));
+                                : error_answer(409, fmt::format("{}: cancelled by the page (a newer request, or Stop)", doing));
     };
 
     // A free worker: the one that served the same affinity last, else any, else a new one.
@@ -159,6 +162,7 @@ hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string
         return error_answer(500, fmt::format("{}: the worker {} before taking the job", doing, how));
     }
 
+    const auto job_start = Clock::now();
     std::string received;
     for (;;) {
         const auto slice_end = std::min(deadline, Clock::now() + kCancelSlice);
@@ -172,7 +176,7 @@ hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string
             if (fault) return error_answer(500, fmt::format("{}: {}", doing, *fault));
             return error_answer(500, fmt::format("{}: the worker {}", doing, how));
         }
-        if (cancelled()) {
+        if (cancelled() && (state_->stopping || Clock::now() - job_start >= kCancelGrace)) {
             worker->process->kill_and_reap();
             release(false);
             return cancelled_answer();
@@ -185,6 +189,7 @@ hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string
         }
     }
     release(true);
+    if (cancelled()) return cancelled_answer();
 
     Answer answer;
     const std::size_t newline = received.find('\n');

@@ -56,7 +56,8 @@ public:
     // while there are fewer than max_workers) and returns its answer. A worker that dies or runs past
     // the time limit is killed and replaced, and the answer says so, naming `doing` ("rendering
     // with 'zbuffer' and 'blinn-phong'") and, when the worker could tell, the plugin at fault.
-    // `cancel` set: the job is dropped (its worker killed) and the answer is 409.
+    // `cancel` set: the answer is 409, and the job is stopped (its worker killed) unless it is
+    // about to end anyway (it started less than 300 ms ago).
     Answer call(const nlohmann::json& job, const std::string& affinity, const std::string& doing,
                 const std::atomic<bool>* cancel = nullptr);
 

@@ -58,10 +58,20 @@ async function call(path, options) {
 
 export const getJson = (path) => call(path, { headers: { Accept: 'application/json' } });
 
+// This page's name for the server: a newer frame from the same page cancels the one before.
+const PAGE_ID = (crypto.randomUUID && crypto.randomUUID()) || `${Date.now()}-${Math.random().toString(36).slice(2)}`;
+
 export const postJson = (path, value) => call(path, {
   method: 'POST',
-  headers: { 'Content-Type': 'application/json', Accept: 'application/json' },
+  headers: { 'Content-Type': 'application/json', Accept: 'application/json', 'X-HSR-Page': PAGE_ID },
   body: JSON.stringify(value),
+});
+
+// Stops this page's frame in flight: it ends with an ApiError of status 409.
+export const cancelFrame = () => call('/api/cancel', {
+  method: 'POST',
+  headers: { 'Content-Type': 'application/json', Accept: 'application/json', 'X-HSR-Page': PAGE_ID },
+  body: '{}',
 });
 
 export const uploadModel = (file) => call('/api/upload', {

@@ -1,7 +1,7 @@
 // The viewer page: loads the models and plugins, keeps the settings, asks the server for frames
 // (latest wins) and shows them with their steps, buffers, stats, comparison and theory.
 
-import { getJson, postJson, ApiError } from './api.js';
+import { getJson, postJson, cancelFrame, ApiError } from './api.js';
 import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
@@ -199,7 +199,7 @@ function changed({ resetSteps }) {
   requestFrame();
 }
 
-async function runJob(job) {
+async function runJob(job, isStale) {
   const started = performance.now();
   const canvas = $('canvas');
   try {
@@ -215,6 +215,7 @@ async function runJob(job) {
     const image = new Image();
     image.src = frame.png;
     await image.decode();
+    if (isStale()) return;
     const roundTrip = performance.now() - started;
     const request = job.kind === 'compare' ? job.body.a : job.body;
     showFrame(request, frame, image, roundTrip);
@@ -231,6 +232,12 @@ async function runJob(job) {
     setStatus(`rendered in ${Math.round(roundTrip)} ms`);
     canvas.dataset.state = 'ready';
   } catch (e) {
+    if (isStale()) return;
+    if (e instanceof ApiError && e.status === 409) {  // stopped with Stop
+      canvas.dataset.state = 'ready';
+      setStatus('stopped');
+      return;
+    }
     canvas.dataset.state = 'error';
     if (!(e instanceof ApiError)) console.error(e);
     reportError(e instanceof ApiError ? e : new Error(`could not show the frame: ${e.message}`));
@@ -238,11 +245,22 @@ async function runJob(job) {
   }
 }
 
+// While a frame takes long, the status counts its seconds and Stop cancels it.
+const STOP_AFTER_MS = 1000;
+let busyTimer = null;
 const scheduler = new LatestWins(runJob, (busy) => {
   document.body.classList.toggle('busy', busy);
+  clearInterval(busyTimer);
+  $('stop').hidden = true;
   if (busy) {
     $('canvas').dataset.state = 'loading';
     setStatus('rendering…');
+    busyTimer = setInterval(() => {
+      const ms = scheduler.running();
+      if (ms === null || ms < STOP_AFTER_MS) return;
+      setStatus(`rendering… ${Math.floor(ms / 1000)} s`);
+      $('stop').hidden = false;
+    }, 250);
   }
 });
 
@@ -493,6 +511,10 @@ function wire() {
     changed({});
   });
   $('theory-toggle').addEventListener('click', () => setTheoryOpen($('theory').hidden));
+  $('stop').addEventListener('click', () => {
+    if (steps.playing) steps.setPlaying(false);
+    cancelFrame().catch(reportError);
+  });
 
   const canvas = $('canvas');
   camera.attach(canvas);

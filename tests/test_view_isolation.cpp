@@ -1,0 +1,208 @@
+// hsr view against plugins that crash, abort, exit, throw, run out of memory or loop forever
+// (tests/plugins/misbehaving.cpp), in create and in render: each such request is answered with an
+// error naming the plugin and what happened, and the server goes on serving every other request.
+#include "test_models.hpp"
+
+#include "view/server/view_server.hpp"
+
+#include <catch2/catch.hpp>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <future>
+#include <thread>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+struct IsolationServer {
+    std::unique_ptr<hsr::host::ViewServer> server;
+    int port = 0;
+    std::thread thread;
+
+    explicit IsolationServer(std::chrono::milliseconds time_limit, std::size_t workers = 2) {
+        hsr::host::ViewConfig config;
+        config.model_folders = {test_models::dir};
+        config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_MISBEHAVING_PLUGIN_DIR};
+        config.worker_executable = fs::path(HSR_BINARY_DIR) / "hsr";
+        config.time_limit = time_limit;
+        config.workers = workers;
+        config.worker_memory_bytes = uint64_t(2) << 30;
+        server = std::make_unique<hsr::host::ViewServer>(config);
+        port = server->bind("127.0.0.1", 0);
+        thread = std::thread([this] { server->run(); });
+    }
+    ~IsolationServer() {
+        server->stop();
+        thread.join();
+    }
+
+    httplib::Result get(const std::string& path) const {
+        httplib::Client c("127.0.0.1", port);
+        c.set_read_timeout(300, 0);
+        return c.Get(path.c_str());
+    }
+    httplib::Result frame(const std::string& algorithm, const json& params, int size = 64,
+                          const std::string& page = "") const {
+        const json body{{"model", "0/cube.obj"},
+                        {"algorithm", algorithm},
+                        {"params", params},
+                        {"lighting", "blinn-phong"},
+                        {"camera", {{"yaw", 30}, {"pitch", 20}, {"zoom", 1}}},
+                        {"width", size},
+                        {"height", size}};
+        httplib::Client c("127.0.0.1", port);
+        c.set_read_timeout(300, 0);
+        httplib::Headers headers;
+        if (!page.empty()) headers.emplace("X-HSR-Page", page);
+        return c.Post("/api/frame", headers, body.dump(), "application/json");
+    }
+    httplib::Result cancel(const std::string& page) const {
+        httplib::Client c("127.0.0.1", port);
+        return c.Post("/api/cancel", {{"X-HSR-Page", page}}, "{}", "application/json");
+    }
+    // A plain frame still renders: the server and the other workers are unharmed.
+    void serves_others() const {
+        const httplib::Result r = frame("zbuffer", json::object());
+        REQUIRE(r);
+        CHECK(r->status == 200);
+        CHECK(json::parse(r->body).contains("png"));
+    }
+};
+
+std::string error_of(const httplib::Result& r) { return json::parse(r->body).at("error").get<std::string>(); }
+
+}  // namespace
+
+TEST_CASE("view isolation: a plugin that kills its worker answers one request with why", "[view][isolation]") {
+    IsolationServer server(std::chrono::seconds(60));
+    struct Case {
+        const char* fault;
+        const char* what;  // in the message
+    };
+    const Case cases[] = {{"segfault", "crashed"}, {"abort", "SIGABRT"}, {"exit", "exit(0)"}};
+    for (const char* when : {"create", "render"}) {
+        for (const Case& c : cases) {
+            INFO(c.fault << " in " << when);
+            const httplib::Result r = server.frame("misbehaving", {{"fault", c.fault}, {"when", when}});
+            REQUIRE(r);
+            CHECK(r->status == 500);
+            const std::string error = error_of(r);
+            CHECK_THAT(error, Catch::Contains("plugin 'misbehaving'") && Catch::Contains(c.what) &&
+                                  Catch::Contains(std::string("in ") + when));
+            CHECK(error.find('\n') == std::string::npos);
+            server.serves_others();
+        }
+    }
+}
+
+TEST_CASE("view isolation: an exception across the ABI is one request's error", "[view][isolation]") {
+    IsolationServer server(std::chrono::seconds(60));
+    for (const char* when : {"create", "render"}) {
+        const httplib::Result r = server.frame("misbehaving", {{"fault", "throw"}, {"when", when}});
+        REQUIRE(r);
+        CHECK(r->status >= 400);
+        CHECK_THAT(error_of(r), Catch::Contains("misbehaving"));
+        server.serves_others();
+    }
+}
+
+TEST_CASE("view isolation: a plugin that asks for 10 GB fails in its worker alone", "[view][isolation]") {
+    if (kSanitized) return;  // AddressSanitizer needs its address space unbounded: no bound to hit
+    IsolationServer server(std::chrono::seconds(60));
+    const httplib::Result r = server.frame("misbehaving", {{"fault", "allocate"}, {"when", "render"}});
+    REQUIRE(r);
+    CHECK(r->status == 500);
+    CHECK_THAT(error_of(r), Catch::Contains("plugin 'misbehaving'"));
+    server.serves_others();
+}
+
+TEST_CASE("view isolation: a plugin that loops forever is stopped at the time limit", "[view][isolation]") {
+    IsolationServer server(std::chrono::seconds(2));
+    const httplib::Result r = server.frame("misbehaving", {{"fault", "loop"}, {"when", "render"}});
+    REQUIRE(r);
+    CHECK(r->status == 504);
+    CHECK_THAT(error_of(r), Catch::Contains("'misbehaving'") && Catch::Contains("time limit of 2 s"));
+    server.serves_others();
+}
+
+TEST_CASE("view isolation: other clients are served while a plugin loops", "[view][isolation]") {
+    IsolationServer server(std::chrono::seconds(600), 2);
+    auto looping = std::async(std::launch::async, [&] {
+        return server.frame("misbehaving", {{"fault", "loop"}, {"when", "render"}});
+    });
+    // The other worker answers, again and again, while the first still loops.
+    for (int i = 0; i < 3; ++i) server.serves_others();
+    CHECK(looping.wait_for(std::chrono::seconds(0)) == std::future_status::timeout);
+    // Stopping the server stops the looping worker: the request is answered, not left hanging.
+    server.server->stop();
+    const httplib::Result r = looping.get();
+    if (r) CHECK(r->status == 503);
+}
+
+TEST_CASE("view isolation: a plugin whose first instance crashes is left out, not fatal", "[view][isolation]") {
+    IsolationServer server(std::chrono::seconds(60));
+    const httplib::Result r = server.get("/api/plugins");
+    REQUIRE(r);
+    REQUIRE(r->status == 200);
+    const json plugins = json::parse(r->body);
+    std::vector<std::string> names;
+    for (const json& p : plugins.at("hidden_surface")) names.push_back(p.at("name").get<std::string>());
+    CHECK(std::find(names.begin(), names.end(), "crashes-in-create") == names.end());
+    CHECK(std::find(names.begin(), names.end(), "misbehaving") != names.end());
+    CHECK(std::find(names.begin(), names.end(), "zbuffer") != names.end());
+    server.serves_others();
+}
+
+TEST_CASE("view isolation: the page's Stop and a newer request cancel a long one", "[view][isolation]") {
+    IsolationServer server(std::chrono::seconds(600), 2);
+    SECTION("Stop") {
+        auto looping = std::async(std::launch::async, [&] {
+            return server.frame("misbehaving", {{"fault", "loop"}, {"when", "render"}}, 64, "page-1");
+        });
+        // Until the request is in flight, there is nothing to cancel.
+        while (json::parse(server.cancel("page-1")->body)["cancelled"] != true)
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        const httplib::Result r = looping.get();
+        REQUIRE(r);
+        CHECK(r->status == 409);
+        CHECK_THAT(error_of(r), Catch::Contains("cancelled"));
+    }
+    SECTION("a newer request from the same page") {
+        auto looping = std::async(std::launch::async, [&] {
+            return server.frame("misbehaving", {{"fault", "loop"}, {"when", "render"}}, 64, "page-2");
+        });
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        const httplib::Result newer = server.frame("zbuffer", json::object(), 64, "page-2");
+        REQUIRE(newer);
+        CHECK(newer->status == 200);
+        if (looping.wait_for(std::chrono::seconds(30)) != std::future_status::ready) {
+            server.cancel("page-2");  // not to hang the test
+            FAIL("the newer request from the same page did not cancel the older one");
+        }
+        const httplib::Result r = looping.get();
+        REQUIRE(r);
+        CHECK(r->status == 409);
+    }
+    SECTION("another page's request is not touched") {
+        const httplib::Result other = server.frame("zbuffer", json::object(), 64, "page-3");
+        REQUIRE(other);
+        CHECK(other->status == 200);
+        CHECK(json::parse(server.cancel("page-4")->body)["cancelled"] == false);
+    }
+    server.serves_others();
+}
