@@ -3,6 +3,8 @@
 // class of its own so that a test can start it on a free port, talk to it and stop it.
 #pragma once
 
+#include "view/server/view_access.hpp"
+
 #include "hsr/plugin_registry.hpp"
 
 #include <filesystem>
@@ -18,6 +20,8 @@ struct ViewConfig {
     std::vector<std::string> plugin_dirs;              // searched besides the default ones
     std::filesystem::path initial_model;  // a file in one of the folders, or empty: GET /api/info initial_model
     std::filesystem::path upload_parent;               // where the uploads folder is made (default: temp)
+    std::string token;                                 // the page's and API's secret; empty: a random one
+    HttpLimits http;                                   // what one connection may take
 };
 
 class ViewServer {
@@ -28,7 +32,8 @@ public:
     ViewServer(const ViewServer&) = delete;
     ViewServer& operator=(const ViewServer&) = delete;
 
-    // Binds host:port (port 0: any free port) and returns the port; throws hsr::Error if it cannot.
+    // Binds host:port (port 0: any free port) and returns the port; throws hsr::Error if it cannot
+    // (ViewHttpServer::listen_on).
     int bind(const std::string& host, int port);
     // Serves until stop(), from any thread; returns false if serving failed.
     bool run();
@@ -36,6 +41,8 @@ public:
 
     // The models listed now, for the line hsr view prints.
     std::size_t model_count() const;
+    // What GET /?token= and every /api/ request must carry (docs/viewer.md, "Access").
+    const std::string& token() const;
 
 private:
     struct State;
