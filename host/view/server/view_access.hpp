@@ -42,7 +42,8 @@ std::string random_token();
 bool is_loopback_host(const std::string& host);
 
 // The cpp-httplib server of hsr view. Every request passes the access checks before its body is
-// read; a refused request ends its connection, as its body may still be unread.
+// read; a refused request ends its connection, as its body may still be unread. The pre- and
+// post-routing handlers are this class's own: setting others would drop the checks.
 //
 // Slow clients: cpp-httplib's read timeout counts from one read to the next, so a client that sends
 // a byte every few seconds holds a thread forever. Here each connection is read through a stream of
