@@ -505,7 +505,7 @@ TEST_CASE("view access: answers name files relative to their served folder", "[v
     CHECK_THAT(json::parse(r->body)["error"].get<std::string>(), Catch::Contains("broken.obj"));
 }
 
-TEST_CASE("view access: the printed URL carries the token; other machines are warned of", "[view]") {
+TEST_CASE("view access: the printed URL carries the token, and other machines are warned of", "[view]") {
     const fs::path temp = cli::scratch_dir() / fmt::format("url-{}", ::getpid());
     fs::create_directories(temp);
     {
