@@ -27,8 +27,8 @@ function startServer() {
     const server = spawn(hsr, ['view', '--listen', '127.0.0.1:0', model], { stdio: ['ignore', 'pipe', 'inherit'] });
     server.on('exit', (code) => reject(new Error(`hsr view exited with ${code}`)));
     readline.createInterface({ input: server.stdout }).once('line', (line) => {
-      const match = line.match(/http:\/\/[\d.]+:(\d+)\//);
-      if (match) resolve({ server, url: `http://127.0.0.1:${match[1]}/` });
+      const match = line.match(/http:\/\/127\.0\.0\.1:\d+\/\?token=[0-9a-f]+$/);
+      if (match) resolve({ server, url: match[0] });
       else reject(new Error(`unexpected first line from hsr view: ${line}`));
     });
   });

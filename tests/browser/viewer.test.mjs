@@ -72,9 +72,10 @@ function startServer() {
     server.stderr.on('data', (d) => { stderr += d; });
     server.on('exit', (code) => reject(new Error(`hsr view exited with ${code}: ${stderr.trim()}`)));
     const lines = readline.createInterface({ input: server.stdout });
+    // The printed URL carries the token: opening it sets the page's cookie.
     lines.once('line', (line) => {
-      const match = line.match(/http:\/\/[\d.]+:(\d+)\//);
-      if (match) resolve(`http://127.0.0.1:${match[1]}/`);
+      const match = line.match(/(http:\/\/127\.0\.0\.1:\d+\/)\?token=([0-9a-f]+)$/);
+      if (match) resolve({ printed: match[0], base: match[1], token: match[2] });
       else reject(new Error(`unexpected first line from hsr view: ${line}`));
     });
   });
@@ -148,11 +149,13 @@ function runShownCommand(shown, output) {
 // ---- the test -----------------------------------------------------------------------------------
 
 let serverUrl;
+let apiHeaders;  // what this script's own requests carry instead of the page's cookie
 
 async function main() {
-  const url = await startServer();
-  serverUrl = url;
-  console.log(`server: ${url}`);
+  const { printed, base, token } = await startServer();
+  serverUrl = base;
+  apiHeaders = { 'Content-Type': 'application/json', 'X-HSR-Token': token };
+  console.log(`server: ${base}`);
   browser = await chromium.launchPersistentContext(path.join(scratch, 'profile'), {
     executablePath: CHROMIUM,
     headless: true,
@@ -165,10 +168,25 @@ async function main() {
   page.on('pageerror', (e) => pageErrors.push(e.message));
 
   await check('the page loads and shows the scene given on the command line', async () => {
-    await page.goto(url);
+    await page.goto(printed);
+    assert(page.url() === serverUrl, `the address bar keeps the token: ${page.url()}`);
     await settled(0);
     assert(!(await errorState()), `first frame failed: ${await text('#error')}`);
     assert((await page.$eval('#model', (s) => s.value)).endsWith('boxes.scene'), 'boxes.scene is not selected');
+  });
+
+  await check('without the token, or from another site, the API refuses', async () => {
+    const info = await fetch(new URL('api/info', serverUrl));
+    assert(info.status === 403, `GET /api/info without the token: ${info.status}`);
+    assert(/open the URL hsr view printed/.test((await info.json()).error), 'the refusal does not say what to do');
+    const request = await page.evaluate(() => window.hsrView.lastRequest);
+    const crossSite = await fetch(new URL('api/frame', serverUrl), {
+      method: 'POST', headers: { ...apiHeaders, 'Content-Type': 'text/plain', Origin: 'http://attacker.example' },
+      body: JSON.stringify(request) });
+    assert(crossSite.status === 403, `a cross-site text/plain POST: ${crossSite.status}`);
+    // The page's own requests carry the cookie the printed URL set.
+    const own = await page.evaluate(async () => (await fetch('/api/info')).status);
+    assert(own === 200, `the page's GET /api/info: ${own}`);
   });
 
   await check('picking an algorithm and a lighting model renders with them', async () => {
@@ -237,7 +255,7 @@ async function main() {
     for (let step = 1; step <= Math.min(total, 64); step += 1) {
       if (step === response.steps.current) continue;  // a jump must go somewhere
       const answer = await (await fetch(new URL('api/frame', serverUrl), {
-        method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ ...request, step }) })).json();
+        method: 'POST', headers: apiHeaders, body: JSON.stringify({ ...request, step }) })).json();
       const written = answer.steps?.written?.length ?? 0;
       const rejected = answer.steps?.rejected?.length ?? 0;
       const score = Math.min(written, rejected) * 4 + written + rejected;
@@ -287,7 +305,7 @@ async function main() {
   await check('hovering a pixel shows the face the server\'s face buffer has there', async () => {
     const request = await page.evaluate(() => window.hsrView.lastRequest);
     const answer = await fetch(new URL('api/frame', serverUrl), {
-      method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ ...request, buffers: true }) });
+      method: 'POST', headers: apiHeaders, body: JSON.stringify({ ...request, buffers: true }) });
     // The answer with buffers: the JSON's length, the JSON, then the arrays it points into.
     assert(answer.headers.get('content-type') === 'application/vnd.hsr.frame', 'the answer with buffers is not binary');
     const bytes = await answer.arrayBuffer();

@@ -37,6 +37,13 @@ namespace {
 struct Server {
     pid_t pid = -1;
     int port = 0;
+    std::string token;  // from the printed URL, http://127.0.0.1:PORT/?token=TOKEN
+
+    httplib::Client client() const {
+        httplib::Client c("127.0.0.1", port);
+        c.set_default_headers({{"X-HSR-Token", token}});
+        return c;
+    }
 };
 
 Server start_server(const std::string& hsr, const std::string& model, const std::vector<std::string>& options = {}) {
@@ -65,9 +72,11 @@ Server start_server(const std::string& hsr, const std::string& model, const std:
     while (read(out[0], &c, 1) == 1 && c != '\n') line += c;
     close(out[0]);
     std::printf("%s\n", line.c_str());
-    const std::size_t colon = line.rfind(':');
-    if (line.find("hsr view: serving ") != 0 || colon == std::string::npos) throw std::runtime_error("no port in: " + line);
+    const std::size_t colon = line.rfind(':'), token = line.find("/?token=");
+    if (line.find("hsr view: serving ") != 0 || colon == std::string::npos || token == std::string::npos)
+        throw std::runtime_error("no port and token in: " + line);
     s.port = std::stoi(line.substr(colon + 1));
+    s.token = line.substr(token + 8);
     return s;
 }
 
@@ -142,7 +151,7 @@ int run_load(const std::string& hsr, const std::string& models, bool check_memor
         return 0;
     }
     const Server server = start_server(hsr, (fs::path(models) / "cube.obj").string(), {"--threads", "1"});
-    httplib::Client probe("127.0.0.1", server.port);
+    httplib::Client probe = server.client();
     probe.set_read_timeout(60, 0);
     std::vector<std::string> algorithms;
     httplib::Result plugins = probe.Get("/api/plugins");
@@ -168,7 +177,7 @@ int run_load(const std::string& hsr, const std::string& models, bool check_memor
     constexpr int threads = 8, per_thread = 200;
     std::atomic<int> failures{0}, valid{0}, invalid{0};
     auto client_thread = [&](int seed, int requests) {
-        httplib::Client client("127.0.0.1", server.port);
+        httplib::Client client = server.client();
         client.set_read_timeout(120, 0);
         std::mt19937 random(seed);
         for (int i = 0; i < requests; ++i)
@@ -199,7 +208,7 @@ int run_load(const std::string& hsr, const std::string& models, bool check_memor
 
 int run_bench(const std::string& hsr, const std::string& models) {
     const Server server = start_server(hsr, (fs::path(models) / "bunny.obj").string());
-    httplib::Client client("127.0.0.1", server.port);
+    httplib::Client client = server.client();
     client.set_read_timeout(60, 0);
     std::vector<double> round_trip, server_side, visibility, shading, encode;
     for (int i = -5; i < 50; ++i) {

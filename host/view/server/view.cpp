@@ -51,7 +51,8 @@ po::options_description view_option_descriptions(ViewOptions& o) {
     options.add_options()
         ("help,h", "show this help")
         ("listen", po::value(&o.listen)->default_value(o.listen),
-         "HOST:PORT to serve on (port 0: any free port); anything but 127.0.0.1 or localhost lets other machines in")
+         "HOST:PORT to serve on (port 0: any free port); anything but 127.0.0.1 or localhost lets other machines in "
+         "(with the token of the printed URL)")
         ("models", po::value(&o.model_dirs)->composing(),
          "folder of models to offer (repeatable), besides the source tree's models/ and MODEL's folder")
         ("plugin-path", po::value(&o.plugin_dirs)->composing(), "extra folder to search for plugins (repeatable)")
@@ -170,7 +171,13 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
 
     ViewServer server(std::move(config));
     const int bound = server.bind(host, port);
-    const std::string url = fmt::format("http://{}:{}/", host.find(':') != std::string::npos ? "[" + host + "]" : host, bound);
+    const std::string address = fmt::format("{}:{}", host.find(':') != std::string::npos ? "[" + host + "]" : host, bound);
+    const std::string url = fmt::format("http://{}/?token={}", address, server.token());
+    if (!hsr::host::is_loopback_host(host))
+        std::cerr << fmt::format("hsr view: warning: {} is reachable from other machines: whoever has the URL below can "
+                                 "list and render the served models, upload files and keep this machine busy, and the "
+                                 "token travels unencrypted (plain HTTP)", address)
+                  << std::endl;
     std::cout << fmt::format("hsr view: serving {} models at {}", server.model_count(), url) << std::endl;
     if (o.open) open_in_browser(url);
 

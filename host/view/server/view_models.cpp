@@ -2,12 +2,16 @@
 #include "view/server/view_models.hpp"
 
 #include <fmt/format.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <fstream>
+#include <string_view>
 #include <system_error>
 
 namespace fs = std::filesystem;
@@ -16,6 +20,7 @@ namespace {
 
 constexpr int max_depth = 3;           // folders below a model folder that are searched
 constexpr std::size_t max_uploads = 32;  // kept at once; the oldest goes first
+constexpr std::string_view upload_prefix = "hsr-view-uploads-";
 
 std::string lowercase(std::string text) {
     std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -62,6 +67,27 @@ void list_folder(std::size_t index, const fs::path& folder, std::vector<hsr::hos
     }
 }
 
+// Removes the upload folders of this user's servers whose process is gone: a server killed with
+// SIGKILL cannot remove its own. A pid in use again keeps its folder, on the safe side.
+void remove_stale_uploads(const fs::path& parent) {
+    std::error_code ec;
+    for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.compare(0, upload_prefix.size(), upload_prefix) != 0) continue;
+        const std::size_t dash = name.find('-', upload_prefix.size());
+        const std::string digits = name.substr(upload_prefix.size(), dash - upload_prefix.size());
+        if (dash == std::string::npos || digits.empty() || digits.size() > 9 ||
+            !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+            continue;
+        const pid_t owner = pid_t(std::stol(digits));
+        struct stat info {};
+        if (::lstat(it->path().c_str(), &info) != 0 || !S_ISDIR(info.st_mode) || info.st_uid != ::getuid()) continue;
+        if (owner == ::getpid() || ::kill(owner, 0) == 0 || errno != ESRCH) continue;
+        std::error_code removed;
+        fs::remove_all(it->path(), removed);
+    }
+}
+
 }  // namespace
 
 bool hsr::host::is_model_file_name(const std::string& name) {
@@ -76,7 +102,8 @@ hsr::host::ModelCatalog::ModelCatalog(std::vector<fs::path> folders, const fs::p
         const fs::path absolute = fs::absolute(folder, ec);
         if (!ec) folder = absolute.lexically_normal();
     }
-    std::string pattern = (upload_parent / "hsr-view-uploads-XXXXXX").string();
+    remove_stale_uploads(upload_parent);
+    std::string pattern = (upload_parent / fmt::format("{}{}-XXXXXX", upload_prefix, ::getpid())).string();
     if (::mkdtemp(pattern.data()) == nullptr)
         throw hsr::Error("cannot make a folder for uploads in {}", upload_parent.string());
     upload_dir_ = fs::canonical(pattern);

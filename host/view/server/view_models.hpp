@@ -34,13 +34,15 @@ struct ModelEntry {
 class ModelCatalog {
 public:
     // Folders that do not exist are kept (their index stays theirs) but list nothing. Uploads go into
-    // a fresh folder under upload_parent, removed again by the destructor.
+    // a fresh folder under upload_parent, hsr-view-uploads-<pid>-<random>, removed again by the
+    // destructor; such folders left by servers that are gone (killed) are removed first.
     ModelCatalog(std::vector<std::filesystem::path> folders, const std::filesystem::path& upload_parent);
     ~ModelCatalog();
     ModelCatalog(const ModelCatalog&) = delete;
     ModelCatalog& operator=(const ModelCatalog&) = delete;
 
     const std::vector<std::filesystem::path>& folders() const { return folders_; }
+    const std::filesystem::path& upload_folder() const { return upload_dir_; }
     // Every model file of the folders (found again on each call: .obj .off .ply .stl .scene, at
     // most 3 folders deep, hidden files and folders skipped, links that leave their folder skipped)
     // and the uploads, sorted by id.

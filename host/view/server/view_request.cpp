@@ -57,15 +57,19 @@ std::vector<hsr::Setting> settings_field(const json& object, const char* name) {
 glm::vec3 vector_field(const json& camera, const char* name) {
     const json* value = member(camera, name);
     const std::string field = fmt::format("camera.{}", name);
+    const std::string expected = fmt::format("{}: expected three numbers, as [x, y, z] or \"x,y,z\"", field);
     std::string text;
     if (value->is_array()) {
         for (std::size_t k = 0; k < value->size(); ++k) {
-            if (k > 0) text += ',';
             const json& item = (*value)[k];
-            text += item.is_number() ? fmt::format("{}", item.get<double>()) : item.dump();
+            if (!item.is_number()) throw ViewError(400, field, expected);
+            if (k > 0) text += ',';
+            text += fmt::format("{}", item.get<double>());
         }
+    } else if (value->is_string()) {
+        text = value->get<std::string>();
     } else {
-        text = value->is_string() ? value->get<std::string>() : value->dump();
+        throw ViewError(400, field, expected);
     }
     try {
         return hsr::host::parse_vector_option(text, name);

@@ -5,6 +5,7 @@
 
 #include "common/child_process.hpp"
 #include "common/options.hpp"
+#include "view/server/view_access.hpp"
 #include "view/server/view_assets.hpp"
 #include "view/server/view_models.hpp"
 #include "view/server/view_request.hpp"
@@ -72,13 +73,7 @@ void send_error(httplib::Response& res, int status, const std::string& message, 
     send_json(res, status, body);
 }
 
-json parse_body(const httplib::Request& req) {
-    try {
-        return json::parse(req.body);
-    } catch (const json::parse_error& e) {
-        throw ViewError(400, "", fmt::format("the request body is not JSON ({})", e.what()));
-    }
-}
+json parse_body(const httplib::Request& req) { return hsr::host::parse_json_body(req.body); }
 
 }  // namespace
 
@@ -92,12 +87,13 @@ struct hsr::host::ViewServer::State {
     std::map<std::string, std::shared_ptr<std::atomic<bool>>> page_requests;
     std::optional<std::string> initial_model;
     uint64_t upload_bytes = hsr::limits().upload_bytes;  // the limit in force when the server started
-    httplib::Server server;
+    ViewHttpServer server;
 
     explicit State(ViewConfig c)
         : config(std::move(c)),
           models(config.model_folders, config.upload_parent.empty() ? fs::temp_directory_path() : config.upload_parent),
-          workers(worker_settings(config, models)) {
+          workers(worker_settings(config, models)),
+          server(config.token, config.http) {
         workers.plugins();
         if (!config.initial_model.empty()) {
             std::error_code ec;
@@ -105,6 +101,9 @@ struct hsr::host::ViewServer::State {
             for (const ModelEntry& entry : models.list())
                 if (!ec && entry.path == wanted) initial_model = entry.id;
         }
+        std::vector<fs::path> served = models.folders();
+        served.push_back(models.upload_folder());
+        server.hide_folder_paths(std::move(served));
         routes();
     }
 
@@ -199,6 +198,8 @@ struct hsr::host::ViewServer::State {
             handler();
         } catch (const ViewError& e) {
             send_error(res, e.status, e.what(), e.field);
+        } catch (const json::exception&) {
+            send_error(res, 400, "a field of the request has the wrong type");
         } catch (const std::bad_alloc&) {
             send_error(res, 500, "out of memory");
         } catch (const std::exception& e) {
@@ -226,7 +227,7 @@ struct hsr::host::ViewServer::State {
         server.Get("/api/models", [this](const httplib::Request&, httplib::Response& res) {
             guarded(res, [&] {
                 json folders = json::array(), list = json::array();
-                for (const fs::path& folder : models.folders()) folders.push_back(folder.string());
+                for (const fs::path& folder : models.folders()) folders.push_back(folder.filename().string());
                 for (const ModelEntry& m : models.list())
                     list.push_back({{"id", m.id}, {"name", m.name}, {"bytes", m.bytes}, {"kind", m.scene ? "scene" : "model"}});
                 send_json(res, 200, {{"folders", folders}, {"models", list}});
@@ -328,11 +329,7 @@ hsr::host::ViewServer::ViewServer(ViewConfig config) : state_(std::make_unique<S
 
 hsr::host::ViewServer::~ViewServer() { stop(); }
 
-int hsr::host::ViewServer::bind(const std::string& host, int port) {
-    const int bound = port == 0 ? state_->server.bind_to_any_port(host) : (state_->server.bind_to_port(host, port) ? port : -1);
-    if (bound <= 0) throw hsr::Error("cannot listen on {}:{} (in use, or not an address of this machine)", host, port);
-    return bound;
-}
+int hsr::host::ViewServer::bind(const std::string& host, int port) { return state_->server.listen_on(host, port); }
 
 bool hsr::host::ViewServer::run() { return state_->server.listen_after_bind(); }
 
@@ -342,3 +339,5 @@ void hsr::host::ViewServer::stop() {
 }
 
 std::size_t hsr::host::ViewServer::model_count() const { return state_->models.list().size(); }
+
+const std::string& hsr::host::ViewServer::token() const { return state_->server.token(); }

@@ -3,6 +3,8 @@
 // class of its own so that a test can start it on a free port, talk to it and stop it.
 #pragma once
 
+#include "view/server/view_access.hpp"
+
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -25,6 +27,8 @@ struct ViewConfig {
     std::size_t workers = 3;                           // at most this many at once
     std::chrono::milliseconds time_limit{std::chrono::seconds(60)};  // of one request's work
     uint64_t worker_memory_bytes = uint64_t(8) << 30;  // address space of a worker; 0 for no bound
+    std::string token;                                 // the page's and API's secret; empty: a random one
+    HttpLimits http;                                   // what one connection may take
 };
 
 class ViewServer {
@@ -36,7 +40,8 @@ public:
     ViewServer(const ViewServer&) = delete;
     ViewServer& operator=(const ViewServer&) = delete;
 
-    // Binds host:port (port 0: any free port) and returns the port; throws hsr::Error if it cannot.
+    // Binds host:port (port 0: any free port) and returns the port; throws hsr::Error if it cannot
+    // (ViewHttpServer::listen_on).
     int bind(const std::string& host, int port);
     // Serves until stop(), from any thread; returns false if serving failed.
     bool run();
@@ -44,6 +49,8 @@ public:
 
     // The models listed now, for the line hsr view prints.
     std::size_t model_count() const;
+    // What GET /?token= and every /api/ request must carry (docs/viewer.md, "Access").
+    const std::string& token() const;
 
 private:
     struct State;
