@@ -1,5 +1,6 @@
 // hsr: the command-line host. main() hands the arguments to a command (commands.hpp) and turns its
 // errors into a one-line message and an exit status; the work lives in framework/ and plugins/.
+#include "bench/bench_worker.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
 
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
         if (command == "plugins") return hsr::host::run_plugins(args);
         if (command == "bench") return hsr::host::run_bench(args);
         if (command == "view") return hsr::host::run_view(args);
+        if (command == hsr::host::kBenchWorkerCommand) return hsr::host::run_bench_worker(args);  // hsr bench's own
         throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", command);
     } catch (const UsageError& e) {
         std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
