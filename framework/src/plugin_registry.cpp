@@ -74,8 +74,8 @@ std::string plugin_label(const Plugin& p) {
                                const hsr_error& error) {
     // The plugin may have left the buffer unterminated: its last byte counts as the terminator.
     const std::string_view message(error.message, strnlen(error.message, sizeof error.message - 1));
-    throw Error("{} failed in {} (status {}): {}", plugin_label(plugin), what, static_cast<int>(status),
-                message.empty() ? "(no message)" : message);
+    throw PluginError(status, fmt::format("{} failed in {} (status {}): {}", plugin_label(plugin), what,
+                                          static_cast<int>(status), message.empty() ? "(no message)" : message));
 }
 
 std::vector<std::string> split_path_list(const char* list) {
