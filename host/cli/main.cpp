@@ -6,6 +6,7 @@
 
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
+#include "hsr/plugin_faults.hpp"
 
 #include <boost/program_options.hpp>
 #include <fmt/format.h>
@@ -35,6 +36,7 @@ const char* usage_text =
 
 int main(int argc, char** argv) {
     using hsr::host::UsageError;
+    hsr::report_plugin_faults();
     std::vector<std::string> args(argv + 1, argv + argc);
     try {
         if (args.empty()) {
