@@ -160,7 +160,7 @@ std::string format_table(const std::vector<Result>& results) {
                 algorithms);
         heading("total = visibility + shading, ms (median)");
         add_row("", [](const Result& r) { return r.measured() ? format_ms(r.total.median) : "n/a"; }, algorithms);
-        heading("peak memory, MB: the whole process during the measurement (+ what it added to the scenes held)");
+        heading("peak memory, MB: the process that made the calls, during the measurement (+ what it added to what it held)");
         add_row("", [](const Result& r) {
             if (!r.memory.known()) return std::string(r.measured() ? "-" : "n/a");
             return fmt::format("{:.0f} (+{:.0f})", megabytes(r.memory.peak), megabytes(r.memory.added()));

@@ -9,7 +9,6 @@
 //                     {"error": "MESSAGE"}        the job cannot be done (the model does not load)
 #include "bench/bench_worker.hpp"
 
-#include "bench/plugin_faults_stand_in.hpp"
 #include "common/child_process.hpp"
 #include "common/options.hpp"
 #include "common/plugins.hpp"
@@ -18,6 +17,7 @@
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "hsr/params.hpp"
+#include "hsr/plugin_faults.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -230,7 +230,6 @@ int hsr::host::run_bench_worker(const std::vector<std::string>& args) {
     std::string text;
     if (!read_message(kChildSocketFd, text, hsr::bench::kMaxMessageBytes))
         throw hsr::Error("bench-worker: no job on fd {} (hsr bench starts it)", kChildSocketFd);
-    hsr::report_plugin_faults();
     try {
         const auto [job, cells] = hsr::bench::job_from(json::parse(text));
         hsr::bench::time_job(job, cells);
