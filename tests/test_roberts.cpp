@@ -371,6 +371,10 @@ std::string refusal_of(const hsr::SceneData& data) {
     try {
         draw(data, camera, false);
     } catch (const hsr::Error& e) {
+        // A mesh roberts cannot take is input it refuses, the asker's to fix.
+        const auto* refused = dynamic_cast<const hsr::PluginError*>(&e);
+        CHECK((refused != nullptr && refused->status == HSR_ERROR_INVALID_ARGUMENT));
+        CHECK(hsr::is_client_error(e));
         return e.what();
     }
     return "";

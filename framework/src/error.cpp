@@ -1,4 +1,5 @@
-// printable(): user text made safe to quote in a one-line error message (error.hpp).
+// The error types' helpers (error.hpp): which errors are the asker's, and printable(), user text
+// made safe to quote in a one-line error message.
 #include "hsr/error.hpp"
 
 #include <cstdint>
@@ -44,6 +45,24 @@ std::size_t utf8_sequence(std::string_view text, std::size_t at, uint32_t& code_
 bool is_control(uint32_t c) { return c < 0x20 || (c >= 0x7F && c <= 0x9F) || c == 0x2028 || c == 0x2029; }
 
 }  // namespace
+
+bool plugin_refused_input(hsr_status status) {
+    return status == HSR_ERROR_INVALID_ARGUMENT || status == HSR_ERROR_UNSUPPORTED;
+}
+
+bool is_client_error(const Error& error) {
+    if (dynamic_cast<const UsageError*>(&error) != nullptr || dynamic_cast<const LimitError*>(&error) != nullptr)
+        return true;
+    const auto* plugin = dynamic_cast<const PluginError*>(&error);
+    return plugin != nullptr && plugin_refused_input(plugin->status);
+}
+
+void rethrow_with_message(const Error& error, const std::string& message) {
+    if (dynamic_cast<const UsageError*>(&error) != nullptr) throw UsageError(message);
+    if (dynamic_cast<const LimitError*>(&error) != nullptr) throw LimitError(message);
+    if (const auto* plugin = dynamic_cast<const PluginError*>(&error)) throw PluginError(plugin->status, message);
+    throw Error(message);
+}
 
 std::string printable(std::string_view text, std::size_t max_chars) {
     std::string out;

@@ -151,7 +151,7 @@ SceneData flatten_instances(const hsr_scene& scene) {
     // Every vertex an instance uses belongs to one of its triangles: a scene that says otherwise is
     // bounded by the same limit.
     if (vertices > 3 * limits().stored_triangles)
-        throw Error("{}: {} vertices, over 3 per triangle of the limit of {} stored triangles (raise it with --limit "
+        throw LimitError("{}: {} vertices, over 3 per triangle of the limit of {} stored triangles (raise it with --limit "
                     "stored-triangles=N)", what, vertices, limits().stored_triangles);
     if (triangles > std::numeric_limits<int32_t>::max() || vertices > std::numeric_limits<uint32_t>::max())
         throw Error("{}: {} triangles, too many for a plugin built against ABI 1.0", what, triangles);

@@ -86,7 +86,7 @@ void check_limit(uint64_t Limits::*limit, uint64_t amount, std::string_view what
     const uint64_t allowed = limits().*limit;
     if (amount <= allowed) return;
     const LimitInfo& entry = info(limit);
-    throw Error("{}{}{} {}, over the limit of {} (raise it with --limit {}=N)", what, what.empty() ? "" : ": ", amount,
+    throw LimitError("{}{}{} {}, over the limit of {} (raise it with --limit {}=N)", what, what.empty() ? "" : ": ", amount,
                 entry.unit, allowed, entry.name);
 }
 

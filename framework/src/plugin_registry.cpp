@@ -3,6 +3,7 @@
 #include "hsr/plugin_registry.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/plugin_faults.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
@@ -74,8 +75,8 @@ std::string plugin_label(const Plugin& p) {
                                const hsr_error& error) {
     // The plugin may have left the buffer unterminated: its last byte counts as the terminator.
     const std::string_view message(error.message, strnlen(error.message, sizeof error.message - 1));
-    throw Error("{} failed in {} (status {}): {}", plugin_label(plugin), what, static_cast<int>(status),
-                message.empty() ? "(no message)" : message);
+    throw PluginError(status, fmt::format("{} failed in {} (status {}): {}", plugin_label(plugin), what,
+                                          static_cast<int>(status), message.empty() ? "(no message)" : message));
 }
 
 std::vector<std::string> split_path_list(const char* list) {
@@ -110,12 +111,14 @@ void require_functions(const Plugin& plugin, const Table& table) {
         throw Error("{} has a NULL create or destroy function", plugin_label(plugin));
 }
 
-// Calls into a plugin. A C++ exception must not cross the C ABI (the SDK's boundary catches them
-// all), but a plugin written without the SDK may throw anyway: that becomes an hsr::Error rather
-// than std::terminate. hsr::Error and std::bad_alloc pass unchanged: the host's own callbacks
-// (counter sinks) may raise them from inside the call.
+// Calls into a plugin, marked for the fault line (plugin_faults.hpp); `what` is a string literal. A
+// C++ exception must not cross the C ABI (the SDK's boundary catches them all), but a plugin written
+// without the SDK may throw anyway: that becomes an hsr::Error rather than std::terminate.
+// hsr::Error and std::bad_alloc pass unchanged: the host's own callbacks (counter sinks) may raise
+// them from inside the call.
 template <class F>
 auto call_plugin(const Plugin& plugin, const char* what, F&& f) {
+    const PluginCallScope scope(plugin.descriptor.name, what);
     try {
         return f();
     } catch (const Error&) {
@@ -230,10 +233,13 @@ std::vector<Plugin> load_plugin_library(const fs::path& path) {
     if (!entry_is_function(reinterpret_cast<void*>(&entry)))
         throw Error("{}: not an hsr plugin ('{}' is not a function)", path.string(), HSR_ENTRY_SYMBOL);
 
+    const std::string path_text = path.string();
     std::vector<Plugin> plugins;
     constexpr uint32_t max_plugins_per_library = 1024;
     for (uint32_t index = 0; index < max_plugins_per_library; ++index) {
         const hsr_plugin_descriptor* d = nullptr;
+        // The descriptor's check reads what the plugin points to: a fault there is the plugin's too.
+        const PluginCallScope scope(path_text.c_str(), HSR_ENTRY_SYMBOL);
         try {
             d = entry(index);
         } catch (...) {
@@ -272,6 +278,7 @@ void write_all(int fd, std::string_view text) {
 // line per library ("ok" or "refused REASON"), and leave without running any exit handler (the
 // parent's and the plugins' belong to the parent).
 [[noreturn]] void run_probe_child(const std::vector<fs::path>& paths, size_t first, int report_fd) {
+    stop_reporting_plugin_faults();  // the parent reports how the child ended
     for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGPIPE}) ::signal(sig, SIG_DFL);
     sigset_t none;
     sigemptyset(&none);
@@ -500,6 +507,7 @@ HiddenSurfaceRemover::HiddenSurfaceRemover(const Plugin& plugin, const std::vect
 HiddenSurfaceRemover::~HiddenSurfaceRemover() {
     if (instance_ == nullptr) return;
     try {
+        const PluginCallScope scope(plugin_.descriptor.name, "destroy");
         table_.destroy(instance_);
     } catch (...) {
         std::cerr << "hsr: warning: " << plugin_label(plugin_) << " let an exception escape from destroy\n";
@@ -569,6 +577,7 @@ LightingModel::LightingModel(const Plugin& plugin, const std::vector<Setting>& s
 LightingModel::~LightingModel() {
     if (instance_ == nullptr) return;
     try {
+        const PluginCallScope scope(plugin_.descriptor.name, "destroy");
         table_.destroy(instance_);
     } catch (...) {
         std::cerr << "hsr: warning: " << plugin_label(plugin_) << " let an exception escape from destroy\n";
@@ -607,6 +616,7 @@ HiddenLineRemover::HiddenLineRemover(const Plugin& plugin, const std::vector<Set
 HiddenLineRemover::~HiddenLineRemover() {
     if (instance_ == nullptr) return;
     try {
+        const PluginCallScope scope(plugin_.descriptor.name, "destroy");
         table_.destroy(instance_);
     } catch (...) {
         std::cerr << "hsr: warning: " << plugin_label(plugin_) << " let an exception escape from destroy\n";

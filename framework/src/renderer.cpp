@@ -82,7 +82,7 @@ std::shared_ptr<LoadedScene> LoadedScene::load(const SceneSource& source, const 
         try {
             scene = make_instance_grid(scene, *source.repeat);
         } catch (const Error& e) {
-            throw Error("--repeat {}: {}", source.repeat_text, e.what());
+            rethrow_with_message(e, fmt::format("--repeat {}: {}", source.repeat_text, e.what()));
         }
     }
     return loaded;

@@ -108,7 +108,7 @@ public:
             if (std::any_of(opacity_.begin(), opacity_.end(), [](float a) { return a < 1.0f; }))
                 result_.scene.object_opacity = opacity_;
         } catch (const Error& e) {
-            throw Error("{}: {}", path_text(), printable(e.what(), std::string::npos));
+            rethrow_with_message(e, fmt::format("{}: {}", path_text(), printable(e.what(), std::string::npos)));
         }
         if (repeat_) result_.scene = make_instance_grid(result_.scene, *repeat_);
         if (result_.pixel_camera && !result_.width) {
@@ -127,6 +127,10 @@ private:
     // made one line here.
     [[noreturn]] void fail(std::size_t line, const std::string& message) const {
         throw Error("{}:{}: {}", path_text(), line, printable(message, std::string::npos));
+    }
+    // The same for an error caught on the way, which keeps its type (a LimitError stays one).
+    [[noreturn]] void fail(std::size_t line, const Error& cause) const {
+        rethrow_with_message(cause, fmt::format("{}:{}: {}", path_text(), line, printable(cause.what(), std::string::npos)));
     }
 
     std::string path_text() const { return printable(file_.string(), kMaxQuotedPathChars); }
@@ -252,7 +256,7 @@ private:
                 check_limit(&Limits::lights, result_.lights.size() + 1, "");
                 result_.lights.push_back(parse_light_spec(spec));
             } catch (const Error& e) {
-                fail(s.line, e.what());
+                fail(s.line, e);
             }
         } else if (keyword == "name" || keyword == "color" || keyword == "opacity" || keyword == "translate" || keyword == "rotate" ||
                    keyword == "scale" || keyword == "crease" || keyword == "vertex") {
@@ -279,7 +283,7 @@ private:
         try {
             check_limit(&Limits::instances, uint64_t(grid.columns) * grid.rows * grid.layers, "");
         } catch (const Error& e) {
-            fail(s.line, e.what());
+            fail(s.line, e);
         }
         for (std::size_t i = 4; i < s.words.size(); i += 2) {
             const std::string& key = s.words[i];
@@ -459,7 +463,7 @@ private:
             }
         } catch (const Error& e) {
             if (std::string_view(e.what()).starts_with(path_text() + ":")) throw;
-            fail(object.line, e.what());
+            fail(object.line, e);
         }
     }
 

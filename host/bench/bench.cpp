@@ -1,9 +1,11 @@
 // hsr bench: the command line around bench/measure.hpp. Times hidden-surface plugins on models and deep
 // scenes at several resolutions, prints the table, writes CSV and a plot (SVG or PNG).
+#include "bench/bench_cell.hpp"
 #include "bench/bench_llvmpipe.hpp"
 #include "bench/measure.hpp"
 #include "bench/bench_plot.hpp"
 #include "bench/bench_report.hpp"
+#include "bench/bench_worker.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
 #include "common/outputs.hpp"
@@ -174,16 +176,13 @@ private:
 
 std::string ms(double v) { return fmt::format("{:.{}f}", v, v < 10 ? 2 : 1); }
 
-// A model ready to time: loaded into a renderer (the bench scene's mesh moved there), with its
-// camera at every size.
-struct PreparedModel {
-    hsr::bench::BenchScene scene;
-    std::shared_ptr<hsr::Renderer> renderer;
-    std::vector<hsr_camera> cameras;  // one per size
-};
+using hsr::bench::PreparedModel;
+using Size = hsr::bench::ImageSize;
 
-
-using Size = std::pair<uint32_t, uint32_t>;  // width, height
+// A cell may run this long by default: 6x the slowest cell of the default study (raycast on deep-63,
+// about 20 s on the project's machine), so that only a plugin that hangs meets it.
+constexpr double kDefaultCellTimeLimitSeconds = 120;
+constexpr double kMaxCellTimeLimitSeconds = 7 * 24 * 3600;
 
 // The command line as given, with --quick's defaults for what it leaves out.
 struct BenchOptions {
@@ -191,7 +190,8 @@ struct BenchOptions {
     std::vector<std::string> algorithm_specs, plugin_dirs, limit_settings;
     std::string csv_path, svg_path, png_path, models_dir_text;
     int64_t repetitions = 5, warmup = 1, threads = 0;
-    bool quick = false, vs_llvmpipe = false;
+    double cell_time_limit = kDefaultCellTimeLimitSeconds;
+    bool quick = false, vs_llvmpipe = false, in_process = false;
     po::variables_map vm;
 
     // Whether the option is on the command line (not just at its default).
@@ -225,6 +225,12 @@ po::options_description describe_options(BenchOptions& o) {
         ("quick", po::bool_switch(&o.quick),
          "a small fast run: cube, octahedron, cube-loop, deep-3:cube at 128x128, 3 repetitions")
         ("threads", po::value(&o.threads)->default_value(0), "threads for loading, visibility and shading (0 = one per core)")
+        ("cell-time-limit", po::value(&o.cell_time_limit)->default_value(kDefaultCellTimeLimitSeconds),
+         "seconds one algorithm may take on one model at one size, its calls and its start together; "
+         "one that takes longer is stopped and its cell reads 'timed out'")
+        ("in-process", po::bool_switch(&o.in_process),
+         "time every cell in this process rather than in worker processes: a plugin that crashes or "
+         "hangs then ends or holds the whole run (for a debugger or profiler on one process)")
         ("vs-llvmpipe", po::bool_switch(&o.vs_llvmpipe),
          "also draw each scene with Mesa's llvmpipe (build/hsr-llvmpipe, -DHSR_LLVMPIPE=ON) and print both "
          "frame times and their ratio (zbuffer + blinn-phong; default algorithm zbuffer only)")
@@ -261,6 +267,10 @@ std::vector<Size> check_settings(const BenchOptions& o) {
     if (o.warmup < 0 || o.warmup > 100000) throw UsageError("--warmup must be between 0 and 100000");
     if (o.threads < 0 || o.threads > hsr::host::kMaxThreads)
         throw UsageError("--threads must be between 0 and {}", hsr::host::kMaxThreads);
+    if (!(o.cell_time_limit > 0 && o.cell_time_limit <= kMaxCellTimeLimitSeconds))
+        throw UsageError("--cell-time-limit must be more than 0 and at most {:g} seconds", kMaxCellTimeLimitSeconds);
+    if (o.in_process && o.given("cell-time-limit"))
+        throw UsageError("--cell-time-limit needs worker processes (leave out --in-process)");
     try {
         hsr::set_limits(hsr::limits_from_settings(o.limit_settings));
     } catch (const hsr::Error& e) {
@@ -288,15 +298,16 @@ std::vector<std::string> algorithm_labels(const BenchOptions& o, const hsr::Plug
     return labels;
 }
 
-// The plugins the labels name, with their parameters.
+// The plugins the labels name, with their parameters. Unknown names and bad parameters fail here,
+// before any model is loaded, checked against the plugins' descriptors: no instance is made, as a
+// plugin that crashes in create() would take this process with it.
 std::vector<hsr::PluginSpec> algorithm_specs(const std::vector<std::string>& labels,
                                              const hsr::PluginRegistry& registry) {
     std::vector<hsr::PluginSpec> algorithms;
     for (const std::string& label : labels) {
         algorithms.push_back(hsr::parse_plugin_spec(label));
-        // Unknown names and bad parameters fail here, before any model is loaded.
-        hsr::HiddenSurfaceRemover check(registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms.back().name),
-                                        algorithms.back().settings);
+        const hsr::Plugin& plugin = registry.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms.back().name);
+        hsr::resolve_params(plugin.descriptor, algorithms.back().settings);
     }
     return algorithms;
 }
@@ -327,151 +338,137 @@ std::vector<PreparedModel> prepare_models(const std::vector<hsr::bench::ModelSpe
     std::vector<PreparedModel> prepared;
     for (const hsr::bench::ModelSpec& spec : models) {
         progress.loading(spec.name);
-        PreparedModel& model = prepared.emplace_back(PreparedModel{hsr::bench::load_bench_scene(spec), {}, {}});
-        model.renderer = std::make_shared<hsr::Renderer>(hsr::LoadedScene::of(std::move(model.scene.scene)));
-        for (const std::string& w : model.renderer->loaded().scene().warnings) progress.message("hsr: warning: " + w);
-        for (const auto& [width, height] : sizes) model.cameras.push_back(hsr::bench::make_bench_camera(*model.renderer, model.scene, width, height));
+        prepared.push_back(hsr::bench::prepare_model(
+            spec, sizes, [&](const std::string& warning) { progress.message("hsr: warning: " + warning); }));
     }
     return prepared;
 }
+
+// Where the cells are timed: in worker processes (bench_worker.hpp), each told `job` with its model
+// filled in, or in this process with `lighting` (--in-process).
+struct CellPlace {
+    hsr::bench::WorkerJob job;
+    double cell_time_limit = kDefaultCellTimeLimitSeconds;
+    hsr::LightingModel* lighting = nullptr;  // not null: here
+};
 
 // The measurements, model after model, size after size, algorithm after algorithm: one row of
 // results each, shown as progress.
 class Study {
 public:
     Study(const hsr::PluginRegistry& registry, const std::vector<hsr::PluginSpec>& algorithms,
-          const std::vector<std::string>& labels, hsr::LightingModel& lighting,
-          const hsr::bench::TimingSettings& settings, Progress& progress, std::size_t scenes)
-        : registry_(registry), algorithms_(algorithms), labels_(labels), lighting_(lighting), settings_(settings),
+          const std::vector<std::string>& labels, CellPlace& place, const hsr::bench::TimingSettings& settings,
+          Progress& progress, std::size_t scenes)
+        : registry_(registry), algorithms_(algorithms), labels_(labels), place_(place), settings_(settings),
           progress_(progress), scenes_(scenes), rows_(scenes * algorithms.size()) {}
 
     // Every size of the model; the model is dropped once measured.
-    void measure(PreparedModel& model, const std::vector<Size>& sizes) {
+    void measure(PreparedModel& model, const std::string& model_name, const std::vector<Size>& sizes) {
         const hsr_scene view = model.renderer->loaded().scene().view();
-        for (std::size_t size = 0; size < sizes.size(); ++size) measure_scene(model, view, size, sizes[size]);
+        std::vector<std::optional<hsr::DepthComplexity>> depth_complexity;
+        for (std::size_t size = 0; size < sizes.size(); ++size) {
+            progress_.measuring(fmt::format("depth complexity of {} at {}x{}", model.scene.name, sizes[size].first,
+                                            sizes[size].second));
+            depth_complexity.push_back(model.renderer->depth_complexity(model.cameras[size]));
+        }
+        auto finished = [&](const hsr::bench::Cell& cell, const hsr::bench::CellOutcome& outcome) {
+            for (; advanced_in_cell_ < settings_.warmup + settings_.repetitions; ++advanced_in_cell_) progress_.advance();
+            advanced_in_cell_ = 0;
+            add_row(cell, model, view, outcome, depth_complexity[cell.size]);
+        };
+        if (place_.lighting != nullptr) {
+            // Each algorithm makes all its calls in a row, warm-up first, as an application
+            // rendering frame after frame would, with the processor caches its own.
+            for (std::size_t size = 0; size < sizes.size(); ++size)
+                for (std::size_t a = 0; a < algorithms_.size(); ++a) {
+                    const hsr::bench::Cell cell{size, a};
+                    finished(cell, hsr::bench::time_cell(
+                                       model, size, registry_.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms_[a].name),
+                                       algorithms_[a].settings, *place_.lighting, settings_,
+                                       [&](unsigned call) { calling(cell, model.scene.name, sizes, call); }));
+                }
+        } else {
+            place_.job.model = model_name;
+            hsr::bench::time_cells_apart(
+                place_.job, std::chrono::duration<double>(place_.cell_time_limit),
+                [&](const hsr::bench::Cell& cell, unsigned call) { calling(cell, model.scene.name, sizes, call); },
+                finished);
+        }
+        shots_done_ += sizes.size();
         model = {};
     }
 
     std::vector<hsr::bench::Result>& results() { return results_; }
 
 private:
-    // One scene at one size, as every algorithm sees it.
-    struct Shot {
-        const std::string& name;
-        const hsr_scene& view;
-        const hsr_camera& camera;
-        uint32_t width, height;
-    };
-
-    void measure_scene(const PreparedModel& model, const hsr_scene& view, std::size_t size, Size pixels) {
-        const auto [width, height] = pixels;
-        const Shot shot{model.scene.name, view, model.cameras[size], width, height};
-        const std::vector<hsr_light> lights = model.renderer->lights({}, shot.camera);
-        const hsr_shading_context context = hsr::make_shading_context(shot.camera, lights);
-        progress_.measuring(fmt::format("depth complexity of {} at {}x{}", shot.name, width, height));
-        const std::optional<hsr::DepthComplexity> depth_complexity = model.renderer->depth_complexity(shot.camera);
-
-        // One remover per (algorithm, scene, size), alive for all its calls: caches persist. Each
-        // algorithm makes all its calls in a row, warm-up first, as an application rendering frame
-        // after frame would, with the processor caches its own. A plugin that refuses the scene (an
-        // error from any of its calls) is shown as n/a with its reason; the others are still timed.
-        std::vector<hsr::bench::Timing> timings;
-        std::vector<std::string> refusals(algorithms_.size());
-        ++scene_index_;
-        for (std::size_t a = 0; a < algorithms_.size(); ++a)
-            refusals[a] = time_algorithm(a, shot, context, timings.emplace_back());
-
-        for (std::size_t a = 0; a < algorithms_.size(); ++a) {
-            ++row_;
-            if (refusals[a].empty())
-                add_measured_row(a, model, shot, timings[a], depth_complexity);
-            else
-                add_refused_row(a, shot, refusals[a], depth_complexity);
-        }
+    void calling(const hsr::bench::Cell& cell, const std::string& model, const std::vector<Size>& sizes,
+                 unsigned call) {
+        for (; advanced_in_cell_ < call; ++advanced_in_cell_) progress_.advance();
+        const bool warm = call < settings_.warmup;
+        progress_.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", shots_done_ + cell.size + 1, scenes_, model,
+                                   sizes[cell.size].first, sizes[cell.size].second, labels_[cell.algorithm],
+                                   warm ? "warm-up" : "run", warm ? call + 1 : call + 1 - settings_.warmup,
+                                   warm ? settings_.warmup : settings_.repetitions));
     }
 
-    // Algorithm a's calls on the shot into timing; returns the error that refused it, or "".
-    std::string time_algorithm(std::size_t a, const Shot& shot, const hsr_shading_context& context,
-                               hsr::bench::Timing& timing) {
-        const unsigned calls = settings_.warmup + settings_.repetitions;
-        unsigned made = 0;
-        try {
-            hsr::HiddenSurfaceRemover remover(registry_.find(HSR_KIND_HIDDEN_SURFACE_REMOVER, algorithms_[a].name),
-                                              algorithms_[a].settings);
-            hsr::bench::FrameTimer timer(shot.view, shot.camera, remover, lighting_, context, settings_);
-            for (; made < calls; ++made) {
-                const bool warm = made < settings_.warmup;
-                progress_.show(fmt::format("[{}/{}] {} {}x{}: {}, {} {}/{}", scene_index_, scenes_, shot.name,
-                                           shot.width, shot.height, labels_[a], warm ? "warm-up" : "run",
-                                           warm ? made + 1 : made + 1 - settings_.warmup,
-                                           warm ? settings_.warmup : settings_.repetitions));
-                timer.call();
-                progress_.advance();
-            }
-            timing = timer.timing();
-        } catch (const hsr::Error& e) {
-            for (; made < calls; ++made) progress_.advance();
-            return e.what();
-        }
-        return {};
-    }
-
-    void add_refused_row(std::size_t a, const Shot& shot, const std::string& refusal,
-                         const std::optional<hsr::DepthComplexity>& depth_complexity) {
+    void add_row(const hsr::bench::Cell& cell, const PreparedModel& model, const hsr_scene& view,
+                 const hsr::bench::CellOutcome& outcome, const std::optional<hsr::DepthComplexity>& depth_complexity) {
+        ++row_;
+        const hsr_camera& camera = model.cameras[cell.size];
+        const std::string& label = labels_[cell.algorithm];
+        const std::string where = fmt::format("[{}/{}] {} on {} {}x{}", row_, rows_, label, model.scene.name,
+                                              camera.width, camera.height);
         hsr::bench::Result result;
-        result.algorithm = labels_[a];
-        result.model = shot.name;
-        result.width = shot.width;
-        result.height = shot.height;
-        result.faces = hsr::drawn_triangle_count(shot.view);
-        result.stored_faces = shot.view.triangle_count;
-        result.instances = shot.view.instance_count;
-        if (depth_complexity) {
-            result.depth_complexity = depth_complexity->mean_over_covered();
-            result.depth_complexity_max = depth_complexity->max;
+        if (outcome.measured()) {
+            result = hsr::bench::make_result(label, model.scene.name, view, camera, outcome.timing, settings_.warmup,
+                                             depth_complexity);
+            progress_.row(fmt::format("{}: {} ms [{}-{}]{}", where, ms(result.visibility.median),
+                                      ms(result.visibility.min), ms(result.visibility.max),
+                                      result.build_ms > 0 ? fmt::format(" + {} ms build", ms(result.build_ms)) : ""));
+        } else {
+            result.algorithm = label;
+            result.model = model.scene.name;
+            result.width = camera.width;
+            result.height = camera.height;
+            result.faces = hsr::drawn_triangle_count(view);
+            result.stored_faces = view.triangle_count;
+            result.instances = view.instance_count;
+            if (depth_complexity) {
+                result.depth_complexity = depth_complexity->mean_over_covered();
+                result.depth_complexity_max = depth_complexity->max;
+            }
+            result.refused = outcome.refused;
+            result.fault = outcome.fault;
+            result.fault_detail = outcome.fault_detail;
+            progress_.row(result.refused.empty() ? fmt::format("{}: {}: {}", where, result.fault, result.fault_detail)
+                                                 : fmt::format("{}: n/a: {}", where, result.refused));
         }
-        result.refused = refusal;
-        progress_.row(fmt::format("[{}/{}] {} on {} {}x{}: n/a: {}", row_, rows_, labels_[a], shot.name, shot.width,
-                                  shot.height, result.refused));
-        results_.push_back(std::move(result));
-    }
-
-    void add_measured_row(std::size_t a, const PreparedModel& model, const Shot& shot,
-                          const hsr::bench::Timing& timing, const std::optional<hsr::DepthComplexity>& depth_complexity) {
-        hsr::bench::Result result = hsr::bench::make_result(labels_[a], shot.name, shot.view, shot.camera, timing,
-                                                            settings_.warmup, depth_complexity);
         result.layers = model.scene.layers;
         result.zoom = model.scene.camera.zoom;
-        progress_.row(fmt::format("[{}/{}] {} on {} {}x{}: {} ms [{}-{}]{}", row_, rows_, labels_[a], shot.name,
-                                  shot.width, shot.height, ms(result.visibility.median), ms(result.visibility.min),
-                                  ms(result.visibility.max),
-                                  result.build_ms > 0 ? fmt::format(" + {} ms build", ms(result.build_ms)) : ""));
         results_.push_back(std::move(result));
     }
 
     const hsr::PluginRegistry& registry_;
     const std::vector<hsr::PluginSpec>& algorithms_;
     const std::vector<std::string>& labels_;
-    hsr::LightingModel& lighting_;
+    CellPlace& place_;
     const hsr::bench::TimingSettings& settings_;
     Progress& progress_;
     const std::size_t scenes_, rows_;
-    std::size_t row_ = 0, scene_index_ = 0;
+    std::size_t row_ = 0, shots_done_ = 0;
+    unsigned advanced_in_cell_ = 0;  // progress steps of the current cell's calls shown so far
     std::vector<hsr::bench::Result> results_;
 };
 
 // The table on stdout, then the files asked for. Written only once the results are ready, and
 // replaced together once all are written: neither a run nor a writer that fails leaves an existing
-// file changed. The CSV and the plot hold what was measured; the table also shows what was refused.
+// file changed. Each shows every cell, those without a time marked as such.
 void report(const BenchOptions& o, const std::vector<hsr::bench::Result>& results) {
     std::cout << hsr::bench::format_table(results);
     std::cout.flush();
-    std::vector<hsr::bench::Result> measured;
-    for (const hsr::bench::Result& r : results)
-        if (r.refused.empty()) measured.push_back(r);
     hsr::AtomicFileSet files;
-    if (o.given("csv")) hsr::bench::write_csv(files.add(o.csv_path).stream(), measured);
-    const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(measured);
+    if (o.given("csv")) hsr::bench::write_csv(files.add(o.csv_path).stream(), results);
+    const std::vector<hsr::bench::LogLogPlot> plots = hsr::bench::plot_results(results);
     using hsr::bench::PlotFormat;
     if (o.given("svg")) hsr::bench::write_plot(files.add(o.svg_path).stream(), plots, PlotFormat::svg);
     if (o.given("png")) hsr::bench::write_plot(files.add(o.png_path).stream(), plots, PlotFormat::png);
@@ -494,7 +491,7 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     const std::vector<hsr::PluginSpec> algorithms = algorithm_specs(labels, registry);
     const hsr::PluginSpec lighting_spec = hsr::parse_plugin_spec(o.lighting_text);
     const fs::path llvmpipe_program = o.vs_llvmpipe ? find_llvmpipe_program(labels, o.lighting_text) : fs::path();
-    hsr::LightingModel lighting(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+    hsr::resolve_params(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name).descriptor, lighting_spec.settings);
     const ModelChoice choice = model_specs(o);
 
     hsr::bench::TimingSettings timing_settings;
@@ -505,8 +502,16 @@ int hsr::host::run_bench(const std::vector<std::string>& args) {
     const std::size_t scenes = choice.models.size() * sizes.size();
     Progress progress(scenes * algorithms.size() * (timing_settings.warmup + timing_settings.repetitions));
     std::vector<PreparedModel> prepared = prepare_models(choice.models, sizes, progress);
-    Study study(registry, algorithms, labels, lighting, timing_settings, progress, scenes);
-    for (PreparedModel& model : prepared) study.measure(model, sizes);
+    CellPlace place{{"", choice.models_dir, sizes, labels, o.lighting_text, timing_settings, unsigned(o.threads),
+                     o.plugin_dirs, o.limit_settings},
+                    o.cell_time_limit};
+    std::optional<hsr::LightingModel> lighting;
+    if (o.in_process) {
+        lighting.emplace(registry.find(HSR_KIND_LIGHTING_MODEL, lighting_spec.name), lighting_spec.settings);
+        place.lighting = &*lighting;
+    }
+    Study study(registry, algorithms, labels, place, timing_settings, progress, scenes);
+    for (std::size_t m = 0; m < prepared.size(); ++m) study.measure(prepared[m], choice.models[m].name, sizes);
     progress.finish();
 
     report(o, study.results());

@@ -61,6 +61,8 @@ void draw_panel(PlotCanvas& canvas, const LogLogPlot& plot, double dy) {
             xmin = std::min(xmin, x), xmax = std::max(xmax, x);
             ymin = std::min(ymin, y), ymax = std::max(ymax, y);
         }
+    for (const PlotMiss& miss : plot.misses)
+        if (miss.x > 0) xmin = std::min(xmin, miss.x), xmax = std::max(xmax, miss.x);
     if (!(xmax > 0)) xmin = 1, xmax = 10;
     if (!(ymax > 0)) ymin = 1, ymax = 10;
     const std::vector<double> xt = decade_ticks(xmin, xmax), yt = decade_ticks(ymin, ymax);
@@ -174,6 +176,17 @@ void draw_panel(PlotCanvas& canvas, const LogLogPlot& plot, double dy) {
         for (Point p : line) canvas.marker(p, colors[i], s.hollow);
     }
 
+    // Cells without a time: crosses on the bottom edge, stacked up where several share a face count.
+    auto cross = [&](Point at, const std::string& color) {
+        constexpr double r = 4;
+        canvas.segments({{{at.first - r, at.second - r}, {at.first + r, at.second + r}},
+                         {{at.first - r, at.second + r}, {at.first + r, at.second - r}}},
+                        {color, 2});
+    };
+    std::map<double, int> misses_at;
+    for (const PlotMiss& miss : plot.misses)
+        if (miss.x > 0) cross({X(miss.x), bottom - 8 - 11 * misses_at[miss.x]++}, miss.color);
+
     // Legend, right of the plot.
     const double lx = right + 18;
     double ly = top + 8;
@@ -188,6 +201,12 @@ void draw_panel(PlotCanvas& canvas, const LogLogPlot& plot, double dy) {
             entry({colors[i], 2, plot.series[i].dash}, plot.series[i].hollow, plot.series[i].label, "#000000");
     if (!plot.notes.empty()) ly += 8;
     for (const LegendNote& note : plot.notes) entry({"#444444", 2, note.dash}, note.hollow, note.label, "#444444");
+    if (!plot.misses.empty()) {
+        if (plot.notes.empty()) ly += 8;
+        cross({lx + 14, ly}, "#444444");
+        canvas.text({lx + 36, ly + 4}, plot.miss_label, {12, "#444444"});
+        ly += 20;
+    }
     if (anchor) {
         if (plot.notes.empty()) ly += 8;
         entry(reference_pen, std::nullopt, "linear in faces", "#555555");
@@ -349,11 +368,12 @@ std::vector<LogLogPlot> plot_results(const std::vector<Result>& results) {
     }
     std::vector<LogLogPlot> plots;
     for (const auto& size : sizes) {
+        auto at_size = [&](const Result& r) { return std::make_pair(r.width, r.height) == size; };
         LogLogPlot plot;
         unsigned reps = 0;
         bool any_deep = false, any_single = false;
         for (const Result& r : results)
-            if (std::make_pair(r.width, r.height) == size) {
+            if (at_size(r) && r.measured()) {
                 reps = std::max(reps, r.repetitions);
                 (r.instances > 0 ? any_deep : any_single) = true;
             }
@@ -371,11 +391,24 @@ std::vector<LogLogPlot> plot_results(const std::vector<Result>& results) {
                 series.hollow = deep;
                 series.in_legend = !deep || !any_single;
                 for (const Result& r : results)
-                    if (r.algorithm == algorithms[a] && std::make_pair(r.width, r.height) == size &&
-                        (r.instances > 0) == deep)
+                    if (r.algorithm == algorithms[a] && at_size(r) && r.measured() && (r.instances > 0) == deep)
                         series.points.emplace_back(double(r.faces), std::max(r.visibility.median, 1e-3));
                 if (!series.points.empty()) plot.series.push_back(std::move(series));
             }
+        // The colour of an algorithm with no time at all is still explained.
+        for (std::size_t a = 0; a < algorithms.size(); ++a) {
+            const bool plotted = std::any_of(plot.series.begin(), plot.series.end(), [&](const PlotSeries& s) {
+                return s.color == palette[a % palette.size()] && s.in_legend;
+            });
+            const bool missed = std::any_of(results.begin(), results.end(), [&](const Result& r) {
+                return r.algorithm == algorithms[a] && at_size(r) && !r.measured();
+            });
+            if (!plotted && missed) plot.series.push_back({algorithms[a], {}, "", palette[a % palette.size()]});
+        }
+        for (const Result& r : results)
+            if (at_size(r) && !r.measured())
+                plot.misses.push_back({double(r.faces), palette[index_of(algorithms, r.algorithm) % palette.size()]});
+        plot.miss_label = "no time (see the table)";
         if (any_deep && any_single) {
             plot.notes.push_back({"", false, "single models"});
             plot.notes.push_back({"6 4", true, "deep scenes"});

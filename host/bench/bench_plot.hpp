@@ -29,11 +29,17 @@ struct LegendNote {  // a grey legend entry explaining a line style
     bool hollow = false;
     std::string label;
 };
+struct PlotMiss {  // a point with no y (a cell without a time): a cross on the bottom edge at x
+    double x = 0;
+    std::string color;
+};
 struct LogLogPlot {
     std::string title, subtitle, x_label, y_label;
     std::vector<PlotSeries> series;
     std::vector<PlotGuide> guides;
     std::vector<LegendNote> notes;
+    std::vector<PlotMiss> misses;  // explained in the legend as miss_label
+    std::string miss_label;
     bool linear_reference = true;  // a dashed slope-1 line through the first series' last point
     int width = 900, height = 600;
 };
@@ -41,7 +47,8 @@ struct LogLogPlot {
 // Render time (median, build excluded) against faces drawn, one plot per resolution: one line per
 // algorithm through the single models, and a dashed one in the same colour through the deep
 // scenes (grids of instances, whose cost an occlusion-culling algorithm need not pay in full); a
-// guide per model.
+// guide per model. A cell without a time (refused, crashed, timed out) is a cross in its algorithm's
+// colour on the bottom edge at its face count, never a point.
 std::vector<LogLogPlot> plot_results(const std::vector<Result>& results);
 
 // What a plot is drawn on: write_plot's Cairo surfaces, or anything else (a test's recorder). Points

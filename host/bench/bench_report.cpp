@@ -47,7 +47,7 @@ void write_csv(std::ostream& out, const std::vector<Result>& results) {
     for (const Result& r : results)
         for (const auto& c : r.counters) index_of(counters, c.first);
     out << "algorithm,model,width,height,faces,stored_faces,instances,layers,zoom,depth_complexity,"
-           "depth_complexity_max,warmup,repetitions";
+           "depth_complexity_max,warmup,repetitions,status,reason";
     for (const char* what : {"visibility", "shading", "total"})
         for (const char* stat : {"median", "min", "q1", "q3", "max"}) out << ',' << what << '_' << stat << "_ms";
     out << ",build_ms,build_calls,peak_memory_mb,memory_before_mb";
@@ -59,12 +59,21 @@ void write_csv(std::ostream& out, const std::vector<Result>& results) {
             << fmt::format("{:.4g}", r.zoom) << ',';
         if (r.depth_complexity) out << fmt::format("{:.4f},{}", *r.depth_complexity, r.depth_complexity_max);
         else out << ',';
-        out << ',' << r.warmup << ',' << r.repetitions;
-        for (const Summary* s : {&r.visibility, &r.shading, &r.total})
-            out << fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}", s->median, s->min, s->q1, s->q3, s->max);
-        out << fmt::format(",{:.4f},{}", r.build_ms, r.build_calls);
-        if (r.memory.known()) out << fmt::format(",{:.1f},{:.1f}", megabytes(r.memory.peak), megabytes(r.memory.before));
-        else out << ",,";
+        out << ',' << r.warmup << ',' << r.repetitions << ',';
+        if (r.measured()) {
+            out << "measured,";
+        } else {
+            out << (r.fault.empty() ? "n/a" : csv_field(r.fault)) << ','
+                << csv_field(r.fault.empty() ? r.refused : r.fault_detail);
+            out << std::string(3 * 5 + 2 + 2, ',');  // no time, no build, no memory
+        }
+        if (r.measured()) {
+            for (const Summary* s : {&r.visibility, &r.shading, &r.total})
+                out << fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}", s->median, s->min, s->q1, s->q3, s->max);
+            out << fmt::format(",{:.4f},{}", r.build_ms, r.build_calls);
+            if (r.memory.known()) out << fmt::format(",{:.1f},{:.1f}", megabytes(r.memory.peak), megabytes(r.memory.before));
+            else out << ",,";
+        }
         for (const std::string& name : counters) {
             out << ',';
             for (const auto& [n, v] : r.counters)
@@ -135,6 +144,7 @@ std::string format_table(const std::vector<Result>& results) {
         separator();
         add_row("", [](const Result& r) {
             if (!r.refused.empty()) return std::string("n/a");
+            if (!r.fault.empty()) return r.fault;
             return fmt::format("{} [{}-{}]", format_ms(r.visibility.median), format_ms(r.visibility.min),
                                format_ms(r.visibility.max));
         }, algorithms);
@@ -146,13 +156,13 @@ std::string format_table(const std::vector<Result>& results) {
             add_row("", [](const Result& r) { return r.build_ms > 0 ? format_ms(r.build_ms) : "-"; }, builders);
         }
         heading("shading, ms (median)");
-        add_row("", [](const Result& r) { return r.refused.empty() ? format_ms(r.shading.median) : "n/a"; },
+        add_row("", [](const Result& r) { return r.measured() ? format_ms(r.shading.median) : "n/a"; },
                 algorithms);
         heading("total = visibility + shading, ms (median)");
-        add_row("", [](const Result& r) { return r.refused.empty() ? format_ms(r.total.median) : "n/a"; }, algorithms);
-        heading("peak memory, MB: the whole process during the measurement (+ what it added to the scenes held)");
+        add_row("", [](const Result& r) { return r.measured() ? format_ms(r.total.median) : "n/a"; }, algorithms);
+        heading("peak memory, MB: the process that made the calls, during the measurement (+ what it added to what it held)");
         add_row("", [](const Result& r) {
-            if (!r.memory.known()) return std::string(r.refused.empty() ? "-" : "n/a");
+            if (!r.memory.known()) return std::string(r.measured() ? "-" : "n/a");
             return fmt::format("{:.0f} (+{:.0f})", megabytes(r.memory.peak), megabytes(r.memory.added()));
         }, algorithms);
 
@@ -180,8 +190,9 @@ std::string format_table(const std::vector<Result>& results) {
             out += line + "\n";
         }
         for (const Result& r : results)
-            if (!r.refused.empty() && r.width == size.first && r.height == size.second)
-                out += fmt::format("n/a: {} on {}: {}\n", r.algorithm, r.model, r.refused);
+            if (!r.measured() && r.width == size.first && r.height == size.second)
+                out += fmt::format("{}: {} on {}: {}\n", r.fault.empty() ? "n/a" : r.fault, r.algorithm, r.model,
+                                   r.fault.empty() ? r.refused : r.fault_detail);
         out += "\n";
     }
     return out;

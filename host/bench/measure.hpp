@@ -191,6 +191,11 @@ struct Result {
     // Not empty: the plugin refused this scene (an error from one of its calls), and this is its
     // one-line reason; nothing was timed.
     std::string refused;
+    // Not empty: the process timing this cell ended or was ended before the cell's last call,
+    // "crashed (SIGSEGV)", "aborted (SIGABRT)", "exited (status 0)" or "timed out", and fault_detail
+    // says by what (the plugin's own line when it wrote one); nothing was timed.
+    std::string fault, fault_detail;
+    bool measured() const { return refused.empty() && fault.empty(); }
 };
 Result make_result(std::string algorithm, std::string model, const hsr_scene& scene, const hsr_camera& camera,
                    const Timing& timing, unsigned warmup, const std::optional<DepthComplexity>& depth_complexity);

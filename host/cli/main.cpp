@@ -1,10 +1,12 @@
 // hsr: the command-line host. main() hands the arguments to a command (commands.hpp) and turns its
 // errors into a one-line message and an exit status; the work lives in framework/ and plugins/.
+#include "bench/bench_worker.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
 
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
+#include "hsr/plugin_faults.hpp"
 
 #include <boost/program_options.hpp>
 #include <fmt/format.h>
@@ -34,6 +36,7 @@ const char* usage_text =
 
 int main(int argc, char** argv) {
     using hsr::host::UsageError;
+    hsr::report_plugin_faults();
     std::vector<std::string> args(argv + 1, argv + argc);
     try {
         if (args.empty()) {
@@ -55,6 +58,7 @@ int main(int argc, char** argv) {
         if (command == "bench") return hsr::host::run_bench(args);
         if (command == "view") return hsr::host::run_view(args);
         if (command == "view-worker") return hsr::host::run_view_worker(args);
+        if (command == hsr::host::kBenchWorkerCommand) return hsr::host::run_bench_worker(args);  // hsr bench's own
         throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", command);
     } catch (const UsageError& e) {
         std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";

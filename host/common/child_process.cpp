@@ -3,6 +3,7 @@
 #include "common/child_process.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/plugin_faults.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -28,11 +29,7 @@ constexpr int kPollSliceMs = 50;
 
 std::string status_text(int status) {
     if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
-    if (WIFSIGNALED(status)) {
-        const char* abbreviation = ::sigabbrev_np(WTERMSIG(status));
-        return abbreviation ? std::string("was killed by SIG") + abbreviation
-                            : "was killed by signal " + std::to_string(WTERMSIG(status));
-    }
+    if (WIFSIGNALED(status)) return std::string("was killed by ") + hsr::signal_name(WTERMSIG(status));
     return "ended with status " + std::to_string(status);
 }
 

@@ -49,7 +49,7 @@ Limits limits_from_settings(const std::vector<std::string>& settings);
 // The help text of --limit: the syntax, then every limit with its default and what it bounds.
 std::string describe_limit_option();
 
-// Throws hsr::Error when `amount` is over the limit in force:
+// Throws hsr::LimitError when `amount` is over the limit in force:
 //   "<what>: <amount> <unit>, over the limit of <limit> (raise it with --limit NAME=N)"
 // (without "<what>: " when what is empty).
 void check_limit(uint64_t Limits::*limit, uint64_t amount, std::string_view what);

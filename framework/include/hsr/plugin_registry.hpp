@@ -88,8 +88,10 @@ private:
 std::vector<std::filesystem::path> default_plugin_dirs(const std::filesystem::path& executable_dir,
                                                        const std::vector<std::string>& extra);
 
-// Instances: RAII over the C create/destroy pair. Every call turns a non-OK status into hsr::Error
-// carrying the plugin's message. Each holds the plugin (and so its library) alive.
+// Instances: RAII over the C create/destroy pair. Every call turns a non-OK status into
+// hsr::PluginError carrying the status and the plugin's message, and is marked with a
+// PluginCallScope, so that a crash in it names the plugin (plugin_faults.hpp). Each holds the plugin
+// (and so its library) alive.
 class HiddenSurfaceRemover {
 public:
     HiddenSurfaceRemover(const Plugin& plugin, const std::vector<Setting>& settings);

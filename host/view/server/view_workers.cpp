@@ -5,6 +5,7 @@
 #include "common/child_process.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/plugin_faults.hpp"
 
 #include <fmt/format.h>
 
@@ -43,15 +44,6 @@ std::string plugin_named_in(const std::string& fault) {
     const std::size_t open = fault.find('\'');
     const std::size_t close = open == std::string::npos ? open : fault.find('\'', open + 1);
     return close == std::string::npos ? "" : fault.substr(open + 1, close - open - 1);
-}
-
-// The message of the last "hsr: error: plugin '…' …" line a worker wrote before it died.
-std::optional<std::string> plugin_fault_in(const std::string& output) {
-    constexpr std::string_view prefix = "hsr: error: plugin '";
-    const std::size_t at = output.rfind(prefix);
-    if (at == std::string::npos || (at > 0 && output[at - 1] != '\n')) return std::nullopt;
-    const std::size_t end = output.find('\n', at);
-    return output.substr(at + 12, end == std::string::npos ? std::string::npos : end - at - 12);
 }
 
 }  // namespace
@@ -171,7 +163,7 @@ hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string
         if (result == ChildProcess::Received::kGone) {
             ChildProcess& process = *worker->process;
             const std::string how = process.reap();
-            const std::optional<std::string> fault = plugin_fault_in(process.output_tail());
+            const std::optional<std::string> fault = hsr::plugin_fault_in(process.output_tail());
             release(false);
             if (fault) return error_answer(500, fmt::format("{}: {}", doing, *fault));
             return error_answer(500, fmt::format("{}: the worker {}", doing, how));
