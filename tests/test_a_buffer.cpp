@@ -5,7 +5,9 @@
 #include "ray_reference.hpp"
 #include "surface_test_support.hpp"
 
+#include "hsr/error.hpp"
 #include "hsr/fragment_lists.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/sdk.hpp"
 
 #include <catch2/catch.hpp>
@@ -228,6 +230,20 @@ TEST_CASE("a-buffer: clip planes, steps and refusals", "[a-buffer]") {
 
     CHECK_THROWS_WITH(resolve(boxes.view(), orbit(boxes, 35, 25, 1, false, 256), {{"max-fragments", "1024"}}),
                       Catch::Contains("a-buffer: the frame needs more than max-fragments=1024 fragments"));
+
+    // The host's own limit on the lists it takes is the asker's to raise: a LimitError.
+    struct DefaultLimitsAfter {
+        ~DefaultLimitsAfter() { hsr::set_limits({}); }
+    } restore;
+    hsr::Limits few;
+    few.fragments = 100;
+    hsr::set_limits(few);
+    try {
+        resolve(boxes.view(), orbit(boxes, 35, 25, 1, false, 64));
+        FAIL("the fragments limit was not hit");
+    } catch (const hsr::LimitError& e) {
+        CHECK_THAT(e.what(), Catch::Contains("over the limit of 100 (raise it with --limit fragments=N)"));
+    }
 }
 
 TEST_CASE("a-buffer: the command line", "[a-buffer][cli]") {

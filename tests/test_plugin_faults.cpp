@@ -3,6 +3,7 @@
 // the hsr executable around the misbehaving test plugins (tests/plugins/misbehaving.cpp). Also the
 // errors that are the asker's (error.hpp): a limit hit, a plugin refusing its input.
 #include "cli_support.hpp"
+#include "hsr/atomic_file.hpp"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "hsr/plugin_faults.hpp"
@@ -285,6 +286,34 @@ TEST_CASE("plugin faults: a crash on a thread the plugin started is ascribed to 
     CHECK(e.signal == SIGSEGV);
 }
 
+TEST_CASE("plugin faults: the output files being written are removed", "[plugin-faults][atomic-outputs]") {
+    const fs::path dir = cli::scratch_dir() / "fault-outputs";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto files_after = [&](const std::function<void()>& end) {
+        in_child([&] {
+            report_plugin_faults_as_hsr();
+            hsr::AtomicFile picture(dir / "picture.png");
+            picture.stream() << "half a picture";
+            const hsr::PluginCallScope call("fake", "render");
+            end();
+        });
+        std::vector<std::string> names;
+        for (const fs::directory_entry& e : fs::directory_iterator(dir)) names.push_back(e.path().filename());
+        return names;
+    };
+    CHECK(files_after(write_through_null).empty());
+    CHECK(files_after([] { std::exit(0); }).empty());
+    // With the reporting off the same crash leaves the temporary, as SIGKILL would: the checks above
+    // would see one.
+    const std::vector<std::string> left = files_after([] {
+        hsr::stop_reporting_plugin_faults();
+        write_through_null();
+    });
+    REQUIRE(left.size() == 1);
+    CHECK(left[0].starts_with(".picture.png.tmp-"));
+}
+
 TEST_CASE("plugin faults: control characters in a plugin's name are not written", "[plugin-faults]") {
     const Ending e = in_child([] {
         report_plugin_faults_as_hsr();
@@ -330,11 +359,21 @@ TEST_CASE("plugin faults: the fault line found in a child's stderr", "[plugin-fa
 namespace {
 
 std::string cube() { return std::string(HSR_MODELS_DIR) + "/cube.obj"; }
+
+// The temporaries of output files left in dir (".NAME.tmp-PID-RANDOM"); removes them.
+std::vector<std::string> take_temporaries(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().find(".tmp-") != std::string::npos) names.push_back(e.path().filename());
+    for (const std::string& name : names) fs::remove(dir / name);
+    return names;
+}
 std::string misbehaving_dir() { return HSR_MISBEHAVING_PLUGIN_DIR; }
 
 // `hsr render` of the cube with the misbehaving plugin doing `fault` in `when`, into png.
 Ending render_misbehaving(const std::string& fault, const std::string& when, const fs::path& png) {
     fs::remove(png);
+    take_temporaries(png.parent_path());
     return run_hsr("render " + cube() + " --width 32 --height 32 -o " + png.string() + " --plugin-path " +
                    misbehaving_dir() + " -a misbehaving:fault=" + fault + ",when=" + when);
 }
@@ -354,6 +393,7 @@ TEST_CASE("plugin faults: hsr render names a misbehaving plugin and ends as it d
         require_fault_line(crash, "plugin 'misbehaving' crashed in " + when + " (SIGSEGV)");
         CHECK(crash.signal == SIGSEGV);
         CHECK_FALSE(fs::exists(png));
+        CHECK(take_temporaries(png.parent_path()).empty());
 
         const Ending aborted = render_misbehaving("abort", when, png);
         require_fault_line(aborted, "plugin 'misbehaving' aborted in " + when + " (SIGABRT)");
@@ -364,6 +404,7 @@ TEST_CASE("plugin faults: hsr render names a misbehaving plugin and ends as it d
         require_fault_line(exited, "plugin 'misbehaving' called exit(0) in " + when);
         CHECK(exited.status == 3);
         CHECK_FALSE(fs::exists(png));
+        CHECK(take_temporaries(png.parent_path()).empty());
 
         const Ending thrown = render_misbehaving("throw", when, png);
         INFO("stderr: " << thrown.err);
@@ -402,6 +443,7 @@ TEST_CASE("plugin faults: a --jobs file names the plugin of the line that crashe
         const fs::path file = dir / name;
         std::ofstream(file) << lines;
         for (const char* png : {"first.png", "second.png"}) fs::remove(dir / png);
+        take_temporaries(dir);
         return run_hsr("render --jobs " + file.string());
     };
     const auto error_lines = [](const std::string& err) {
@@ -418,6 +460,7 @@ TEST_CASE("plugin faults: a --jobs file names the plugin of the line that crashe
     CHECK(crash.err.ends_with("\nhsr: error: plugin 'misbehaving' crashed in render (SIGSEGV)\n"));
     CHECK(hsr::plugin_fault_in(crash.err) == "plugin 'misbehaving' crashed in render (SIGSEGV)");
     CHECK_FALSE(fs::exists(dir / "second.png"));
+    CHECK(take_temporaries(dir).empty());  // the files still being written when it crashed
 
     // Every line's plugin is made while the file is checked, before anything renders.
     const Ending in_create = run_jobs("create.jobs", job("first.png", "zbuffer") +
@@ -430,6 +473,7 @@ TEST_CASE("plugin faults: a --jobs file names the plugin of the line that crashe
     CHECK(exited.status == 3);
     CHECK(error_lines(exited.err) == 1);
     CHECK(hsr::plugin_fault_in(exited.err) == "plugin 'misbehaving' called exit(0) in render");
+    CHECK(take_temporaries(dir).empty());
 
     // An exception is an error like another: that line fails, the others run.
     const Ending thrown = run_jobs("throw.jobs", job("first.png", "misbehaving:fault=throw") + job("second.png", "zbuffer"));

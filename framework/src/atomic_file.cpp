@@ -244,4 +244,10 @@ void AtomicFileSet::commit() {
     files_.clear();
 }
 
+void remove_temporaries_now() noexcept {
+    terminating.store(true);
+    for (TemporarySlot& slot : temporary_slots)
+        if (slot.state.load() == slot_armed) ::unlink(slot.path);
+}
+
 }  // namespace hsr

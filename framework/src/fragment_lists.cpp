@@ -24,6 +24,9 @@ hsr_status FragmentCollector::emit(void* context, const hsr_pixel_fragments* bat
     if (!self.problem_.empty()) return HSR_ERROR_INVALID_ARGUMENT;
     try {
         self.problem_ = batch == nullptr ? "a NULL batch of fragments" : self.check(*batch);
+    } catch (const LimitError& e) {
+        self.problem_ = e.what();
+        self.over_limit_ = true;
     } catch (const Error& e) {
         self.problem_ = e.what();
     }

@@ -292,8 +292,10 @@ void resolve_fragments(const hsr_scene& scene, const hsr_camera& camera, HiddenS
     try {
         remover.render_fragments(scene, camera, target, &counters, sink);
     } catch (const Error&) {
-        if (!collector.problem().empty())
-            throw Error("hidden-surface plugin '{}' returned {}", remover.plugin().descriptor.name, collector.problem());
+        const std::string message =
+            fmt::format("hidden-surface plugin '{}' returned {}", remover.plugin().descriptor.name, collector.problem());
+        if (collector.over_limit()) throw LimitError(message);
+        if (!collector.problem().empty()) throw Error(message);
         throw;
     }
     frame.visibility_ms = ms_since(start);

@@ -1,7 +1,10 @@
-// The fault line of a plugin that ends the process (plugin_faults.hpp). Everything the signal
-// handlers and the exit hook run is async-signal-safe: atomics, write(2), sigaction(2), raise(3),
-// _exit(2), and text built in a fixed buffer on the stack.
+// The fault line of a plugin that ends the process (plugin_faults.hpp); the output files being
+// written are removed as the process ends. Everything the signal handlers and the exit hook run is
+// async-signal-safe: atomics, write(2), unlink(2), sigaction(2), raise(3), _exit(2), and text built
+// in a fixed buffer on the stack.
 #include "hsr/plugin_faults.hpp"
+
+#include "hsr/atomic_file.hpp"
 
 #include <signal.h>
 #include <stdlib.h>
@@ -152,6 +155,7 @@ void on_fatal_signal(int signal, siginfo_t* info, void*) {
         line.add(signal_name(signal));
         line.add(")");
         line.write_to_stderr();
+        remove_temporaries_now();
     }
     ::sigaction(signal, &next, nullptr);
     if (info == nullptr || info->si_code <= 0) ::raise(signal);  // delivered when the handler returns
@@ -169,6 +173,7 @@ void on_process_exit(int status, void*) {
     line.add(") in ");
     line.add(call.call, kMaxNameChars);
     line.write_to_stderr();
+    remove_temporaries_now();
     ::_exit(kPluginEndedProcess);
 }
 

@@ -7,8 +7,9 @@
 //
 // A temporary that is not committed is removed when its AtomicFile is destroyed (an error or an
 // exception on the way) and, by a handler installed with the first AtomicFile, on SIGINT, SIGTERM
-// and SIGHUP (unless the program has its own handler for them or ignores them). SIGKILL, or a power
-// cut, can leave a ".<name>.tmp-..." file behind, never a truncated target.
+// and SIGHUP (unless the program has its own handler for them or ignores them), and when a plugin
+// crashes or calls exit() during a call (plugin_faults.hpp). SIGKILL, or a power cut, can leave a
+// ".<name>.tmp-..." file behind, never a truncated target.
 //
 // A symbolic link is followed: the file it names is replaced and the link kept. A target that exists
 // and is not a regular file (a device such as /dev/null, a pipe) is written in place: there is no
@@ -72,5 +73,10 @@ public:
 private:
     std::vector<std::unique_ptr<AtomicFile>> files_;
 };
+
+// Removes every temporary not yet committed, for a handler about to end the process: async-signal-
+// safe. It does not wait for a temporary another thread is creating at that moment, which may stay.
+// Afterwards no thread creates another.
+void remove_temporaries_now() noexcept;
 
 }  // namespace hsr

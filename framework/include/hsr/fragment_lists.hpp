@@ -34,6 +34,8 @@ public:
     hsr_fragment_sink sink() { return {this, &emit}; }
     // What was wrong with a batch the sink refused, or empty.
     const std::string& problem() const { return problem_; }
+    // Whether that problem is the `fragments` limit: the asker's to raise, not the plugin's fault.
+    bool over_limit() const { return over_limit_; }
     void finish(FragmentLists& out);
 
 private:
@@ -46,6 +48,7 @@ private:
     std::vector<uint32_t> pixel_, face_, instance_, coverage_;
     std::vector<float> depth_, bary_;
     std::string problem_;
+    bool over_limit_ = false;
 };
 
 // Shades every fragment with the lighting model and composites each pixel's fragments front to back

@@ -8,10 +8,10 @@
 //
 // CALL is the ABI function: create, destroy, render, render_steps, render_fragments, prepare, shade,
 // render_lines, or hsr_plugin_entry while a library is loaded (NAME is then the library's path).
-// Control characters in NAME are written as '?'. After the line, a signal ends the process as it
-// would have without the handler (status 128 + N, a core dump where enabled); an exit() ends it
-// with status kPluginEndedProcess. The format is stable: plugin_fault_in() reads it back from a
-// child's stderr.
+// Control characters in NAME are written as '?'. After the line, the temporaries of output files not
+// yet complete are removed (atomic_file.hpp), and a signal ends the process as it would have without
+// the handler (status 128 + N, a core dump where enabled); an exit() ends it with status
+// kPluginEndedProcess. The format is stable: plugin_fault_in() reads it back from a child's stderr.
 //
 // A fault outside every plugin call is left as it was: no line, the previous action (usually the
 // default) takes it. A fault on a thread of the plugin's own (a thread pool inside render) is
