@@ -598,3 +598,92 @@ TEST_CASE("cli: hsr bench takes --limit too", "[limits][cli]") {
     INFO(r.err);
     CHECK(r.status == 0);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Limits that count the work: the pixels of every sample, and plugins' own bounds
+
+TEST_CASE("cli: supersampling counts every sample's pixels against image-pixels", "[limits][cli]") {
+    const std::string cube = model("cube.obj");
+    // 8192 x 8192 is the limit itself; 16 samples render 16 such frames.
+    require_one_line_error(
+        run_hsr("render " + cube + " --samples 16 --width 8192 --height 8192" + out_png("ss16"), "ss16"),
+        "image size 8192x8192 at 16 samples per pixel: 1073741824 pixels, over the limit of 67108864 (raise it "
+        "with --limit image-pixels=N)");
+    // 64 x 64 x 4 = 16384: one pixel over a limit of 16383, exactly at 16384.
+    require_one_line_error(
+        run_hsr("render " + cube + " --samples 4 --width 64 --height 64 --limit image-pixels=16383" + out_png("ss4"),
+                "ss4-over"),
+        "image size 64x64 at 4 samples per pixel: 16384 pixels, over the limit of 16383");
+    CHECK(run_hsr("render " + cube + " --samples 4 --width 64 --height 64 --limit image-pixels=16384" + out_png("ss4"),
+                  "ss4-at")
+              .status == 0);
+    // A .scene file's size and samples are counted when its picture is made.
+    const fs::path scene = write_file("samples.scene", "size 64 64\nsamples 4\nmesh " + cube + "\n");
+    require_one_line_error(run_hsr("render " + scene.string() + " --limit image-pixels=16383" + out_png("ss-scene"),
+                                   "ss-scene"),
+                           "image size 64x64 at 4 samples per pixel: 16384 pixels, over the limit of 16383");
+}
+
+TEST_CASE("cli: appel and floating-horizon refuse work past their own bounds, before doing it",
+          "[limits][cli][appel][floating-horizon]") {
+    // 200,000 random triangles: every edge a contour edge, large triangles over much of the picture;
+    // the grids alone would hold about 720 million entries (3.1 GB and minutes without the bound).
+    require_one_line_error(run_hsr("render --random-triangles 200000 -a appel -o " +
+                                       (cli::scratch_dir() / "rt.svg").string(), "appel-200k"),
+                           "over the limit of 250000000 (raise it with max-candidates=N)");
+    // 12 random triangles, 36 edges: a bound of 10 is below the grids' entries alone.
+    const std::string small = "render --random-triangles 12 -o " + (cli::scratch_dir() / "rt12.svg").string();
+    require_one_line_error(run_hsr(small + " -a appel:max-candidates=10", "appel-12"),
+                           "appel: the grids of the edges and faces seen would hold ");
+    CHECK(run_hsr(small + " -a appel", "appel-12-default").status == 0);
+
+    // A 1024 x 1024 grid with a column at every vertex: each of its 1024 curves spans about a
+    // million columns (over 40 s of work); without vertex columns, about 4 per pixel.
+    const std::string surface = "render --surface 'sin(x)*cos(y)' --range -3:3,-3:3,1024x1024 -o " +
+                                (cli::scratch_dir() / "fh.svg").string();
+    require_one_line_error(run_hsr(surface + " -a floating-horizon", "fh-1024"),
+                           "horizon columns, over the limit of 500000000 (raise it with max-column-updates=N, or set "
+                           "vertex-columns=false");
+    CHECK(run_hsr(surface + " -a floating-horizon:vertex-columns=false", "fh-1024-even").status == 0);
+    // A 2 x 2 grid, 1 cell: 2 curve edges, 2 cross edges and 1 diagonal visit at least 5 columns.
+    const std::string tiny = "render --surface 'x*y' --range 0:1,0:1,2x2 -o " + (cli::scratch_dir() / "fh2.svg").string();
+    require_one_line_error(run_hsr(tiny + " -a floating-horizon:max-column-updates=4", "fh-2"),
+                           "floating-horizon: the grid's edges would visit ");
+    CHECK(run_hsr(tiny + " -a floating-horizon", "fh-2-default").status == 0);
+}
+
+TEST_CASE("cli: user text in messages is cut and escaped, and every error is one line", "[limits][cli][printable]") {
+    // A mesh path of 5 MB in a .scene file, and one of 100 KB on the command line (an argument's
+    // own limit on Linux is 128 KiB): quoted to 240 characters.
+    const std::string long_name(5'000'000, 'p');
+    const fs::path scene = write_file("long-mesh-path.scene", "mesh " + long_name + ".obj\n");
+    const Run from_scene = run_hsr("render " + scene.string() + out_png("lp"), "long-mesh-path");
+    require_one_line_error(from_scene, std::string(100, 'p') + "...: no such file");  // after the scene's folder
+    CHECK(std::count(from_scene.err.begin(), from_scene.err.end(), 'p') < 240);
+    const Run from_argument = run_hsr("render " + std::string(100'000, 'q') + ".obj" + out_png("la"), "long-argument");
+    require_one_line_error(from_argument, std::string(240, 'q') + "...: no such file");
+    CHECK(from_argument.err.size() < 400);
+    const Run output = run_hsr("render " + model("cube.obj") + " -o " + std::string(100'000, 'r') + ".svg", "long-output");
+    require_one_line_error(output, std::string(240, 'r') + "...");
+    CHECK(output.err.size() < 600);
+    // An unknown option is quoted by Boost.Program_options whole: the line is cut at 1000 characters.
+    const Run option = run_hsr("render --" + std::string(100'000, 'o'), "long-option");
+    require_one_line_error(option, "unrecognised option '--ooo");
+    CHECK(option.err.size() < 1100);
+    // CR and LF in a path, a command and a plugin's name are written as \x0d\x0a (printf in the
+    // shell that runs hsr makes them).
+    require_one_line_error(run_hsr("render \"$(printf 'a\\r\\nb.obj')\"" + out_png("crlf"), "crlf-path"),
+                           "a\\x0d\\x0ab.obj: no such file");
+    require_one_line_error(run_hsr("\"$(printf 'x\\r\\ny')\"", "crlf-command"), "unknown command 'x\\x0d\\x0ay'");
+    require_one_line_error(
+        run_hsr("render " + model("cube.obj") + " -a \"$(printf 'no\\nsuch')\"" + out_png("crlf-plugin"), "crlf-plugin"),
+        "plugin named 'no\\x0asuch'");
+}
+
+TEST_CASE("cli: a command of more than 4096 words is refused before it is parsed", "[limits][cli]") {
+    // Boost.Program_options takes time quadratic in the words: 40,000 took 16 to 20 s.
+    std::string words;
+    for (int k = 0; k < 2100; ++k) words += " --yaw 1";
+    require_one_line_error(run_hsr("render " + model("cube.obj") + words + out_png("words"), "many-words"),
+                           "4203 arguments, more than a command may have (4096)");
+}

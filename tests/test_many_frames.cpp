@@ -3,6 +3,9 @@
 // templates name the files; a --jobs file runs its lines, loading each model once, and its mistakes
 // name FILE:LINE before anything is rendered.
 #include "cli_support.hpp"
+#include "render/jobs.hpp"
+
+#include "hsr/error.hpp"
 
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
@@ -12,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sys/stat.h>
 #include <string>
 #include <vector>
 
@@ -293,4 +297,59 @@ TEST_CASE("frames: the example job file of docs/many-frames.md runs and writes e
     expected.push_back("stderr.txt");
     std::sort(expected.begin(), expected.end());
     CHECK(names_in(dir) == expected);
+}
+
+TEST_CASE("frames: a --jobs line is split and unquoted as a shell does it", "[frames][jobs]") {
+    using hsr::host::split_job_line;
+    using Words = std::vector<std::string>;
+    CHECK(split_job_line("") == Words{});
+    CHECK(split_job_line(" \t ") == Words{});
+    CHECK(split_job_line("a  b\tc") == Words{"a", "b", "c"});
+    CHECK(split_job_line("'b c' x'y'z ''") == Words{"b c", "xyz", ""});
+    CHECK(split_job_line("'a\\b' 'it\"s'") == Words{"a\\b", "it\"s"});  // nothing is special in '...'
+    CHECK(split_job_line("\"d\\\"e\" \"\\$\\`\\\\\" \"a\\b\"") == Words{"d\"e", "$`\\", "a\\b"});
+    CHECK(split_job_line("f\\ g \\'h") == Words{"f g", "'h"});
+    CHECK(split_job_line("-o \"out put.png\"") == Words{"-o", "out put.png"});
+    CHECK_THROWS_WITH(split_job_line("a \"b"), "a quote (\") at column 3 is not closed on its line");
+    CHECK_THROWS_WITH(split_job_line("'"), "a quote (') at column 1 is not closed on its line");
+    CHECK_THROWS_WITH(split_job_line("a \\"), "the line ends in a backslash, which escapes nothing");
+    CHECK_THROWS_AS(split_job_line("\"a'"), hsr::UsageError);
+}
+
+TEST_CASE("frames: a --jobs file with CR LF line ends runs", "[frames][jobs]") {
+    const fs::path dir = fresh_dir("jobs-crlf");
+    const std::string cube = model("cube.obj") + " --width 16 --height 16 -o " + dir.string();
+    const fs::path jobs = dir / "crlf.jobs";
+    std::ofstream(jobs, std::ios::binary) << "# made on another system\r\n" << cube << "/a.png\r\n\r\n" << cube
+                                          << "/\"b c.png\"\r\n";
+    const Run r = run_hsr("render --jobs " + jobs.string(), "jobs-crlf");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(names_in(dir) == std::vector<std::string>{"a.png", "b c.png", "crlf.jobs"});
+}
+
+TEST_CASE("frames: --jobs refuses what is not a file of renders before reading it", "[frames][jobs]") {
+    const fs::path dir = fresh_dir("jobs-refused");
+    const std::string cube = model("cube.obj") + " --width 16 --height 16 -o " + dir.string();
+    // A FIFO would wait for a writer for ever, /dev/zero be read until memory runs out.
+    const fs::path fifo = dir / "fifo.jobs";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    require_one_line_error(run_hsr("render --jobs " + fifo.string(), "jobs-fifo", 20),
+                           "fifo.jobs': is not a regular file (a pipe, device or socket), not a file of renders");
+    require_one_line_error(run_hsr("render --jobs /dev/zero", "jobs-zero", 20),
+                           "--jobs '/dev/zero': is not a regular file");
+    require_one_line_error(run_hsr("render --jobs " + dir.string(), "jobs-folder"), "is a folder, not a file of renders");
+
+    const auto jobs_error = [&](const std::string& name, const std::string& text, const std::string& expected) {
+        const fs::path file = dir / name;
+        std::ofstream(file, std::ios::binary) << text;
+        require_one_line_error(run_hsr("render --jobs " + file.string(), name), file.string() + ":" + expected);
+    };
+    jobs_error("quote.jobs", cube + "/a.png\n" + cube + "/\"b.png\n", "2: a quote (\") at column ");
+    jobs_error("long.jobs", cube + "/a.png\n# " + std::string(70000, 'x') + "\n",
+               "2: the line is longer than a jobs line may be (65536 bytes)");
+    std::string words = cube + "/w.png";
+    for (int k = 0; k < 2100; ++k) words += " --yaw 1";
+    jobs_error("words.jobs", words + "\n", "1: 4207 arguments, more than a command may have (4096)");
+    CHECK(names_in(dir) == std::vector<std::string>{"fifo.jobs", "long.jobs", "quote.jobs", "words.jobs"});
 }

@@ -151,7 +151,7 @@ fs::path AtomicFile::destination(const fs::path& target) {
         if (ec) return path;
         path = link.is_absolute() ? link : path.parent_path() / link;
     }
-    throw Error("cannot write {}: too many levels of symbolic links", target.string());
+    throw Error("cannot write {}: too many levels of symbolic links", printable(target.string(), kMaxQuotedPathChars));
 }
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)), destination_(destination(target_)) {
@@ -163,7 +163,7 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)), destinatio
         fd = ::open(destination_.c_str(), O_WRONLY | O_CLOEXEC);
         if (fd < 0) {
             const std::string why = last_error();
-            throw Error("cannot write {}: {}", target_.string(), why);
+            throw Error("cannot write {}: {}", printable(target_.string(), kMaxQuotedPathChars), why);
         }
     } else {
         const CreatingTemporary creating_temporary;
@@ -175,7 +175,7 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)), destinatio
         if (fd < 0) {
             const std::string why = last_error();
             temporary_.clear();
-            throw Error("cannot write {}: {}", target_.string(), why);
+            throw Error("cannot write {}: {}", printable(target_.string(), kMaxQuotedPathChars), why);
         }
         signal_slot_ = arm_slot(temporary_.string());
         if (exists) ::fchmod(fd, existing.st_mode & 07777);  // the replacement keeps the file's permissions
@@ -186,7 +186,7 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)), destinatio
         ::close(fd);
         if (!temporary_.empty()) ::unlink(temporary_.c_str());
         free_slot(signal_slot_);
-        throw Error("cannot write {}: {}", target_.string(), why);
+        throw Error("cannot write {}: {}", printable(target_.string(), kMaxQuotedPathChars), why);
     }
 }
 
@@ -197,7 +197,7 @@ AtomicFile::~AtomicFile() {
 }
 
 std::ostream& AtomicFile::stream() {
-    if (file_ == nullptr) throw Error("{}: written after it was finished", target_.string());
+    if (file_ == nullptr) throw Error("{}: written after it was finished", printable(target_.string(), kMaxQuotedPathChars));
     if (!stream_) {
         buffer_ = std::make_unique<StdioBuffer>(file_);
         stream_ = std::make_unique<std::ostream>(buffer_.get());
@@ -218,7 +218,7 @@ void AtomicFile::finish() {
     file_ = nullptr;
     stream_.reset();
     buffer_.reset();
-    if (!ok) throw Error("cannot write {}: {}", target_.string(), why);
+    if (!ok) throw Error("cannot write {}: {}", printable(target_.string(), kMaxQuotedPathChars), why);
 }
 
 void AtomicFile::commit() {
@@ -226,7 +226,7 @@ void AtomicFile::commit() {
     if (temporary_.empty()) return;
     if (::rename(temporary_.c_str(), destination_.c_str()) != 0) {
         const std::string why = last_error();
-        throw Error("cannot write {}: {}", target_.string(), why);
+        throw Error("cannot write {}: {}", printable(target_.string(), kMaxQuotedPathChars), why);
     }
     temporary_.clear();
     free_slot(signal_slot_);

@@ -107,14 +107,14 @@ std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, s
 void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels) {
     const std::vector<uint8_t> png = encode_png_image(width, height, channels, pixels, 1, true);
     if (std::fwrite(png.data(), 1, png.size(), file.stdio()) != png.size())
-        throw Error("cannot write {}: {}", file.target().string(), std::strerror(errno));
+        throw Error("cannot write {}: {}", printable(file.target().string(), kMaxQuotedPathChars), std::strerror(errno));
 }
 
 Image read_png_rgb(const std::filesystem::path& path) {
     png_image image{};
     image.version = PNG_IMAGE_VERSION;
     if (!png_image_begin_read_from_file(&image, path.c_str()))
-        throw Error("cannot read {}: {}", path.string(), image.message);
+        throw Error("cannot read {}: {}", printable(path.string(), kMaxQuotedPathChars), image.message);
     image.format = PNG_FORMAT_RGB;
     try {
         check_limit(&Limits::image_pixels, uint64_t(image.width) * image.height, printable(path.string()));
@@ -130,7 +130,7 @@ Image read_png_rgb(const std::filesystem::path& path) {
     if (!png_image_finish_read(&image, nullptr, out.pixels.data(), 0, nullptr)) {
         std::string why = image.message;
         png_image_free(&image);
-        throw Error("cannot read {}: {}", path.string(), why);
+        throw Error("cannot read {}: {}", printable(path.string(), kMaxQuotedPathChars), why);
     }
     return out;
 }

@@ -22,7 +22,7 @@ constexpr std::array<LimitInfo, 11> table{{
     {"lights", &Limits::lights, "lights", "lights of one picture (--light, a .scene file's light lines)"},
     {"surface-samples", &Limits::surface_samples, "grid samples", "grid samples of --surface and --heightmap"},
     {"heightmap-pixels", &Limits::heightmap_pixels, "pixels", "pixels of a --heightmap PNG, read before any step"},
-    {"image-pixels", &Limits::image_pixels, "pixels", "width x height of the picture"},
+    {"image-pixels", &Limits::image_pixels, "pixels", "width x height of the picture, times its samples per pixel (--samples)"},
     {"upload-bytes", &Limits::upload_bytes, "bytes", "size of one request body to hsr view: an uploaded model"},
     {"fragments", &Limits::fragments, "fragments", "surface fragments of one frame that a plugin hands back in lists (a-buffer)"},
     {"frames", &Limits::frames, "frames", "frames of one hsr render: --views, --yaw and --pitch ranges, all the lines of a --jobs file"},

@@ -26,7 +26,8 @@ std::string lower_extension(const std::filesystem::path& path) {
 std::string drawing_extension(const std::filesystem::path& path) {
     const std::string ext = lower_extension(path);
     if (ext != ".svg" && ext != ".png")
-        throw Error("{}: a line drawing is written as .svg or .png, not '{}'", path.string(), ext);
+        throw Error("{}: a line drawing is written as .svg or .png, not '{}'", printable(path.string(), kMaxQuotedPathChars),
+                    printable(ext));
     return ext;
 }
 
@@ -98,28 +99,28 @@ bool is_line_drawing_path(const std::filesystem::path& path) {
 LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, const LineStyle& style) {
     const std::filesystem::path& path = file.target();
     const std::string ext = drawing_extension(path);
-    if (drawing.width == 0 || drawing.height == 0) throw Error("{}: the drawing has no size", path.string());
+    if (drawing.width == 0 || drawing.height == 0) throw Error("{}: the drawing has no size", printable(path.string(), kMaxQuotedPathChars));
     std::unique_ptr<cairo_surface_t, SurfaceCloser> surface(
         ext == ".svg" ? cairo_svg_surface_create_for_stream(write_to_file, file.stdio(), drawing.width, drawing.height)
                       : cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(drawing.width), int(drawing.height)));
     if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-        throw Error("{}: cannot write: {}", path.string(), cairo_status_to_string(cairo_surface_status(surface.get())));
+        throw Error("{}: cannot write: {}", printable(path.string(), kMaxQuotedPathChars), cairo_status_to_string(cairo_surface_status(surface.get())));
     if (ext == ".svg") cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_PX);  // 1 unit = 1 pixel
     LineImageStats stats;
     {
         std::unique_ptr<cairo_t, ContextCloser> cr(cairo_create(surface.get()));
         stats = draw(cr.get(), drawing, style, ext == ".svg" ? UINT64_MAX : 4096);
         if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS)
-            throw Error("{}: drawing failed: {}", path.string(), cairo_status_to_string(cairo_status(cr.get())));
+            throw Error("{}: drawing failed: {}", printable(path.string(), kMaxQuotedPathChars), cairo_status_to_string(cairo_status(cr.get())));
     }
     if (ext == ".png") {
         const cairo_status_t status = cairo_surface_write_to_png_stream(surface.get(), write_to_file, file.stdio());
         if (status != CAIRO_STATUS_SUCCESS)
-            throw Error("{}: cannot write: {}", path.string(), cairo_status_to_string(status));
+            throw Error("{}: cannot write: {}", printable(path.string(), kMaxQuotedPathChars), cairo_status_to_string(status));
     } else {
         cairo_surface_finish(surface.get());
         if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-            throw Error("{}: cannot write: {}", path.string(),
+            throw Error("{}: cannot write: {}", printable(path.string(), kMaxQuotedPathChars),
                         cairo_status_to_string(cairo_surface_status(surface.get())));
     }
     return stats;

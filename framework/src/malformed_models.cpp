@@ -189,10 +189,10 @@ public:
     explicit TextChecker(const std::filesystem::path& file) : file_(file) {}
 
     [[noreturn]] void fail(std::size_t line, const std::string& message) const {
-        throw Error("{}:{}: {}", printable(file_.string(), std::string_view::npos), line, message);
+        throw Error("{}:{}: {}", printable(file_.string(), kMaxQuotedPathChars), line, message);
     }
     [[noreturn]] void fail(const std::string& message) const {
-        throw Error("{}: {}", printable(file_.string(), std::string_view::npos), message);
+        throw Error("{}: {}", printable(file_.string(), kMaxQuotedPathChars), message);
     }
 
     // Length of a UTF-8 byte-order mark at the start of text (some editors write one), which the
@@ -793,7 +793,7 @@ private:
     void count_face(uint64_t corners, uint64_t faces = 1) {
         triangles_ += faces * (corners - 2);
         if (triangles_ > limits().stored_triangles)
-            check_limit(&Limits::stored_triangles, triangles_, printable(file_.string(), std::string_view::npos));
+            check_limit(&Limits::stored_triangles, triangles_, printable(file_.string(), kMaxQuotedPathChars));
     }
 
     std::filesystem::path file_;

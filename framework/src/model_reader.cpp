@@ -36,7 +36,7 @@ namespace {
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 using Object = MeshObject;
 
-std::string display(const std::filesystem::path& file) { return printable(file.string(), std::string::npos); }
+std::string display(const std::filesystem::path& file) { return printable(file.string(), kMaxQuotedPathChars); }
 
 std::string lower(std::string text) {
     std::transform(text.begin(), text.end(), text.begin(),
@@ -109,7 +109,7 @@ Format format_of(const std::filesystem::path& file) {
     if (extension == ".ply") return Format::ply;
     if (extension == ".stl") return Format::stl;
     throw Error("{}: unsupported model format '{}' (use .obj, .off, .ply or .stl)", display(file),
-                extension.empty() ? "no extension" : extension);
+                extension.empty() ? "no extension" : printable(extension));
 }
 
 std::string read_whole_file(const std::filesystem::path& file) {

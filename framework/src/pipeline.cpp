@@ -6,6 +6,7 @@
 #include "hsr/fragment_lists.hpp"
 #include "hsr/raster.hpp"
 #include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/scene.hpp"
 
 #include <algorithm>
@@ -61,6 +62,15 @@ void check_image_size(uint32_t width, uint32_t height) {
     if (width == 0 || height == 0) throw Error("image size {}x{}: width and height must be at least 1", width, height);
     if (width > max_image_side || height > max_image_side)
         throw Error("image size {}x{} is too large (at most {} pixels a side)", width, height, max_image_side);
+}
+
+void check_image_pixels(uint32_t width, uint32_t height, uint32_t samples) {
+    const uint64_t pixels = uint64_t(width) * height * std::max(samples, 1u);
+    if (samples > 1)
+        check_limit(&Limits::image_pixels, pixels,
+                    fmt::format("image size {}x{} at {} samples per pixel", width, height, samples));
+    else
+        check_limit(&Limits::image_pixels, pixels, fmt::format("image size {}x{}", width, height));
 }
 
 uint64_t Frame::counter(const std::string& name) const {

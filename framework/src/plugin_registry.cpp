@@ -462,7 +462,7 @@ const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> ki
         if (!names.empty()) found += (found.empty() ? "" : "; ") + names;
     }
     std::string where;
-    for (const fs::path& d : searched_) where += (where.empty() ? "" : ", ") + d.string();
+    for (const fs::path& d : searched_) where += (where.empty() ? "" : ", ") + printable(d.string(), kMaxQuotedPathChars);
     std::string refused;
     for (const RejectedLibrary& r : rejected_) {
         // A library refused before it named its plugins is matched by its file name (NAME.so, hsr-NAME.so).
@@ -470,7 +470,7 @@ const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> ki
         if (r.reason.find("'" + name + "'") != std::string::npos || stem == name || stem == "hsr-" + name)
             refused = "; refused: " + r.reason;
     }
-    throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kinds_text, name,
+    throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kinds_text, printable(name),
                 where.empty() ? "nowhere" : where, found.empty() ? "none" : found, refused);
 }
 

@@ -134,8 +134,7 @@ hsr_camera Renderer::camera(const ViewRequest& request) const {
     }
     if (request.yaw_turn_degrees != 0) view.yaw_degrees = float(double(view.yaw_degrees) + request.yaw_turn_degrees);
     check_image_size(view.width, view.height);
-    check_limit(&Limits::image_pixels, uint64_t(view.width) * view.height,
-                fmt::format("image size {}x{}", view.width, view.height));
+    check_image_pixels(view.width, view.height);
     view.clip_planes.insert(view.clip_planes.end(), request.clip_planes.begin(), request.clip_planes.end());
     if (view.clip_planes.size() > HSR_MAX_CLIP_PLANES)
         throw UsageError("{} sections and clip planes: at most {} (a .scene file's count too)", view.clip_planes.size(),
@@ -185,6 +184,7 @@ Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& r
     settings.count_depth_tests = request.count_depth_tests;
     settings.samples = request.samples ? *request.samples : file && file->samples ? *file->samples : 1u;
     picture.samples = settings.samples;
+    check_image_pixels(picture.camera.width, picture.camera.height, settings.samples);
     if (request.step) {
         uint64_t step = *request.step;
         if (request.step_context) {

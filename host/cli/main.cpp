@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
         }
         const std::string command = args.front();
         args.erase(args.begin());
+        hsr::host::check_argument_count(args.size());
         if (command == "--help" || command == "-h" || command == "help") {
             std::cout << usage_text;
             return 0;
@@ -59,21 +60,21 @@ int main(int argc, char** argv) {
         if (command == "view") return hsr::host::run_view(args);
         if (command == "view-worker") return hsr::host::run_view_worker(args);
         if (command == hsr::host::kBenchWorkerCommand) return hsr::host::run_bench_worker(args);  // hsr bench's own
-        throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", command);
+        throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", hsr::printable(command));
     } catch (const UsageError& e) {
-        std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
+        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << " (see hsr --help)\n";
         return 2;
     } catch (const boost::program_options::error& e) {
-        std::cerr << "hsr: error: " << e.what() << " (see hsr --help)\n";
+        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << " (see hsr --help)\n";
         return 2;
     } catch (const hsr::Error& e) {
-        std::cerr << "hsr: error: " << e.what() << "\n";
+        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << "\n";
         return 1;
     } catch (const std::bad_alloc&) {
         std::cerr << "hsr: error: out of memory\n";
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "hsr: error: " << e.what() << "\n";
+        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << "\n";
         return 1;
     }
 }

@@ -35,7 +35,7 @@ std::vector<fs::path> hsr::host::check_outputs(const std::vector<OutputFile>& ou
     std::unordered_map<std::string, const OutputFile*> seen;
     std::vector<fs::path> resolved_paths;
     for (const OutputFile& out : outputs) {
-        const std::string name = out.path.string();
+        const std::string name = hsr::printable(out.path.string(), hsr::kMaxQuotedPathChars);  // as messages quote it
         if (name.empty()) throw UsageError("--{}: no file name given", out.option);
         std::error_code ec;
         const fs::file_status status = fs::status(out.path, ec);
@@ -52,7 +52,8 @@ std::vector<fs::path> hsr::host::check_outputs(const std::vector<OutputFile>& ou
         const fs::path folder = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
         const bool in_place = fs::exists(status) && !fs::is_regular_file(status);
         if (!in_place && !fs::is_directory(folder, ec))
-            throw hsr::Error("--{} '{}': the folder '{}' does not exist", out.option, name, folder.string());
+            throw hsr::Error("--{} '{}': the folder '{}' does not exist", out.option, name,
+                             hsr::printable(folder.string(), hsr::kMaxQuotedPathChars));
         if ((fs::exists(status) && ::access(destination.c_str(), W_OK) != 0) ||
             (!in_place && ::access(folder.c_str(), W_OK) != 0))
             throw hsr::Error("--{} '{}': cannot write there (permission denied)", out.option, name);

@@ -54,7 +54,7 @@ std::vector<float> parse_angle_option(const std::string& text, const char* optio
     if (!a || !b || !step || !std::isfinite(*a) || !std::isfinite(*b) || !std::isfinite(*step))
         throw UsageError("--{} '{}': expected A:B:STEP, three finite numbers of degrees (from A to B by STEP)", option,
                          hsr::printable(text));
-    if (*step == 0) throw UsageError("--{} {}: the step must not be 0", option, text);
+    if (*step == 0) throw UsageError("--{} {}: the step must not be 0", option, hsr::printable(text));
     const double steps = (*b - *a) / *step;
     if (steps < 0) throw UsageError("--{} {}: a step of {} never reaches {}", option, text, *step, *b);
     // B counts when a step lands on it up to rounding (0:1:0.1 ends at 1); within the frames limit the

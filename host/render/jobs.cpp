@@ -2,20 +2,27 @@
 // frame's files written on another thread while the next frame renders.
 #include "render/jobs.hpp"
 
+#include "common/commands.hpp"
 #include "common/options.hpp"
 
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 
-#include <boost/program_options/parsers.hpp>
+#include <boost/program_options/errors.hpp>
 #include <fmt/format.h>
 #include <tbb/task_group.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <exception>
-#include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -73,11 +80,117 @@ void report(const RenderJob& job, const std::exception_ptr& error) {
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "hsr: error: %s: out of memory\n", job.origin.c_str());
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), e.what());
+        std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), message_line(e.what()).c_str());
     }
 }
 
+// A file descriptor, closed when it goes.
+class FileDescriptor {
+public:
+    explicit FileDescriptor(int fd) : fd_(fd) {}
+    FileDescriptor(const FileDescriptor&) = delete;
+    FileDescriptor& operator=(const FileDescriptor&) = delete;
+    ~FileDescriptor() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    int get() const { return fd_; }
+
+private:
+    int fd_;
+};
+
+// Hands each line of the --jobs file to `take` (its number and its text without the line end: LF,
+// or CR LF). The file is opened without waiting (a FIFO would wait for a writer) and checked to be a
+// regular file before a byte is read; a line is refused past kMaxJobLineBytes and the file past
+// kMaxJobFileBytes, whatever its size said.
+void read_job_lines(const fs::path& file, const std::function<void(uint64_t, std::string_view)>& take) {
+    const std::string shown = hsr::printable(file.string(), hsr::kMaxQuotedPathChars);
+    const FileDescriptor fd(::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
+    if (fd.get() < 0) throw hsr::Error("--jobs '{}': cannot read it ({})", shown, std::strerror(errno));
+    struct stat status {};
+    if (::fstat(fd.get(), &status) != 0) throw hsr::Error("--jobs '{}': cannot read it ({})", shown, std::strerror(errno));
+    if (S_ISDIR(status.st_mode)) throw UsageError("--jobs '{}': is a folder, not a file of renders", shown);
+    if (!S_ISREG(status.st_mode))
+        throw UsageError("--jobs '{}': is not a regular file (a pipe, device or socket), not a file of renders", shown);
+    if (uint64_t(status.st_size) > kMaxJobFileBytes)
+        throw UsageError("--jobs '{}': {} bytes, more than a jobs file may hold ({} bytes)", shown,
+                         uint64_t(status.st_size), kMaxJobFileBytes);
+    // A regular file never blocks; the flag is dropped only to read it the ordinary way.
+    ::fcntl(fd.get(), F_SETFL, ::fcntl(fd.get(), F_GETFL) & ~O_NONBLOCK);
+
+    std::string line;
+    uint64_t number = 1;
+    std::size_t total = 0;
+    const auto finish_line = [&] {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        take(number++, line);
+        line.clear();
+    };
+    std::vector<char> chunk(1 << 16);
+    for (;;) {
+        const ssize_t got = ::read(fd.get(), chunk.data(), chunk.size());
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) throw hsr::Error("--jobs '{}': a read error ({})", shown, std::strerror(errno));
+        if (got == 0) break;
+        total += std::size_t(got);
+        if (total > kMaxJobFileBytes)
+            throw UsageError("--jobs '{}': more than a jobs file may hold ({} bytes)", shown, kMaxJobFileBytes);
+        for (std::string_view rest(chunk.data(), std::size_t(got)); !rest.empty();) {
+            const std::size_t end = rest.find('\n');
+            const std::string_view part = rest.substr(0, end);
+            if (line.size() + part.size() > kMaxJobLineBytes)
+                throw UsageError("{}:{}: the line is longer than a jobs line may be ({} bytes)", shown, number,
+                                 kMaxJobLineBytes);
+            line.append(part);
+            if (end == std::string_view::npos) break;
+            finish_line();
+            rest.remove_prefix(end + 1);
+        }
+    }
+    if (!line.empty()) finish_line();
+}
+
 }  // namespace
+
+std::vector<std::string> split_job_line(std::string_view line) {
+    std::vector<std::string> words;
+    std::string word;
+    bool in_word = false;  // a word has begun, perhaps with empty quotes
+    for (std::size_t at = 0; at < line.size(); ++at) {
+        const char c = line[at];
+        if (c == ' ' || c == '\t') {
+            if (in_word) words.push_back(std::move(word));
+            word.clear();
+            in_word = false;
+            continue;
+        }
+        in_word = true;
+        if (c == '\\') {
+            if (++at == line.size()) throw UsageError("the line ends in a backslash, which escapes nothing");
+            word += line[at];
+        } else if (c == '\'') {
+            const std::size_t end = line.find('\'', at + 1);
+            if (end == std::string_view::npos)
+                throw UsageError("a quote (') at column {} is not closed on its line", at + 1);
+            word.append(line.substr(at + 1, end - at - 1));
+            at = end;
+        } else if (c == '"') {
+            const std::size_t open = at;
+            for (++at;; ++at) {
+                if (at == line.size()) throw UsageError("a quote (\") at column {} is not closed on its line", open + 1);
+                char d = line[at];
+                if (d == '"') break;
+                if (d == '\\' && at + 1 < line.size() && std::string_view("\"\\$`").find(line[at + 1]) != std::string_view::npos)
+                    d = line[++at];
+                word += d;
+            }
+        } else {
+            word += c;
+        }
+    }
+    if (in_word) words.push_back(std::move(word));
+    return words;
+}
 
 int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
     std::vector<std::string> keys;
@@ -119,7 +232,7 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
                                  took.count());
                 if (failures == JobFailures::kReportAndGoOn)
                     std::fprintf(stderr, "loaded %s once for %zu job%s (%llu triangles, %.1f ms)\n",
-                                 model_path(job.options).string().c_str(), shared.jobs_left,
+                                 hsr::printable(model_path(job.options).string(), std::string::npos).c_str(), shared.jobs_left,
                                  shared.jobs_left == 1 ? "" : "s",
                                  static_cast<unsigned long long>(
                                      hsr::drawn_triangle_count(shared.renderer->loaded().scene().view())),
@@ -156,24 +269,18 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
 }
 
 int run_job_file(const fs::path& file) {
-    std::ifstream in(file);
-    if (!in) throw hsr::Error("--jobs '{}': cannot read it", hsr::printable(file.string(), hsr::kMaxQuotedPathChars));
+    const std::string shown = hsr::printable(file.string(), hsr::kMaxQuotedPathChars);
     PluginRegistries registries;
     std::vector<RenderJob> jobs;
     std::unordered_map<std::string, std::string> writers;  // each file written, and the line that writes it
     uint64_t frames = 0;
-    std::string line;
-    for (uint64_t number = 1; std::getline(in, line); ++number) {
-        const std::size_t first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#') continue;
-        const std::string origin = fmt::format("{}:{}", file.string(), number);
+    read_job_lines(file, [&](uint64_t number, std::string_view line) {
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string_view::npos || line[first] == '#') return;
+        const std::string origin = fmt::format("{}:{}", shown, number);
         try {
-            std::vector<std::string> args;
-            try {
-                args = boost::program_options::split_unix(line);
-            } catch (const std::exception& e) {  // Boost.Tokenizer's, for an unclosed quote
-                throw UsageError("{}", e.what());
-            }
+            const std::vector<std::string> args = split_job_line(line);
+            check_argument_count(args.size());
             std::vector<fs::path> files;
             RenderJob job = prepare_render_job(args, registries, files);
             job.origin = origin;
@@ -182,7 +289,8 @@ int run_job_file(const fs::path& file) {
             for (const fs::path& path : files) {
                 const auto [other, inserted] = writers.emplace(path.string(), origin);
                 if (!inserted)
-                    throw UsageError("'{}' is written by {} too", hsr::printable(path.string()), other->second);
+                    throw UsageError("'{}' is written by {} too", hsr::printable(path.string(), hsr::kMaxQuotedPathChars),
+                                     other->second);
             }
             jobs.push_back(std::move(job));
         } catch (const UsageError& e) {
@@ -192,11 +300,9 @@ int run_job_file(const fs::path& file) {
         } catch (const hsr::Error& e) {
             throw hsr::Error("{}: {}", origin, e.what());
         }
-    }
-    if (in.bad()) throw hsr::Error("--jobs '{}': a read error", hsr::printable(file.string()));
+    });
     if (jobs.empty())
-        throw UsageError("--jobs '{}': no jobs in the file (each line holds the options of one render)",
-                         hsr::printable(file.string()));
+        throw UsageError("--jobs '{}': no jobs in the file (each line holds the options of one render)", shown);
     return run_jobs(jobs, JobFailures::kReportAndGoOn);
 }
 

@@ -6,7 +6,10 @@
 
 #include "render/render.hpp"
 
+#include <cstddef>
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace hsr::host {
@@ -18,9 +21,24 @@ enum class JobFailures { kStop, kReportAndGoOn };
 // Runs the jobs in order; returns the exit status (0).
 int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures);
 
+// The longest line a --jobs file may hold, in bytes: a line is read whole before it is split, and the
+// options of one render, paths included, fit in a small part of it.
+inline constexpr std::size_t kMaxJobLineBytes = 64 * 1024;
+// The largest --jobs file, in bytes: far more than the frames limit's 100,000 lines need, and read
+// no further than this even if the file grows meanwhile.
+inline constexpr std::size_t kMaxJobFileBytes = 64 << 20;
+
+// The words of one --jobs line, split and unquoted as a POSIX shell does without expansions: blanks
+// (space, tab) between words; a backslash outside quotes keeps the next character as it is; '...'
+// keeps everything to the next '; "..." keeps everything to the next unescaped ", a backslash in it
+// escaping only ", \, $ and `. An empty pair of quotes is an empty word. Throws hsr::UsageError for
+// a quote without its end or a line that ends in a backslash.
+std::vector<std::string> split_job_line(std::string_view line);
+
 // Reads the file and prepares every job (prepare_render_job) before any is run, so that a mistake on
 // any line stops the run before it starts, with the line's FILE:LINE; then runs them, going on past
-// one that fails.
+// one that fails. FILE must be a regular file (a pipe or a device is refused before it is read) of at
+// most kMaxJobFileBytes; a line may end in CR LF.
 int run_job_file(const std::filesystem::path& file);
 
 }  // namespace hsr::host

@@ -50,9 +50,6 @@ void check_render_options(const RenderOptions& o) {
         throw UsageError("--heightmap-height goes with --heightmap");
     if (o.width <= 0 || o.height <= 0 || o.width > hsr::max_image_side || o.height > hsr::max_image_side)
         throw UsageError("image size {}x{}: each side must be between 1 and {}", o.width, o.height, hsr::max_image_side);
-    if (o.was_given("width") || o.was_given("height"))  // else a .scene file may set it (load_render_scene)
-        hsr::check_limit(&hsr::Limits::image_pixels, uint64_t(o.width) * uint64_t(o.height),
-                         fmt::format("image size {}x{}", o.width, o.height));
     if (o.threads < 0 || o.threads > kMaxThreads)
         throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, kMaxThreads);
     if (o.was_given("step") && o.step < 1) throw UsageError("--step {}: steps count from 1", o.step);
@@ -81,6 +78,9 @@ void check_render_options(const RenderOptions& o) {
     if (!o.color.empty()) hsr::host::parse_color_option(o.color, "color");  // before a long load
     if (!hsr::is_sample_count(o.samples < 0 || o.samples > 16 ? 0u : uint32_t(o.samples)))
         throw UsageError("--samples {}: expected 1, 2, 4, 8 or 16", o.samples);
+    // Else a .scene file may set the size or the samples: checked again when its picture is made.
+    if (o.was_given("width") || o.was_given("height") || o.was_given("samples"))
+        hsr::check_image_pixels(uint32_t(o.width), uint32_t(o.height), uint32_t(o.samples));
     if (o.repeat.empty())
         for (const char* option : {"repeat-gap", "repeat-jitter"})
             if (o.was_given(option)) throw UsageError("--{} goes with --repeat", option);

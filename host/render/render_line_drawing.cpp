@@ -67,10 +67,10 @@ void hsr::host::render_line_drawing(const RenderOptions& o, const hsr::Renderer&
     files.commit();
     if (o.stats) print_line_stats(drawing, *plugin.remover, scene_view);
     if (!o.trace.empty())
-        std::fprintf(stderr, "wrote %s (%llu steps)\n", o.trace.c_str(),
+        std::fprintf(stderr, "wrote %s (%llu steps)\n", hsr::printable(o.trace, std::string::npos).c_str(),
                      static_cast<unsigned long long>(drawing.trace_events));
     std::fprintf(stderr, "wrote %s (%ux%u, %llu visible segments%s, %zu edges, %.1f ms)\n",
-                 output.string().c_str(), drawing.width, drawing.height,
+                 hsr::printable(output.string(), std::string::npos).c_str(), drawing.width, drawing.height,
                  static_cast<unsigned long long>(drawn.visible),
                  style.hidden == hsr::HiddenLines::kDashed ? fmt::format(" and {} hidden", drawn.hidden).c_str() : "",
                  drawing.edges.size(), drawing.lines_ms);

@@ -73,10 +73,10 @@ void write_heat_maps(const RenderOptions& o, const hsr::Frame& frame, const hsr:
 void print_heat_maps_written(const RenderOptions& o, const hsr::DepthComplexity& depth_complexity) {
     if (!o.overdraw_out.empty())
         std::fprintf(stderr, "wrote %s (depth complexity heat map: black 0 ... pale yellow %u)\n",
-                     o.overdraw_out.c_str(), depth_complexity.max);
+                     hsr::printable(o.overdraw_out, std::string::npos).c_str(), depth_complexity.max);
     if (!o.depth_tests_out.empty())
         std::fprintf(stderr, "wrote %s (depth tests heat map: black 0 ... pale yellow %u)\n",
-                     o.depth_tests_out.c_str(), depth_complexity.max);
+                     hsr::printable(o.depth_tests_out, std::string::npos).c_str(), depth_complexity.max);
 }
 
 }  // namespace
@@ -132,7 +132,7 @@ void hsr::host::write_picture(const RenderOptions& o, const hsr::Picture& pictur
         std::fprintf(stderr, "hsr: warning: no triangle covers a pixel centre: the picture is empty (is the model "
                              "too small, too far away or flat edge-on at this size?)\n");
     std::fprintf(stderr, "wrote %s (%ux%u, %llu triangles, %.1f ms visibility + %.1f ms shading)\n",
-                 output.string().c_str(), frame.width, frame.height,
+                 hsr::printable(output.string(), std::string::npos).c_str(), frame.width, frame.height,
                  static_cast<unsigned long long>(hsr::drawn_triangle_count(scene_view)), frame.visibility_ms,
                  frame.shading_ms);
 }

@@ -38,7 +38,7 @@ hsr::InstanceGrid parse_repeat(const std::string& text, float gap, float jitter)
         throw UsageError("--repeat '{}': expected COLUMNSxROWSxLAYERS, each at least 1, e.g. 4x3x20", hsr::printable(text));
     constexpr unsigned long long max_side = 100000;
     if (c > max_side || r > max_side || l > max_side)
-        throw UsageError("--repeat '{}': at most {} along each side", text, max_side);
+        throw UsageError("--repeat '{}': at most {} along each side", hsr::printable(text), max_side);
     if (!(gap >= 0.0f) || !std::isfinite(gap)) throw UsageError("--repeat-gap must be 0 or more");
     if (!(jitter >= 0.0f) || !(jitter <= 180.0f)) throw UsageError("--repeat-jitter must be between 0 and 180 degrees");
     grid.columns = uint32_t(c);

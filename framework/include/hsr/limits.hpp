@@ -21,7 +21,7 @@ struct Limits {
     uint64_t lights = 1'000;
     uint64_t surface_samples = 1u << 20;     // grid samples of --surface and --heightmap
     uint64_t heightmap_pixels = 1u << 24;    // pixels of a --heightmap PNG (4096 x 4096)
-    uint64_t image_pixels = 1u << 26;        // width x height of a picture (8192 x 8192)
+    uint64_t image_pixels = 1u << 26;        // width x height x samples of a picture (8192 x 8192 x 1)
     uint64_t upload_bytes = 1u << 26;        // one file sent to hsr view (64 MiB)
     uint64_t fragments = 1u << 25;           // fragment lists of a frame (a-buffer), 32 bytes each
     uint64_t frames = 100'000;               // frames of one hsr render (--views, ranges, a --jobs file)

@@ -21,6 +21,9 @@ namespace hsr {
 constexpr uint32_t max_image_side = 16384;
 // Throws hsr::Error for a zero or absurd size, before anything is allocated.
 void check_image_size(uint32_t width, uint32_t height);
+// Checks the pixels rendered for a picture, width x height x samples (each sample is a whole frame),
+// against the image-pixels limit (limits.hpp).
+void check_image_pixels(uint32_t width, uint32_t height, uint32_t samples = 1);
 
 // The sample positions of a pixel for supersampling, as offsets from its centre in pixels (x right,
 // y down): the standard multisample patterns of Direct3D 10.1+ and Vulkan (standardSampleLocations)

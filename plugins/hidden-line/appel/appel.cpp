@@ -60,10 +60,16 @@ public:
         ParamSpec::boolean("check-all-edges", false,
                            "walk every edge, not only a spanning tree and the requested ones, and count vertices "
                            "reached with two different QIs (qi-conflicts)"),
+        ParamSpec::integer("max-candidates", "250000000", 1, 1e15,
+                           "the most candidates (contour edges and faces in the grids' cells) one drawing may store "
+                           "and test, each counted before the walks begin; bounds memory (4 bytes a stored one) and "
+                           "time"),
     };
 
     explicit Appel(const hsr::sdk::Params& p)
-        : use_grid_(p.choice("prefilter") == 0), check_all_edges_(p.boolean("check-all-edges")) {}
+        : use_grid_(p.choice("prefilter") == 0),
+          check_all_edges_(p.boolean("check-all-edges")),
+          max_candidates_(uint64_t(p.integer("max-candidates"))) {}
 
     void render_lines(const hsr::sdk::Scene& scene, const hsr_camera& camera, const hsr::sdk::LineRequest& request,
                       hsr::sdk::SegmentWriter& segments, const hsr::sdk::Trace& trace,
@@ -74,7 +80,8 @@ public:
         viewer_ = &viewer;
         scene_ = &scene.raw();
         seed_counts_ = {};
-        geometry_.build(scene.raw(), camera, viewer);
+        geometry_.build(scene.raw(), camera, viewer, max_candidates_);
+        check_candidates_tested();
         edge_walk_.start(geometry_, viewer, use_grid_);
         map_request(request);
         propagate(request, segments, trace);
@@ -140,6 +147,38 @@ private:
                 }
             }
         }
+    }
+
+    // Refuses the drawing when the walks could test more candidates than max-candidates allows, with
+    // the grids' entries: each edge walked tests the contour edges and faces in the cells it passes
+    // (every contour edge, with prefilter=none), and each seed the faces in its vertex's cell. Every
+    // edge is counted, though only a spanning tree and the requested edges are walked: an upper bound,
+    // found from the cells' sizes without testing anything.
+    void check_candidates_tested() const {
+        const appel::ViewGeometry& g = geometry_;
+        uint64_t candidates = g.grid_entries;
+        const auto check = [&] {
+            if (candidates > max_candidates_)
+                throw InvalidArgument("appel: the walks along the edges could test " + std::to_string(candidates) +
+                                      " candidates (contour edges and faces in their grid cells), over the limit of " +
+                                      std::to_string(max_candidates_) + " (raise it with max-candidates=N)");
+        };
+        if (g.graph.face_count() == 0) return;
+        for (uint32_t v = 0; v < g.graph.vertex_count(); ++v)
+            if (!g.graph.edges_at(v).empty()) candidates += g.face_bins.size(g.face_grid.cell_of(g.window[v]));
+        check();
+        for (uint32_t e = 0; e < g.graph.edge_count(); ++e) {
+            const uint32_t a = g.graph.edge_vertex(e, 0), b = g.graph.edge_vertex(e, 1);
+            if (!use_grid_)
+                candidates += g.contours.size();
+            else if (!g.contours.empty())
+                g.contour_grid.for_segment(g.window[a], g.window[b],
+                                           [&](uint32_t cell) { candidates += g.contour_bins.size(cell); });
+            g.space_grid.for_segment(g.position[a], g.position[b],
+                                     [&](uint32_t cell) { candidates += g.space_bins.size(cell); });
+            if (candidates > max_candidates_) break;  // the count so far is enough to refuse
+        }
+        check();
     }
 
     void collect_component(uint32_t start, uint32_t component) {
@@ -318,6 +357,7 @@ private:
 
     const bool use_grid_;
     const bool check_all_edges_;
+    const uint64_t max_candidates_;
 
     // Per call (kept to reuse their memory).
     const Viewer* viewer_ = nullptr;

@@ -28,6 +28,7 @@ public:
         cursor_.assign(start_.begin(), start_.end() - 1);
         for_each_pair([&](uint32_t cell, uint32_t item) { items_[cursor_[cell]++] = item; });
     }
+    uint32_t size(uint32_t cell) const { return start_[cell + 1] - start_[cell]; }
     std::span<const uint32_t> operator[](uint32_t cell) const {
         return {items_.data() + start_[cell], items_.data() + start_[cell + 1]};
     }
@@ -74,10 +75,30 @@ public:
         for (int r = r0; r <= r1; ++r)
             for (int c = c0; c <= c1; ++c) f(uint32_t(r) * nx_ + uint32_t(c));
     }
+    // How many cells for_box visits.
+    uint64_t box_cells(glm::dvec2 lo, glm::dvec2 hi) const {
+        const glm::dvec2 a = (lo - lo_) * scale_ - pad_, b = (hi - lo_) * scale_ + pad_;
+        return uint64_t(clamp_cell(b.x, nx_) - clamp_cell(a.x, nx_) + 1) * uint64_t(clamp_cell(b.y, ny_) - clamp_cell(a.y, ny_) + 1);
+    }
 
     // Every cell the segment (widened by the pad) passes through, each once.
     template <class F>
     void for_segment(glm::dvec2 a, glm::dvec2 b, F&& f) const {
+        for_segment_rows(a, b, [&](int r, int c0, int c1) {
+            for (int c = c0; c <= c1; ++c) f(uint32_t(r) * nx_ + uint32_t(c));
+        });
+    }
+    // How many cells for_segment visits.
+    uint64_t segment_cells(glm::dvec2 a, glm::dvec2 b) const {
+        uint64_t cells = 0;
+        for_segment_rows(a, b, [&](int, int c0, int c1) { cells += uint64_t(c1 - c0 + 1); });
+        return cells;
+    }
+
+private:
+    // f(row, first column, last column) for each row of cells the segment passes through.
+    template <class F>
+    void for_segment_rows(glm::dvec2 a, glm::dvec2 b, F&& f) const {
         a = (a - lo_) * scale_;
         b = (b - lo_) * scale_;
         if (a.y > b.y) std::swap(a, b);
@@ -96,12 +117,10 @@ public:
                 x_lo = std::min(xa, xb);
                 x_hi = std::max(xa, xb);
             }
-            const int c0 = clamp_cell(x_lo - pad_.x, nx_), c1 = clamp_cell(x_hi + pad_.x, nx_);
-            for (int c = c0; c <= c1; ++c) f(uint32_t(r) * nx_ + uint32_t(c));
+            f(r, clamp_cell(x_lo - pad_.x, nx_), clamp_cell(x_hi + pad_.x, nx_));
         }
     }
 
-private:
     static constexpr int kMaxSide = 2048;
     glm::dvec2 lo_{0.0}, scale_{0.0}, pad_{0.0};
     int nx_ = 1, ny_ = 1;
@@ -139,6 +158,13 @@ public:
         for (int z = c0[2]; z <= c1[2]; ++z)
             for (int y = c0[1]; y <= c1[1]; ++y)
                 for (int x = c0[0]; x <= c1[0]; ++x) f(index(x, y, z));
+    }
+    // How many cells for_box visits.
+    uint64_t box_cells(glm::dvec3 lo, glm::dvec3 hi) const {
+        const glm::dvec3 a = (lo - lo_) * scale_ - pad_, b = (hi - lo_) * scale_ + pad_;
+        uint64_t cells = 1;
+        for (int k = 0; k < 3; ++k) cells *= uint64_t(clamp_cell(b[k], n_[k]) - clamp_cell(a[k], n_[k]) + 1);
+        return cells;
     }
 
     // Every cell the segment (widened by the pad) passes through, each once: slabs across the axis

@@ -34,13 +34,15 @@ struct FaceBox {
 
 class ViewGeometry {
 public:
-    void build(const hsr_scene& scene, const hsr_camera& camera, const Viewer& viewer) {
+    // Throws hsr::sdk::InvalidArgument when the grids would hold more than max_grid_entries entries
+    // together, before storing them.
+    void build(const hsr_scene& scene, const hsr_camera& camera, const Viewer& viewer, uint64_t max_grid_entries) {
         camera_ = &camera;
         graph.build(scene);
         prepare_vertices(scene, camera);
         prepare_faces(viewer);
         find_contours(viewer);
-        build_grids();
+        build_grids(max_grid_entries);
     }
 
     // The window position of the point at parameter t along the edge from `from` to `to`.
@@ -59,6 +61,7 @@ public:
     ImageGrid contour_grid, face_grid;  // contour edges, faces on the screen
     SpaceGrid space_grid;               // faces in space
     Bins contour_bins, face_bins, space_bins;
+    uint64_t grid_entries = 0;  // held by the three
 
 private:
     // World positions in double precision and window positions; every vertex a face uses must be
@@ -124,7 +127,9 @@ private:
         }
     }
 
-    void build_grids() {
+    // The grids are framed and their entries counted (from each item's extent in cells) before any
+    // is filled, so that too many are refused before they are stored.
+    void build_grids(uint64_t max_entries) {
         // Contour edges on the screen, for the crossing tests.
         if (!contours.empty()) {
             glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
@@ -133,14 +138,9 @@ private:
                 hi = glm::max(hi, glm::max(window[c.v0], window[c.v1]));
             }
             contour_grid.frame(lo, hi, 2.0 * double(contours.size()), kPadPixels);
-            contour_bins.build(contour_grid.cell_count(), [&](auto&& add) {
-                for (uint32_t c = 0; c < contours.size(); ++c)
-                    contour_grid.for_segment(window[contours[c].v0], window[contours[c].v1],
-                                             [&](uint32_t cell) { add(cell, c); });
-            });
         }
-
-        // Faces on the screen, for counting what hides a seed vertex.
+        // Faces on the screen, for counting what hides a seed vertex; faces in space, for the faces
+        // an edge passes through (bodies that intersect).
         glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
         glm::dvec3 world_lo(std::numeric_limits<double>::max()), world_hi(-std::numeric_limits<double>::max());
         double edge_length = 0.0;
@@ -153,28 +153,59 @@ private:
         }
         for (uint32_t e = 0; e < graph.edge_count(); ++e)
             edge_length += glm::length(position[graph.edge_vertex(e, 1)] - position[graph.edge_vertex(e, 0)]);
-        if (graph.face_count() == 0) return;
-        face_grid.frame(lo, hi, std::max(1.0, graph.face_count() / 2.0), kPadPixels);
-        face_bins.build(face_grid.cell_count(), [&](auto&& add) {
-            for (uint32_t f = 0; f < graph.face_count(); ++f) {
-                const glm::dvec2 a = window[graph.corner(f, 0)], b = window[graph.corner(f, 1)],
-                                 c = window[graph.corner(f, 2)];
-                face_grid.for_box(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)),
-                                  [&](uint32_t cell) { add(cell, f); });
-            }
-        });
+        const bool faces = graph.face_count() > 0;
+        if (faces) {
+            face_grid.frame(lo, hi, std::max(1.0, graph.face_count() / 2.0), kPadPixels);
+            const double mean_edge = graph.edge_count() > 0 ? edge_length / graph.edge_count() : 0.0;
+            const double extent = glm::length(world_hi - world_lo);
+            space_grid.frame(world_lo, world_hi, mean_edge, 1e-9 * extent, 4.0 * graph.face_count());
+        }
+        const auto screen_box = [&](uint32_t f, auto&& use) {
+            const glm::dvec2 a = window[graph.corner(f, 0)], b = window[graph.corner(f, 1)], c = window[graph.corner(f, 2)];
+            return use(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
+        };
+        const auto space_box = [&](uint32_t f, auto&& use) {
+            const glm::dvec3 &a = position[graph.corner(f, 0)], &b = position[graph.corner(f, 1)], &c = position[graph.corner(f, 2)];
+            return use(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
+        };
 
-        // Faces in space, for the faces an edge passes through (bodies that intersect).
-        const double mean_edge = graph.edge_count() > 0 ? edge_length / graph.edge_count() : 0.0;
-        const double extent = glm::length(world_hi - world_lo);
-        space_grid.frame(world_lo, world_hi, mean_edge, 1e-9 * extent, 4.0 * graph.face_count());
-        space_bins.build(space_grid.cell_count(), [&](auto&& add) {
+        uint64_t largest = 0;  // entries of one grid, which indexes them with 32 bits
+        grid_entries = 0;
+        {
+            uint64_t n = 0;
+            for (const ContourEdge& c : contours) n += contour_grid.segment_cells(window[c.v0], window[c.v1]);
+            largest = std::max(largest, n);
+            grid_entries += n;
+        }
+        if (faces) {
+            uint64_t on_screen = 0, in_space = 0;
             for (uint32_t f = 0; f < graph.face_count(); ++f) {
-                const glm::dvec3 &a = position[graph.corner(f, 0)], &b = position[graph.corner(f, 1)],
-                                 &c = position[graph.corner(f, 2)];
-                space_grid.for_box(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)),
-                                   [&](uint32_t cell) { add(cell, f); });
+                on_screen += screen_box(f, [&](glm::dvec2 l, glm::dvec2 h) { return face_grid.box_cells(l, h); });
+                in_space += space_box(f, [&](glm::dvec3 l, glm::dvec3 h) { return space_grid.box_cells(l, h); });
             }
+            largest = std::max({largest, on_screen, in_space});
+            grid_entries += on_screen + in_space;
+        }
+        if (grid_entries > max_entries || largest > std::numeric_limits<uint32_t>::max())
+            throw hsr::sdk::InvalidArgument("appel: the grids of the edges and faces seen would hold " +
+                                            std::to_string(grid_entries) + " entries, over the limit of " +
+                                            std::to_string(std::min<uint64_t>(max_entries, std::numeric_limits<uint32_t>::max())) +
+                                            " (raise it with max-candidates=N)");
+
+        if (!contours.empty())
+            contour_bins.build(contour_grid.cell_count(), [&](auto&& add) {
+                for (uint32_t c = 0; c < contours.size(); ++c)
+                    contour_grid.for_segment(window[contours[c].v0], window[contours[c].v1],
+                                             [&](uint32_t cell) { add(cell, c); });
+            });
+        if (!faces) return;
+        face_bins.build(face_grid.cell_count(), [&](auto&& add) {
+            for (uint32_t f = 0; f < graph.face_count(); ++f)
+                screen_box(f, [&](glm::dvec2 l, glm::dvec2 h) { face_grid.for_box(l, h, [&](uint32_t cell) { add(cell, f); }); });
+        });
+        space_bins.build(space_grid.cell_count(), [&](auto&& add) {
+            for (uint32_t f = 0; f < graph.face_count(); ++f)
+                space_box(f, [&](glm::dvec3 l, glm::dvec3 h) { space_grid.for_box(l, h, [&](uint32_t cell) { add(cell, f); }); });
         });
     }
 

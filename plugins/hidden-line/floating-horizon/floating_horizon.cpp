@@ -80,13 +80,17 @@ public:
         ParamSpec::choice("space", "vertical", "vertical|screen",
                           "keep the horizons over columns that are vertical planes through the eye (exact), or over "
                           "the image's columns (the textbook's; approximate in perspective)"),
+        ParamSpec::integer("max-column-updates", "500000000", 1, 1e15,
+                           "the most horizon columns the grid's edges may visit in one drawing, counted before any "
+                           "is drawn (a few seconds' work at the default)"),
     };
 
     explicit FloatingHorizon(const hsr::sdk::Params& p)
         : subcolumns_(int(p.integer("subcolumns"))),
           diagonals_(p.boolean("diagonals")),
           vertex_columns_(p.boolean("vertex-columns")),
-          screen_space_(p.choice("space") == 1) {}
+          screen_space_(p.choice("space") == 1),
+          max_column_updates_(uint64_t(p.integer("max-column-updates"))) {}
 
     void render_lines(const hsr::sdk::Scene& scene, const hsr_camera& camera, const hsr::sdk::LineRequest& request,
                       hsr::sdk::SegmentWriter& segments, const hsr::sdk::Trace& trace,
@@ -103,11 +107,14 @@ private:
     // For a step: curve j (SUBJECT) and both horizons (CONTEXT) as lines in the output image.
     void draw_curve_and_horizons(uint32_t j) const;
     uint32_t& request_of(Kind kind, uint32_t i, uint32_t j);
+    // Refuses the drawing when its edges would visit more than max-column-updates horizon columns.
+    void check_column_updates() const;
 
     int subcolumns_;
     bool diagonals_;
     bool vertex_columns_;
     bool screen_space_;
+    uint64_t max_column_updates_;
 
     // Per call.
     CurveOrder order_;
@@ -148,6 +155,7 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
     floating_horizon::choose_order(scene, camera, grid, order_);
     map_request(request, grid);
     project(scene, camera);
+    check_column_updates();
 
     request_ = &request;
     segments_ = &segments;
@@ -224,6 +232,29 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
     counters.set("columns-updated", columns_updated_);
 }
 
+
+// Every edge of the grid updates the horizons at the columns from one end's to the other's, so the
+// work is known once the columns are: with a column at every vertex, a dense grid seen across the
+// image makes each curve span about as many columns as the grid has vertices.
+void FloatingHorizon::check_column_updates() const {
+    const uint32_t nI = order_.layout.along, nJ = order_.layout.curves;
+    const auto span = [&](uint32_t i0, uint32_t j0, uint32_t i1, uint32_t j1) {
+        const int64_t a = horizon_.column(order_.layout.vertex(i0, j0)), b = horizon_.column(order_.layout.vertex(i1, j1));
+        return uint64_t(std::abs(a - b) + 1);
+    };
+    uint64_t updates = 0;
+    for (uint32_t j = 0; j < nJ; ++j)
+        for (uint32_t i = 0; i < nI; ++i) {
+            if (i + 1 < nI) updates += span(i, j, i + 1, j);
+            if (j + 1 < nJ) updates += span(i, j, i, j + 1);
+            if (i + 1 < nI && j + 1 < nJ) updates += span(i, j, i + 1, j + 1);
+        }
+    if (updates > max_column_updates_)
+        throw hsr::sdk::InvalidArgument(
+            "floating-horizon: the grid's edges would visit " + std::to_string(updates) +
+            " horizon columns, over the limit of " + std::to_string(max_column_updates_) +
+            " (raise it with max-column-updates=N, or set vertex-columns=false for a grid denser than the pixels)");
+}
 
 // Each requested edge becomes a curve segment, a cross edge or a diagonal of the grid.
 void FloatingHorizon::map_request(const hsr::sdk::LineRequest& request, const GridShape& grid) {

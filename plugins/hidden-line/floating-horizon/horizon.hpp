@@ -79,6 +79,8 @@ public:
         }
     }
     size_t size() const { return x_.size(); }
+    // The column at vertex v's x; a segment's update visits the columns from one end's to the other's.
+    uint32_t column(uint32_t v) const { return column_of_[v]; }
     // f(x, upper, lower) for each column, with the values at the column itself (-kInf and kInf where
     // nothing reached it yet).
     template <class F>
