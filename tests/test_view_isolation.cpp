@@ -9,7 +9,9 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <future>
+#include <unistd.h>
 #include <thread>
 
 namespace fs = std::filesystem;
@@ -29,19 +31,24 @@ constexpr bool kSanitized = false;
 constexpr bool kSanitized = false;
 #endif
 
+const std::string kToken = "isolation-test-token";
+
 struct IsolationServer {
     std::unique_ptr<hsr::host::ViewServer> server;
     int port = 0;
     std::thread thread;
 
-    explicit IsolationServer(std::chrono::milliseconds time_limit, std::size_t workers = 2) {
+    explicit IsolationServer(std::chrono::milliseconds time_limit, std::size_t workers = 2,
+                             std::vector<fs::path> more_folders = {}) {
         hsr::host::ViewConfig config;
         config.model_folders = {test_models::dir};
+        config.model_folders.insert(config.model_folders.end(), more_folders.begin(), more_folders.end());
         config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_MISBEHAVING_PLUGIN_DIR};
         config.worker_executable = fs::path(HSR_BINARY_DIR) / "hsr";
         config.time_limit = time_limit;
         config.workers = workers;
         config.worker_memory_bytes = uint64_t(2) << 30;
+        config.token = kToken;
         server = std::make_unique<hsr::host::ViewServer>(config);
         port = server->bind("127.0.0.1", 0);
         thread = std::thread([this] { server->run(); });
@@ -54,11 +61,11 @@ struct IsolationServer {
     httplib::Result get(const std::string& path) const {
         httplib::Client c("127.0.0.1", port);
         c.set_read_timeout(300, 0);
-        return c.Get(path.c_str());
+        return c.Get(path.c_str(), {{"X-HSR-Token", kToken}});
     }
     httplib::Result frame(const std::string& algorithm, const json& params, int size = 64,
-                          const std::string& page = "") const {
-        const json body{{"model", "0/cube.obj"},
+                          const std::string& page = "", const std::string& model = "0/cube.obj") const {
+        const json body{{"model", model},
                         {"algorithm", algorithm},
                         {"params", params},
                         {"lighting", "blinn-phong"},
@@ -67,13 +74,13 @@ struct IsolationServer {
                         {"height", size}};
         httplib::Client c("127.0.0.1", port);
         c.set_read_timeout(300, 0);
-        httplib::Headers headers;
+        httplib::Headers headers{{"X-HSR-Token", kToken}};
         if (!page.empty()) headers.emplace("X-HSR-Page", page);
         return c.Post("/api/frame", headers, body.dump(), "application/json");
     }
     httplib::Result cancel(const std::string& page) const {
         httplib::Client c("127.0.0.1", port);
-        return c.Post("/api/cancel", {{"X-HSR-Page", page}}, "{}", "application/json");
+        return c.Post("/api/cancel", {{"X-HSR-Page", page}, {"X-HSR-Token", kToken}}, "{}", "application/json");
     }
     // A plain frame still renders: the server and the other workers are unharmed.
     void serves_others() const {
@@ -175,8 +182,15 @@ TEST_CASE("view isolation: the page's Stop and a newer request cancel a long one
             return server.frame("misbehaving", {{"fault", "loop"}, {"when", "render"}}, 64, "page-1");
         });
         // Until the request is in flight, there is nothing to cancel.
-        while (json::parse(server.cancel("page-1")->body)["cancelled"] != true)
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        bool cancelled = false;
+        for (int attempt = 0; attempt < 1000 && !cancelled; ++attempt) {
+            const httplib::Result r = server.cancel("page-1");
+            REQUIRE(r);
+            REQUIRE(r->status == 200);
+            cancelled = json::parse(r->body).at("cancelled") == true;
+            if (!cancelled) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        REQUIRE(cancelled);
         const httplib::Result r = looping.get();
         REQUIRE(r);
         CHECK(r->status == 409);
@@ -205,4 +219,26 @@ TEST_CASE("view isolation: the page's Stop and a newer request cancel a long one
         CHECK(json::parse(server.cancel("page-4")->body)["cancelled"] == false);
     }
     server.serves_others();
+}
+
+TEST_CASE("view isolation: what the request must change is a 400, not a 500", "[view][isolation]") {
+    // A scene of 100 bunnies: 7 million triangles once copied out for a hidden-line plugin, over the
+    // stored-triangles limit of 5 million.
+    const fs::path folder = fs::temp_directory_path() / ("hsr-view-isolation-" + std::to_string(::getpid()));
+    fs::create_directories(folder);
+    std::ofstream(folder / "bunnies.scene") << "mesh " << (test_models::dir / "bunny.obj").string() << "\nrepeat 10 10 1\n";
+    {
+        IsolationServer server(std::chrono::seconds(60), 2, {folder});
+        // roberts refuses a body that is not convex (the monkey).
+        const httplib::Result roberts = server.frame("roberts", json::object(), 64, "", "0/monkey.obj");
+        REQUIRE(roberts);
+        CHECK(roberts->status == 400);
+        CHECK_THAT(error_of(roberts), Catch::Contains("convex"));
+        const httplib::Result appel = server.frame("appel", json::object(), 64, "", "1/bunnies.scene");
+        REQUIRE(appel);
+        CHECK(appel->status == 400);
+        CHECK_THAT(error_of(appel), Catch::Contains("over the limit"));
+        server.serves_others();
+    }
+    fs::remove_all(folder);
 }

@@ -49,6 +49,13 @@ fs::path make_model_folder() {
     std::ofstream(root / "models" / "escape.scene") << "mesh ../outside/secret.obj\n";
     std::ofstream(root / "models" / "missing.scene") << "mesh sub/missing.obj\n";
     std::ofstream(root / "models" / "inside.scene") << "# a comment\nmesh \"sub/tetrahedron.off\"\nmesh cube.obj\n";
+    // A link that stays inside (linked -> a/b), through which ".." leaves: the reader takes ".."
+    // first (the served root's parent), while the link resolved first would stay inside.
+    fs::create_directories(root / "models" / "a" / "b");
+    fs::create_directories(root / "secret");
+    fs::create_directory_symlink("a/b", root / "models" / "linked");
+    std::ofstream(root / "secret" / "x.obj") << "v 0 0 0\nTOPSECRET line that is not OBJ\n";
+    std::ofstream(root / "models" / "leak.scene") << "mesh linked/../../secret/x.obj\n";
     return root;
 }
 
@@ -602,6 +609,9 @@ TEST_CASE("view: nothing outside the served folders is read", "[view]") {
     }
     const json escape = s.post_json("/api/frame", frame_request("0/escape.scene", "zbuffer", 16), 400);
     CHECK_THAT(escape["error"].get<std::string>(), Catch::Contains("lies outside the folders hsr view serves"));
+    const json leak = s.post_json("/api/frame", frame_request("0/leak.scene", "zbuffer", 16), 400);
+    CHECK_THAT(leak["error"].get<std::string>(),
+               Catch::Contains("lies outside the folders hsr view serves") && !Catch::Contains("TOPSECRET"));
     // A mesh inside that is missing is the reader's to report; meshes inside are read.
     const json missing = s.post_json("/api/frame", frame_request("0/missing.scene", "zbuffer", 16), 400);
     CHECK_THAT(missing["error"].get<std::string>(), !Catch::Contains("outside"));

@@ -175,6 +175,9 @@ Answer answer_job(const std::string& message, JobModels& models, hsr::host::Fram
         return run_job(json::parse(message), models, frames, registry);
     } catch (const ViewError& e) {
         return hsr::host::error_answer(e.status, e.what(), e.field);
+    } catch (const hsr::Error& e) {
+        // A limit hit, or a plugin that refuses this input, is the asker's to change.
+        return hsr::host::error_answer(hsr::is_client_error(e) ? 400 : 500, e.what());
     } catch (const std::bad_alloc&) {
         return hsr::host::error_answer(500, "out of memory");
     } catch (const std::exception& e) {

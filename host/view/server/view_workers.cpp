@@ -223,7 +223,7 @@ const json& hsr::host::WorkerPool::plugins() {
         }
         const std::string name = plugin_named_in(error);
         if (name.empty() || answer.status != 500) throw hsr::Error("hsr view: {}", error);
-        std::cerr << fmt::format("hsr view: leaving out plugin '{}': {}\n", name, error);
+        std::cerr << fmt::format("hsr view: {}; it is left out\n", error);
         skip.push_back(name);
     }
     throw hsr::Error("hsr view: over {} plugins kill the process that describes them", kMaxPluginsLeftOut);
