@@ -5,6 +5,8 @@
 
 #include "view/server/view_server.hpp"
 
+#include "hsr/sanitizers.hpp"
+
 #include <catch2/catch.hpp>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -18,18 +20,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
 
 const std::string kToken = "isolation-test-token";
 
@@ -129,7 +119,7 @@ TEST_CASE("view isolation: an exception across the ABI is one request's error", 
 }
 
 TEST_CASE("view isolation: a plugin that asks for 10 GB fails in its worker alone", "[view][isolation]") {
-    if (kSanitized) return;  // AddressSanitizer needs its address space unbounded: no bound to hit
+    if (hsr::kAddressSanitizer) return;  // AddressSanitizer needs its address space unbounded: no bound to hit
     IsolationServer server(std::chrono::seconds(60));
     const httplib::Result r = server.frame("misbehaving", {{"fault", "allocate"}, {"when", "render"}});
     REQUIRE(r);

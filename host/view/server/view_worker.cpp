@@ -15,6 +15,7 @@
 #include "hsr/limits.hpp"
 #include "hsr/params.hpp"
 #include "hsr/plugin_registry.hpp"
+#include "hsr/sanitizers.hpp"
 
 #include <boost/program_options.hpp>
 #include <fmt/format.h>
@@ -38,18 +39,6 @@ using hsr::host::ViewError;
 
 // A job is a request body the server has read within its own limits, and a little more.
 constexpr uint64_t kMaxJobBytes = uint64_t(1) << 28;
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 json describe_plugin(const hsr::Plugin& plugin, bool steps) {
     const hsr_plugin_descriptor& d = plugin.descriptor;
@@ -195,7 +184,7 @@ int hsr::host::run_view_worker(const std::vector<std::string>& args) {
 
     const WorkerOptions o = parse_worker_options(args);
     // AddressSanitizer reserves terabytes of address space for its shadow memory.
-    if (o.memory_bytes > 0 && !kAddressSanitizer) {
+    if (o.memory_bytes > 0 && !hsr::kAddressSanitizer) {
         const rlimit bound{o.memory_bytes, o.memory_bytes};
         ::setrlimit(RLIMIT_AS, &bound);
     }
