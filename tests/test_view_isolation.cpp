@@ -54,8 +54,10 @@ struct IsolationServer {
         return c.Get(path.c_str(), {{"X-HSR-Token", kToken}});
     }
     httplib::Result frame(const std::string& algorithm, const json& params, int size = 64,
-                          const std::string& page = "", const std::string& model = "0/cube.obj") const {
+                          const std::string& page = "", const std::string& model = "0/cube.obj",
+                          const json& step = nullptr) const {
         const json body{{"model", model},
+                        {"step", step},
                         {"algorithm", algorithm},
                         {"params", params},
                         {"lighting", "blinn-phong"},
@@ -67,6 +69,13 @@ struct IsolationServer {
         httplib::Headers headers{{"X-HSR-Token", kToken}};
         if (!page.empty()) headers.emplace("X-HSR-Page", page);
         return c.Post("/api/frame", headers, body.dump(), "application/json");
+    }
+    json progress(const std::string& page) const {
+        httplib::Client c("127.0.0.1", port);
+        const httplib::Result r = c.Get("/api/progress", {{"X-HSR-Page", page}, {"X-HSR-Token", kToken}});
+        REQUIRE(r);
+        REQUIRE(r->status == 200);
+        return json::parse(r->body);
     }
     httplib::Result cancel(const std::string& page) const {
         httplib::Client c("127.0.0.1", port);
@@ -211,24 +220,62 @@ TEST_CASE("view isolation: the page's Stop and a newer request cancel a long one
     server.serves_others();
 }
 
-TEST_CASE("view isolation: what the request must change is a 400, not a 500", "[view][isolation]") {
-    // A scene of 100 bunnies: 7 million triangles once copied out for a hidden-line plugin, over the
-    // stored-triangles limit of 5 million.
-    const fs::path folder = fs::temp_directory_path() / ("hsr-view-isolation-" + std::to_string(::getpid()));
-    fs::create_directories(folder);
-    std::ofstream(folder / "bunnies.scene") << "mesh " << (test_models::dir / "bunny.obj").string() << "\nrepeat 10 10 1\n";
-    {
-        IsolationServer server(std::chrono::seconds(60), 2, {folder});
-        // roberts refuses a body that is not convex (the monkey).
-        const httplib::Result roberts = server.frame("roberts", json::object(), 64, "", "0/monkey.obj");
-        REQUIRE(roberts);
-        CHECK(roberts->status == 400);
-        CHECK_THAT(error_of(roberts), Catch::Contains("convex"));
-        const httplib::Result appel = server.frame("appel", json::object(), 64, "", "1/bunnies.scene");
-        REQUIRE(appel);
-        CHECK(appel->status == 400);
-        CHECK_THAT(error_of(appel), Catch::Contains("over the limit"));
-        server.serves_others();
+// A folder of scenes of many bunnies, removed at the end.
+struct BunnyScenes {
+    fs::path folder = fs::temp_directory_path() / ("hsr-view-isolation-" + std::to_string(::getpid()));
+    BunnyScenes() {
+        fs::create_directories(folder);
+        const std::string bunny = (test_models::dir / "bunny.obj").string();
+        // 7 million triangles once copied out for a hidden-line plugin: over the stored-triangles
+        // limit of 5 million.
+        std::ofstream(folder / "bunnies.scene") << "mesh " << bunny << "\nrepeat 10 10 1\n";
+        // 28 million triangles, one step each for zbuffer: seconds of steps.
+        std::ofstream(folder / "many-bunnies.scene") << "mesh " << bunny << "\nrepeat 20 20 1\n";
     }
-    fs::remove_all(folder);
+    ~BunnyScenes() {
+        std::error_code ec;
+        fs::remove_all(folder, ec);
+    }
+};
+
+TEST_CASE("view isolation: what the request must change is a 400, not a 500", "[view][isolation]") {
+    const BunnyScenes scenes;
+    IsolationServer server(std::chrono::seconds(60), 2, {scenes.folder});
+    // roberts refuses a body that is not convex (the monkey).
+    const httplib::Result roberts = server.frame("roberts", json::object(), 64, "", "0/monkey.obj");
+    REQUIRE(roberts);
+    CHECK(roberts->status == 400);
+    CHECK_THAT(error_of(roberts), Catch::Contains("convex"));
+    const httplib::Result appel = server.frame("appel", json::object(), 64, "", "1/bunnies.scene");
+    REQUIRE(appel);
+    CHECK(appel->status == 400);
+    CHECK_THAT(error_of(appel), Catch::Contains("over the limit"));
+    server.serves_others();
+}
+
+TEST_CASE("view isolation: a long step request reports its progress and is stopped", "[view][isolation]") {
+    const BunnyScenes scenes;
+    IsolationServer server(std::chrono::seconds(600), 2, {scenes.folder});
+    CHECK(server.progress("page-6")["running"] == false);
+    auto stepping = std::async(std::launch::async, [&] {
+        return server.frame("zbuffer", json::object(), 64, "page-6", "1/many-bunnies.scene", 100'000'000);
+    });
+    // The worker counts the steps first: the progress says how many so far, the total not yet.
+    json seen;
+    for (int attempt = 0; attempt < 3000 && seen.is_null(); ++attempt) {
+        const json progress = server.progress("page-6");
+        if (progress["running"] == true && progress["progress"].is_object() && progress["progress"]["steps"] > 0)
+            seen = progress;
+        else
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    REQUIRE_FALSE(seen.is_null());
+    CHECK(seen["ms"].get<double>() > 0);
+    CHECK(seen["progress"]["total"] == 0);
+    CHECK(json::parse(server.cancel("page-6")->body)["cancelled"] == true);
+    const httplib::Result r = stepping.get();
+    REQUIRE(r);
+    CHECK(r->status == 409);
+    CHECK(server.progress("page-6")["running"] == false);
+    server.serves_others();
 }

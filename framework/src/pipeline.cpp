@@ -149,6 +149,7 @@ std::string_view bounded(const char* text, size_t max_bytes) { return {text, str
 // stops after, which may be large and are of no use otherwise) and says stop at stop_after.
 struct StepCollector {
     uint64_t stop_after = 0;
+    StepProgress* progress = nullptr;
     const hsr_visibility_buffer* keep_before_of = nullptr;  // set: copy it at step stop_after - 1
     StepRun run;
 
@@ -156,6 +157,7 @@ struct StepCollector {
         auto& self = *static_cast<StepCollector*>(context);
         StepRecord& last = self.run.last;
         const uint64_t index = ++self.run.taken;
+        if (self.progress != nullptr) self.progress->steps.store(index, std::memory_order_relaxed);
         const bool stop = index == self.stop_after;
         if (self.keep_before_of != nullptr && index + 1 == self.stop_after) self.run.before = copy_of(*self.keep_before_of);
         last.index = index;
@@ -234,11 +236,14 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
 }
 
 void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
-                              Frame& frame, uint64_t stop_after, bool count_depth_tests, bool keep_before) {
+                              Frame& frame, uint64_t stop_after, bool count_depth_tests, bool keep_before,
+                              StepProgress* progress) {
     hsr_visibility_buffer target = clear_visibility(scene, camera, remover, frame, count_depth_tests);
     hsr_counter_sink sink{&frame.counters, &collect_counter};
     StepCollector collector;
     collector.stop_after = stop_after;
+    collector.progress = progress;
+    if (progress != nullptr) progress->steps.store(0, std::memory_order_relaxed);
     if (keep_before) collector.keep_before_of = &target;
     const hsr_step_sink steps{&collector, &StepCollector::step};
     const auto start = Clock::now();
@@ -334,7 +339,7 @@ Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfa
     auto resolve = [&](const hsr_scene& view) {
         if (settings.stop_after_step)
             resolve_visibility_steps(view, camera, remover, frame, *settings.stop_after_step, settings.count_depth_tests,
-                                     settings.keep_step_before);
+                                     settings.keep_step_before, settings.step_progress);
         else
             resolve_visibility(view, camera, remover, frame, settings.count_depth_tests);
     };

@@ -155,14 +155,15 @@ std::vector<hsr_light> Renderer::lights(const std::vector<LightSpec>& requested,
     return lights;
 }
 
-uint64_t Renderer::count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover) {
+uint64_t Renderer::count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                               StepProgress* progress) {
     const std::string key = remover.key() + '\n' + camera_bytes(camera);
     {
         std::lock_guard lock(caches_mutex_);
         if (auto known = step_totals_.find(key); known != step_totals_.end()) return known->second;
     }
     Frame counted;
-    resolve_visibility_steps(scene, camera, remover, counted, 0);
+    resolve_visibility_steps(scene, camera, remover, counted, 0, false, false, progress);
     const uint64_t total = counted.steps ? counted.steps->taken : 0;
     constexpr std::size_t kept_totals = 256;
     std::lock_guard lock(caches_mutex_);
@@ -188,11 +189,13 @@ Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& r
     if (request.step) {
         uint64_t step = *request.step;
         if (request.step_context) {
-            picture.step_total = count_steps(picture.scene, picture.camera, remover);
+            picture.step_total = count_steps(picture.scene, picture.camera, remover, request.step_progress);
+            if (request.step_progress != nullptr) request.step_progress->total.store(picture.step_total);
             step = std::min(step, picture.step_total);
             settings.keep_step_before = true;
         }
         settings.stop_after_step = step;
+        settings.step_progress = request.step_progress;
         picture.step_shown = step;
     }
     const std::vector<hsr_light> world_lights = lights(request.lights, picture.camera);

@@ -67,7 +67,10 @@ function assert(condition, message) {
 
 function startServer() {
   return new Promise((resolve, reject) => {
-    server = spawn(hsr, ['view', '--listen', '127.0.0.1:0', scene], { stdio: ['ignore', 'pipe', 'pipe'] });
+    // The test plugins that misbehave on request (tests/plugins/misbehaving.cpp), as a third party's.
+    const misbehaving = path.join(path.dirname(hsr), 'tests', 'misbehaving-plugins');
+    server = spawn(hsr, ['view', '--listen', '127.0.0.1:0', '--plugin-path', misbehaving, scene],
+      { stdio: ['ignore', 'pipe', 'pipe'] });
     let stderr = '';
     server.stderr.on('data', (d) => { stderr += d; });
     server.on('exit', (code) => reject(new Error(`hsr view exited with ${code}: ${stderr.trim()}`)));
@@ -436,6 +439,34 @@ async function main() {
     await page.fill('#height', '512');
     await page.press('#height', 'Tab');
     await idle();
+  });
+
+  await check('a frame that takes long counts its seconds, and Stop stops it', async () => {
+    await andFrame(() => page.selectOption('#algorithm', 'misbehaving'));
+    // The plugin loops forever in render: the server stops it when the page asks.
+    await page.selectOption('#params [name="fault"]', 'loop');
+    await page.waitForSelector('#stop:not([hidden])', { timeout: 20_000 });
+    assert(/rendering… \d+ s/.test(await text('#status')), `status: ${await text('#status')}`);
+    await page.click('#stop');
+    await page.waitForFunction(() => document.querySelector('#status').textContent === 'stopped', null,
+      { timeout: 20_000 });
+    await idle();
+    assert(await page.$eval('#stop', (b) => b.hidden), 'Stop is still shown');
+    // The worker that looped was replaced: the next frame renders.
+    await andFrame(() => page.selectOption('#params [name="fault"]', 'none'));
+    assert(!(await errorState()), await text('#error'));
+    await andFrame(() => page.selectOption('#algorithm', 'zbuffer'));
+  });
+
+  await check('a plugin that crashes answers with its name, and the next frame renders', async () => {
+    await andFrame(() => page.selectOption('#algorithm', 'misbehaving'));
+    await page.selectOption('#params [name="fault"]', 'segfault');
+    await page.waitForFunction(() => document.querySelector('#canvas').dataset.state === 'error', null,
+      { timeout: 20_000 });
+    assert(/plugin 'misbehaving' crashed in render \(SIGSEGV\)/.test(await text('#error')), `error: ${await text('#error')}`);
+    await andFrame(() => page.selectOption('#params [name="fault"]', 'none'));
+    assert(!(await errorState()), await text('#error'));
+    await andFrame(() => page.selectOption('#algorithm', 'zbuffer'));
   });
 
   await check('the page raised no script errors', async () => {

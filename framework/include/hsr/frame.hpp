@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -14,6 +15,14 @@
 #include <vector>
 
 namespace hsr {
+
+// How far a run step by step has got, for a caller on another thread (a progress line while a long
+// step request renders). The renderer sets `total` once it has counted the frame's steps, then
+// `steps` counts again from 0 in the run that stops at the step asked for.
+struct StepProgress {
+    std::atomic<uint64_t> steps{0};  // steps reported so far in the run under way
+    std::atomic<uint64_t> total{0};  // the steps of the whole frame; 0 while they are being counted
+};
 
 struct FrameSettings {
     glm::vec3 background{1.0f, 1.0f, 1.0f};
@@ -25,6 +34,7 @@ struct FrameSettings {
     // With stop_after_step N: also copy the visibility buffers as step N - 1 left them
     // (StepRun::before), in the same run of the plugin.
     bool keep_step_before = false;
+    StepProgress* step_progress = nullptr;  // with stop_after_step: updated at each step
     // Supersampling (render_supersampled_frame; render_frame renders the pixel centres only):
     // visibility and shading once per position of sample_offsets(samples), the colours averaged.
     uint32_t samples = 1;

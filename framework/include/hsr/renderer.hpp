@@ -119,6 +119,7 @@ struct PictureRequest {
     // the number of steps of the whole run (Picture::step_total), which is counted once per view,
     // plugin and parameters and then kept; the step then is one run of the plugin.
     bool step_context = false;
+    StepProgress* step_progress = nullptr;  // with step: how far the counting and the run have got
 };
 
 struct Picture {
@@ -173,7 +174,8 @@ private:
     // depth_complexity(), measured once per camera and kept (the last few), since it depends on
     // nothing else: a viewer switching plugins or comparing two keeps its camera.
     DepthComplexity kept_depth_complexity(const hsr_camera& camera);
-    uint64_t count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover);
+    uint64_t count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
+                         StepProgress* progress);
 
     std::shared_ptr<const LoadedScene> scene_;
     std::mutex caches_mutex_;

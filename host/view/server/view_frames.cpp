@@ -246,7 +246,7 @@ struct hsr::host::FrameRenderer::State {
         hsr::Frame frame;
     };
 
-    Rendered render(const FrameRequest& q, ArrayBlock& arrays) {
+    Rendered render(const FrameRequest& q, ArrayBlock& arrays, hsr::StepProgress* progress = nullptr) {
         const hsr::Plugin& algorithm = algorithm_plugin(q);
         check_settings(algorithm, q.params, "params");
         const std::shared_ptr<CachedModel> model = this->model(q.model);
@@ -266,11 +266,11 @@ struct hsr::host::FrameRenderer::State {
                                                      algorithm.descriptor.abi_minor < 3
                                                          ? "it is built against an ABI before 1.3"
                                                          : "it has no render_steps"));
-        return render_surface(q, renderer, remover, lighting, arrays);
+        return render_surface(q, renderer, remover, lighting, arrays, progress);
     }
 
     Rendered render_surface(const FrameRequest& q, hsr::Renderer& renderer, hsr::HiddenSurfaceRemover& remover,
-                            hsr::LightingModel& lighting, ArrayBlock& arrays) {
+                            hsr::LightingModel& lighting, ArrayBlock& arrays, hsr::StepProgress* progress) {
         check_camera(q, renderer);
         hsr::PictureRequest request;
         request.view = view_of(q);
@@ -281,6 +281,7 @@ struct hsr::host::FrameRenderer::State {
         if (q.step) {
             request.step = *q.step;
             request.step_context = true;
+            request.step_progress = progress;
         }
         hsr::Picture picture = renderer.picture(request, remover, lighting);
         hsr::Frame& frame = picture.frame;
@@ -439,11 +440,11 @@ hsr::host::FrameRenderer::FrameRenderer(const hsr::PluginRegistry& registry, Fin
 
 hsr::host::FrameRenderer::~FrameRenderer() = default;
 
-hsr::host::FrameAnswer hsr::host::FrameRenderer::frame(const json& request) {
+hsr::host::FrameAnswer hsr::host::FrameRenderer::frame(const json& request, hsr::StepProgress* progress) {
     const FrameRequest q = parse_frame_request(request);
     std::lock_guard lock(state_->mutex);
     ArrayBlock arrays;
-    json response = state_->render(q, arrays).response;
+    json response = state_->render(q, arrays, progress).response;
     return {std::move(response), std::move(arrays.bytes)};
 }
 

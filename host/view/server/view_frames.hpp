@@ -5,6 +5,7 @@
 
 #include "view/server/view_models.hpp"
 
+#include "hsr/frame.hpp"
 #include "hsr/plugin_registry.hpp"
 
 #include <nlohmann/json.hpp>
@@ -41,7 +42,8 @@ public:
     // POST /api/frame and POST /api/compare. Throw ViewError for a bad request (status 400 or 404)
     // and hsr::Error for a plugin's failure. Safe to call from several threads: one frame renders at
     // a time, so no plugin instance is ever called concurrently.
-    FrameAnswer frame(const nlohmann::json& request);
+    // progress, when given, follows a step request's counting and run.
+    FrameAnswer frame(const nlohmann::json& request, hsr::StepProgress* progress = nullptr);
     FrameAnswer compare(const nlohmann::json& request);
 
 private:

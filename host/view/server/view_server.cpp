@@ -21,6 +21,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cctype>
+#include <chrono>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -83,8 +85,14 @@ struct hsr::host::ViewServer::State {
     WorkerPool workers;
     // The frame or comparison each page (its X-HSR-Page header) waits for, to cancel when the page
     // sends a newer one or asks to stop.
+    struct PageJob {
+        std::atomic<bool> cancel{false};
+        std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+        std::mutex mutex;
+        json progress = nullptr;  // the worker's last progress message, if any
+    };
     std::mutex pages_mutex;
-    std::map<std::string, std::shared_ptr<std::atomic<bool>>> page_requests;
+    std::map<std::string, std::shared_ptr<PageJob>> page_requests;
     std::optional<std::string> initial_model;
     uint64_t upload_bytes = hsr::limits().upload_bytes;  // the limit in force when the server started
     ViewHttpServer server;
@@ -165,24 +173,30 @@ struct hsr::host::ViewServer::State {
         PageRequest(State& state, std::string page) : state_(state), page_(std::move(page)) {
             if (page_.empty()) return;
             std::lock_guard lock(state_.pages_mutex);
-            std::shared_ptr<std::atomic<bool>>& slot = state_.page_requests[page_];
-            if (slot) *slot = true;
-            slot = cancel_;
+            std::shared_ptr<PageJob>& slot = state_.page_requests[page_];
+            if (slot) slot->cancel = true;
+            slot = job_;
         }
         ~PageRequest() {
             if (page_.empty()) return;
             std::lock_guard lock(state_.pages_mutex);
             const auto it = state_.page_requests.find(page_);
-            if (it != state_.page_requests.end() && it->second == cancel_) state_.page_requests.erase(it);
+            if (it != state_.page_requests.end() && it->second == job_) state_.page_requests.erase(it);
         }
         PageRequest(const PageRequest&) = delete;
         PageRequest& operator=(const PageRequest&) = delete;
-        const std::atomic<bool>* cancel() const { return cancel_.get(); }
+        const std::atomic<bool>* cancel() const { return &job_->cancel; }
+        std::function<void(const json&)> on_progress() const {
+            return [job = job_](const json& progress) {
+                std::lock_guard lock(job->mutex);
+                job->progress = progress;
+            };
+        }
 
     private:
         State& state_;
         std::string page_;
-        std::shared_ptr<std::atomic<bool>> cancel_ = std::make_shared<std::atomic<bool>>(false);
+        std::shared_ptr<PageJob> job_ = std::make_shared<PageJob>();
     };
 
     // What set_content does, without copying a body that may be hundreds of MB.
@@ -259,7 +273,7 @@ struct hsr::host::ViewServer::State {
                 const std::string what = doing(&request);
                 const PageRequest page(*this, page_of(req));
                 send(res, workers.call({{"op", "frame"}, {"request", std::move(request)}, {"models", std::move(models)}},
-                                       affinity, what, page.cancel()));
+                                       affinity, what, page.cancel(), page.on_progress()));
             });
         });
         server.Post("/api/compare", [this](const httplib::Request& req, httplib::Response& res) {
@@ -284,9 +298,31 @@ struct hsr::host::ViewServer::State {
                 {
                     std::lock_guard lock(pages_mutex);
                     const auto it = page_requests.find(page);
-                    if (it != page_requests.end()) cancelled = !it->second->exchange(true);
+                    if (it != page_requests.end()) cancelled = !it->second->cancel.exchange(true);
                 }
                 send_json(res, 200, {{"cancelled", cancelled}});
+            });
+        });
+        // How far the page's frame in flight has got: {"running": false}, or its time so far and,
+        // for a step request, the worker's last progress ({"steps": k, "total": n}).
+        server.Get("/api/progress", [this](const httplib::Request& req, httplib::Response& res) {
+            guarded(res, [&] {
+                const std::string page = page_of(req);
+                if (page.empty()) throw ViewError(400, "", "progress: the X-HSR-Page header names no page");
+                std::shared_ptr<PageJob> job;
+                {
+                    std::lock_guard lock(pages_mutex);
+                    const auto it = page_requests.find(page);
+                    if (it != page_requests.end()) job = it->second;
+                }
+                if (!job) {
+                    send_json(res, 200, {{"running", false}});
+                    return;
+                }
+                const double ms =
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - job->start).count();
+                std::lock_guard lock(job->mutex);
+                send_json(res, 200, {{"running", true}, {"ms", std::round(ms)}, {"progress", job->progress}});
             });
         });
         // What no handler answered (404, 405) and bodies over the limit (413), as JSON too.

@@ -25,6 +25,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <map>
 #include <new>
 
@@ -148,9 +152,53 @@ Answer frame_answer(hsr::host::FrameAnswer frame) {
     return {200, hsr::host::kFrameWithArraysType, hsr::host::frame_with_arrays_head(frame), std::move(frame.arrays)};
 }
 
+// While a step request runs, its progress goes to the server every quarter second, as a message
+// of its own: {"progress": {"steps": k, "total": n}} (total 0 while the steps are being counted).
+class ProgressReporter {
+public:
+    explicit ProgressReporter(const hsr::StepProgress& progress)
+        : progress_(progress), thread_([this] { report(); }) {}
+    ~ProgressReporter() {
+        {
+            std::lock_guard lock(mutex_);
+            done_ = true;
+        }
+        wake_.notify_one();
+        thread_.join();
+    }
+    ProgressReporter(const ProgressReporter&) = delete;
+    ProgressReporter& operator=(const ProgressReporter&) = delete;
+
+private:
+    void report() {
+        uint64_t sent = 0;
+        std::unique_lock lock(mutex_);
+        while (!wake_.wait_for(lock, std::chrono::milliseconds(250), [this] { return done_; })) {
+            const uint64_t steps = progress_.steps.load(std::memory_order_relaxed);
+            const uint64_t total = progress_.total.load(std::memory_order_relaxed);
+            if (steps == sent) continue;
+            sent = steps;
+            const json message{{"progress", {{"steps", steps}, {"total", total}}}};
+            hsr::host::write_message(hsr::host::kChildSocketFd, message.dump() + "\n");
+        }
+    }
+
+    const hsr::StepProgress& progress_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    bool done_ = false;
+    std::thread thread_;
+};
+
 Answer run_job(const json& job, JobModels& models, hsr::host::FrameRenderer& frames, const hsr::PluginRegistry& registry) {
     const std::string op = job.at("op").get<std::string>();
     models.set(job.value("models", json::object()));
+    if (op == "frame" && job.at("request").is_object() && job.at("request").contains("step") &&
+        !job.at("request").at("step").is_null()) {
+        hsr::StepProgress progress;
+        const ProgressReporter reporter(progress);
+        return frame_answer(frames.frame(job.at("request"), &progress));
+    }
     if (op == "frame") return frame_answer(frames.frame(job.at("request")));
     if (op == "compare") return frame_answer(frames.compare(job.at("request")));
     if (op == "plugins") return hsr::host::json_answer(200, describe_plugins(registry, job.value("skip", json::array())));

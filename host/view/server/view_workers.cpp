@@ -90,7 +90,8 @@ void hsr::host::WorkerPool::shutdown() {
 }
 
 hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string& affinity, const std::string& doing,
-                                              const std::atomic<bool>* cancel) {
+                                              const std::atomic<bool>* cancel,
+                                              const std::function<void(const json&)>& on_progress) {
     const auto deadline = Clock::now() + settings_.time_limit;
     auto cancelled = [&] { return state_->stopping.load() || (cancel != nullptr && cancel->load()); };
     auto cancelled_answer = [&] {
@@ -159,7 +160,17 @@ hsr::host::Answer hsr::host::WorkerPool::call(const json& job, const std::string
     for (;;) {
         const auto slice_end = std::min(deadline, Clock::now() + kCancelSlice);
         const ChildProcess::Received result = worker->process->receive(received, slice_end, nullptr, kMaxAnswerBytes);
-        if (result == ChildProcess::Received::kMessage) break;
+        if (result == ChildProcess::Received::kMessage) {
+            // A progress message is a header line of its own; the answer's header starts otherwise.
+            if (!received.starts_with("{\"progress\":")) break;
+            if (on_progress) {
+                try {
+                    on_progress(json::parse(received).at("progress"));
+                } catch (const json::exception&) {
+                }
+            }
+            continue;
+        }
         if (result == ChildProcess::Received::kGone) {
             ChildProcess& process = *worker->process;
             const std::string how = process.reap();

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,8 +59,10 @@ public:
     // with 'zbuffer' and 'blinn-phong'") and, when the worker could tell, the plugin at fault.
     // `cancel` set: the answer is 409, and the job is stopped (its worker killed) unless it is
     // about to end anyway (it started less than 300 ms ago).
+    // on_progress hears each progress message of the job ({"steps": k, "total": n}).
     Answer call(const nlohmann::json& job, const std::string& affinity, const std::string& doing,
-                const std::atomic<bool>* cancel = nullptr);
+                const std::atomic<bool>* cancel = nullptr,
+                const std::function<void(const nlohmann::json&)>& on_progress = {});
 
     // The plugins' descriptions (GET /api/plugins), made once by a worker. A plugin whose first
     // instance kills the worker is left out, and named on stderr.

@@ -67,6 +67,9 @@ export const postJson = (path, value) => call(path, {
   body: JSON.stringify(value),
 });
 
+// How far this page's frame in flight has got: {running, ms, progress: {steps, total} or null}.
+export const getProgress = () => call('/api/progress', { headers: { Accept: 'application/json', 'X-HSR-Page': PAGE_ID } });
+
 // Stops this page's frame in flight: it ends with an ApiError of status 409.
 export const cancelFrame = () => call('/api/cancel', {
   method: 'POST',

@@ -1,7 +1,7 @@
 // The viewer page: loads the models and plugins, keeps the settings, asks the server for frames
 // (latest wins) and shows them with their steps, buffers, stats, comparison and theory.
 
-import { getJson, postJson, cancelFrame, ApiError } from './api.js';
+import { getJson, postJson, cancelFrame, getProgress, ApiError } from './api.js';
 import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
@@ -255,12 +255,23 @@ const scheduler = new LatestWins(runJob, (busy) => {
   if (busy) {
     $('canvas').dataset.state = 'loading';
     setStatus('rendering…');
-    busyTimer = setInterval(() => {
+    busyTimer = setInterval(async () => {
       const ms = scheduler.running();
       if (ms === null || ms < STOP_AFTER_MS) return;
-      setStatus(`rendering… ${Math.floor(ms / 1000)} s`);
       $('stop').hidden = false;
-    }, 250);
+      let text = `rendering… ${Math.floor(ms / 1000)} s`;
+      try {
+        const { progress } = await getProgress();
+        if (progress && progress.total > 0) {
+          text = `step ${progress.steps.toLocaleString('en')} of ${progress.total.toLocaleString('en')}… ${Math.floor(ms / 1000)} s`;
+        } else if (progress) {
+          text = `counting the steps: ${progress.steps.toLocaleString('en')} so far… ${Math.floor(ms / 1000)} s`;
+        }
+      } catch {
+        // the status keeps its seconds
+      }
+      if (scheduler.running() !== null) setStatus(text);
+    }, 500);
   }
 });
 
