@@ -10,6 +10,7 @@
 #include "view/server/view_theory.hpp"
 
 #include "hsr/camera.hpp"
+#include "hsr/error.hpp"
 #include "hsr/image.hpp"
 #include "hsr/limits.hpp"
 #include "hsr/lines.hpp"
@@ -604,7 +605,7 @@ TEST_CASE("view: nothing outside the served folders is read", "[view]") {
                                   std::string("0/link.obj"), std::string("0/.hidden.obj"), std::string("9/cube.obj"),
                                   std::string("upload/1/cube.obj"), std::string("0/")}) {
         const json error = s.post_json("/api/frame", frame_request(id, "zbuffer", 16), 404);
-        CHECK(error["error"] == fmt::format("no model '{}'", id));
+        CHECK(error["error"] == fmt::format("no model '{}'", hsr::printable(id, hsr::kMaxQuotedPathChars)));
         CHECK(error["field"] == "model");
     }
     const json escape = s.post_json("/api/frame", frame_request("0/escape.scene", "zbuffer", 16), 400);

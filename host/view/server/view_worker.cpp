@@ -139,7 +139,8 @@ public:
     }
     hsr::host::ModelEntry find(const std::string& id) const {
         const auto it = entries_.find(id);
-        if (it == entries_.end()) throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id)));
+        if (it == entries_.end())
+            throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id, hsr::kMaxQuotedPathChars)));
         return it->second;
     }
 
