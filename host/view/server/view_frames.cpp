@@ -285,6 +285,7 @@ struct hsr::host::FrameRenderer::State {
         }
         hsr::Picture picture = renderer.picture(request, remover, lighting);
         hsr::Frame& frame = picture.frame;
+        std::vector<float>().swap(frame.bary);  // for shading only: 134 MB at 4096²
         const hsr_scene& scene = picture.scene;
         const hsr_camera& camera = picture.camera;
         json steps = nullptr;
@@ -321,11 +322,7 @@ struct hsr::host::FrameRenderer::State {
         }
         response["steps"] = std::move(steps);
         json buffers = q.buffers_as_list ? json::array() : json(nullptr);
-        std::size_t array_bytes = 0;  // at most: the block grows once, not by doubling
-        for (const BufferSpec& spec : q.buffers)
-            array_bytes += spec.names.size() * 4 *
-                           (spec.region ? std::size_t((*spec.region)[2]) * (*spec.region)[3] : frame.face.size());
-        arrays.bytes.reserve(arrays.bytes.size() + array_bytes);
+        arrays.bytes.reserve(arrays.bytes.size() + array_bytes(q, frame.face.size()));
         for (const BufferSpec& spec : q.buffers) {
             json one = buffers_answer(spec, frame, scene, picture.depth_complexity ? &*picture.depth_complexity : nullptr, arrays);
             if (q.buffers_as_list) buffers.push_back(std::move(one));
@@ -333,6 +330,15 @@ struct hsr::host::FrameRenderer::State {
         }
         response["buffers"] = std::move(buffers);
         return {std::move(response), std::move(frame)};
+    }
+
+    // The bytes of the arrays a request asks for, at most (regions are clipped to the picture), for a
+    // picture of `pixels`: reserved at once, so that the block is not copied as it grows.
+    static std::size_t array_bytes(const FrameRequest& q, std::size_t pixels) {
+        std::size_t bytes = 0;
+        for (const BufferSpec& spec : q.buffers)
+            bytes += spec.names.size() * 4 * (spec.region ? std::size_t((*spec.region)[2]) * (*spec.region)[3] : pixels);
+        return bytes;
     }
 
     // The arrays one BufferSpec asks for: each buffer named, over its region (clipped to the
@@ -472,10 +478,12 @@ hsr::host::FrameAnswer hsr::host::FrameRenderer::compare(const json& request) {
             throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
         }
     };
-    // Of a's frame only what the comparison needs is kept while b renders.
+    // Both sides' arrays in one block reserved at once; of a's frame only what the comparison needs
+    // is kept while b renders.
+    arrays.bytes.reserve(State::array_bytes(qa, std::size_t(qa.width) * qa.height) +
+                         State::array_bytes(qb, std::size_t(qb.width) * qb.height));
     State::Rendered a = render(qa, "a");
     std::vector<float>().swap(a.frame.depth);
-    std::vector<float>().swap(a.frame.bary);
     std::vector<uint32_t>().swap(a.frame.depth_tests);
     std::vector<uint8_t>().swap(a.frame.rgb);
     State::Rendered b = render(qb, "b");
