@@ -218,3 +218,62 @@ TEST_CASE("renderer: the depth complexity of a view, measured once and kept", "[
         }
     }
 }
+
+namespace {
+
+// The counts of a rectangle are the whole picture's there, and its totals are theirs.
+void check_region(const hsr::DepthComplexity& whole, const hsr::DepthComplexity& part, hsr::PixelRegion r) {
+    REQUIRE(part.x == r.x);
+    REQUIRE(part.y == r.y);
+    REQUIRE(part.width == r.width);
+    REQUIRE(part.height == r.height);
+    REQUIRE(part.count.size() == std::size_t(r.width) * r.height);
+    uint64_t fragments = 0, covered = 0;
+    uint32_t max = 0;
+    for (uint32_t y = 0; y < r.height; ++y)
+        for (uint32_t x = 0; x < r.width; ++x) {
+            const uint32_t c = whole.count[std::size_t(r.y + y) * whole.width + r.x + x];
+            CHECK(part.count[std::size_t(y) * r.width + x] == c);
+            fragments += c;
+            covered += c > 0;
+            max = std::max(max, c);
+        }
+    CHECK(part.fragments == fragments);
+    CHECK(part.covered_pixels == covered);
+    CHECK(part.max == max);
+}
+
+}  // namespace
+
+TEST_CASE("renderer: depth complexity over a rectangle of the picture", "[renderer]") {
+    const auto renderer = renderer_of("boxes.scene");
+    hsr::LightingModel lighting(plugin("facecolor"), {});
+    hsr::HiddenSurfaceRemover remover(plugin("zbuffer"), {});
+    hsr::PictureRequest request;
+    request.view = small_view(40);
+    request.view.yaw_degrees = 30;
+    request.depth_complexity = true;
+    const hsr::Picture whole = renderer->picture(request, remover, lighting);
+    REQUIRE(whole.depth_complexity);
+    REQUIRE(whole.depth_complexity->max >= 2);
+    const uint32_t side = whole.camera.width;
+    for (const hsr::PixelRegion r : {hsr::PixelRegion{0, 0, side, side}, hsr::PixelRegion{5, 7, 16, 9},
+                                     hsr::PixelRegion{side - 1, side - 1, 1, 1}, hsr::PixelRegion{12, 0, 3, side}}) {
+        check_region(*whole.depth_complexity, hsr::measure_depth_complexity(whole.scene, whole.camera, r), r);
+        request.depth_complexity_region = r;
+        const hsr::Picture part = renderer->picture(request, remover, lighting);
+        REQUIRE(part.depth_complexity);
+        check_region(*whole.depth_complexity, *part.depth_complexity, r);
+    }
+    // The request's rectangle is clipped to the picture; nothing left of it, nothing measured.
+    request.depth_complexity_region = hsr::PixelRegion{side - 4, 2, 100, 3};
+    const hsr::Picture clipped = renderer->picture(request, remover, lighting);
+    REQUIRE(clipped.depth_complexity);
+    check_region(*whole.depth_complexity, *clipped.depth_complexity, {side - 4, 2, 4, 3});
+    request.depth_complexity_region = hsr::PixelRegion{side, 0, 4, 4};
+    CHECK_FALSE(renderer->picture(request, remover, lighting).depth_complexity);
+    // measure_depth_complexity itself takes only a rectangle inside the picture.
+    for (const hsr::PixelRegion r : {hsr::PixelRegion{0, 0, 0, 4}, hsr::PixelRegion{side, 0, 1, 1},
+                                     hsr::PixelRegion{side - 2, 0, 3, 1}, hsr::PixelRegion{0, 1, 1, UINT32_MAX}})
+        CHECK_THROWS_AS(hsr::measure_depth_complexity(whole.scene, whole.camera, r), hsr::Error);
+}

@@ -301,9 +301,10 @@ TEST_CASE("view: a frame, and the CLI's messages for bad values", "[view]") {
     // Four bytes a pixel a buffer on the wire, and the JSON.
     CHECK(answer.arrays.size() == 5 * 64 * 64 * 4);
 
-    // Some buffers over a rectangle, twice in one request: the same values as the whole frame's.
-    request["buffers"] = json::array({{{"names", {"face", "depth"}}, {"region", {8, 16, 24, 8}}},
-                                      {{"names", {"object"}}, {"region", {60, 60, 10, 10}}}});
+    // Some buffers over a rectangle, twice in one request: the same values as the whole frame's
+    // (depth complexity is then measured over the rectangle around both).
+    request["buffers"] = json::array({{{"names", {"face", "depth", "depth_complexity"}}, {"region", {8, 16, 24, 8}}},
+                                      {{"names", {"object", "depth_complexity"}}, {"region", {60, 60, 10, 10}}}});
     const FrameWithArrays parts = s.post_arrays("/api/frame", request);
     REQUIRE(parts.body["buffers"].size() == 2);
     const json& tile = parts.body["buffers"][0];
@@ -311,16 +312,23 @@ TEST_CASE("view: a frame, and the CLI's messages for bad values", "[view]") {
     CHECK(tile["object"].is_null());
     const auto tile_face = decode_array<uint32_t>(parts, tile["face"]);
     const auto tile_depth = decode_array<float>(parts, tile["depth"]);
+    const auto tile_complexity = decode_array<uint32_t>(parts, tile["depth_complexity"]);
     REQUIRE(tile_face.size() == 24 * 8);
+    REQUIRE(tile_complexity.size() == 24 * 8);
     for (uint32_t y = 0; y < 8; ++y)
         for (uint32_t x = 0; x < 24; ++x) {
             CHECK(tile_face[y * 24 + x] == face[(16 + y) * 64 + 8 + x]);
             CHECK(tile_depth[y * 24 + x] == depth[(16 + y) * 64 + 8 + x]);
+            CHECK(tile_complexity[y * 24 + x] == complexity[(16 + y) * 64 + 8 + x]);
         }
     const json& corner = parts.body["buffers"][1];
     CHECK(corner["region"] == json::array({60, 60, 4, 4}));  // clipped to the picture
     CHECK(decode_array<uint32_t>(parts, corner["object"]).size() == 16);
-    CHECK(parts.arrays.size() == (2 * 24 * 8 + 16) * 4);
+    const auto corner_complexity = decode_array<uint32_t>(parts, corner["depth_complexity"]);
+    REQUIRE(corner_complexity.size() == 16);
+    for (uint32_t y = 0; y < 4; ++y)
+        for (uint32_t x = 0; x < 4; ++x) CHECK(corner_complexity[y * 4 + x] == complexity[(60 + y) * 64 + 60 + x]);
+    CHECK(parts.arrays.size() == (3 * 24 * 8 + 2 * 16) * 4);
     // Only the buffers, without the picture.
     request["picture"] = false;
     CHECK(s.post_arrays("/api/frame", request).body["png"].is_null());

@@ -451,12 +451,20 @@ uint64_t drawn_triangle_count(const hsr_scene& scene) {
     return n;
 }
 
-DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera) {
+DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera,
+                                         const std::optional<PixelRegion>& region) {
     check_image_size(camera.width, camera.height);
+    const PixelRegion r = region.value_or(PixelRegion{0, 0, camera.width, camera.height});
+    if (r.width == 0 || r.height == 0 || r.x >= camera.width || r.y >= camera.height ||
+        r.width > camera.width - r.x || r.height > camera.height - r.y)
+        throw Error("depth complexity: the region {}x{} at ({}, {}) is not inside the {}x{} picture", r.width, r.height,
+                    r.x, r.y, camera.width, camera.height);
     DepthComplexity result;
-    result.width = camera.width;
-    result.height = camera.height;
-    result.count.assign(size_t(camera.width) * camera.height, 0);
+    result.x = r.x;
+    result.y = r.y;
+    result.width = r.width;
+    result.height = r.height;
+    result.count.assign(size_t(r.width) * r.height, 0);
     if (scene.triangle_count == 0) return result;
 
     std::vector<float> depth(1), bary(2);
@@ -478,14 +486,19 @@ DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camer
     geometry.begin_frame(scene, camera, false);
     const sdk::Scene view(scene);
     uint32_t* const count = result.count.data();
-    const size_t width = camera.width;
+    const int32_t x0 = int32_t(r.x), y0 = int32_t(r.y);
+    const int32_t x1 = int32_t(r.x + r.width - 1), y1 = int32_t(r.y + r.height - 1);
+    const size_t width = r.width;
     for (uint32_t k = 0; k < view.placement_count(); ++k) {
         const sdk::Placement placement = view.placement(k);
         geometry.place(placement);
         for (uint32_t t = placement.first_triangle; t < placement.first_triangle + placement.triangle_count; ++t)
             geometry.process(t, [&](const raster::TriangleSetup& s) {
-                raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double, double) {
-                    ++count[size_t(y) * width + size_t(x)];
+                const int32_t from_x = std::max(s.min_x, x0), to_x = std::min(s.max_x, x1);
+                const int32_t from_y = std::max(s.min_y, y0), to_y = std::min(s.max_y, y1);
+                if (from_x > to_x || from_y > to_y) return;
+                raster::for_each_covered_pixel_in(s, from_x, from_y, to_x, to_y, [&](int32_t x, int32_t y, double, double) {
+                    ++count[size_t(y - y0) * width + size_t(x - x0)];
                 });
             });
     }

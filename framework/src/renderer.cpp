@@ -201,6 +201,7 @@ Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& r
     const std::vector<hsr_light> world_lights = lights(request.lights, picture.camera);
     const hsr_shading_context context = make_shading_context(picture.camera, world_lights);
     picture.frame = render_supersampled_frame(picture.scene, picture.camera, remover, lighting, context, settings);
+    std::vector<float>().swap(picture.frame.bary);  // 8 bytes a pixel, needed only for shading
     if (picture.frame.steps && picture.frame.steps->before) {
         VisibilityState& before = *picture.frame.steps->before;
         picture.before.depth = std::move(before.depth);
@@ -209,7 +210,16 @@ Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& r
         picture.before.depth_tests = std::move(before.depth_tests);
         picture.frame.steps->before.reset();
     }
-    if (request.depth_complexity) picture.depth_complexity = kept_depth_complexity(picture.camera);
+    if (request.depth_complexity) {
+        std::optional<PixelRegion> region = request.depth_complexity_region;
+        const uint32_t width = picture.camera.width, height = picture.camera.height;
+        if (region) {  // clipped to the picture
+            region->width = region->x < width ? std::min(region->width, width - region->x) : 0;
+            region->height = region->y < height ? std::min(region->height, height - region->y) : 0;
+        }
+        if (!region || (region->width > 0 && region->height > 0))
+            picture.depth_complexity = kept_depth_complexity(picture.camera, region);
+    }
     return picture;
 }
 
@@ -230,19 +240,22 @@ DepthComplexity Renderer::depth_complexity(const hsr_camera& camera) const {
     return measure_depth_complexity(scene_->scene().view(), camera);
 }
 
-DepthComplexity Renderer::kept_depth_complexity(const hsr_camera& camera) {
-    const std::string key = camera_bytes(camera);
+std::shared_ptr<const DepthComplexity> Renderer::kept_depth_complexity(const hsr_camera& camera,
+                                                                       const std::optional<PixelRegion>& region) {
+    std::string key = camera_bytes(camera);
+    if (region) key += fmt::format(" {} {} {} {}", region->x, region->y, region->width, region->height);
     {
         std::lock_guard lock(caches_mutex_);
         for (const auto& [known, complexity] : depth_complexities_)
-            if (known == key) return *complexity;
+            if (known == key) return complexity;
     }
-    auto complexity = std::make_shared<const DepthComplexity>(depth_complexity(camera));
+    auto complexity =
+        std::make_shared<const DepthComplexity>(measure_depth_complexity(scene_->scene().view(), camera, region));
     constexpr std::size_t kept_complexities = 4;
     std::lock_guard lock(caches_mutex_);
     depth_complexities_.emplace_front(key, complexity);
     if (depth_complexities_.size() > kept_complexities) depth_complexities_.pop_back();
-    return *complexity;
+    return complexity;
 }
 
 FrameLoop::FrameLoop(const hsr_scene& scene, const hsr_camera& camera, const hsr_shading_context& context,

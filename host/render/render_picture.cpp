@@ -23,7 +23,7 @@ using hsr::host::UsageError;
 
 void print_stats(const hsr::Frame& frame, const hsr::HiddenSurfaceRemover& remover,
                  const hsr::LightingModel& lighting, const hsr_scene& scene,
-                 const std::optional<hsr::DepthComplexity>& depth_complexity, uint32_t samples) {
+                 const hsr::DepthComplexity* depth_complexity, uint32_t samples) {
     const uint64_t drawn = hsr::drawn_triangle_count(scene);
     std::fprintf(stderr, "%s + %s, %llu triangles", remover.plugin().descriptor.name, lighting.plugin().descriptor.name,
                  static_cast<unsigned long long>(drawn));
@@ -110,7 +110,7 @@ hsr::Picture hsr::host::render_picture(const RenderOptions& o, hsr::Renderer& re
 void hsr::host::write_picture(const RenderOptions& o, const hsr::Picture& picture, const PicturePlugins& plugins,
                               const std::filesystem::path& output) {
     const hsr::Frame& frame = picture.frame;
-    const std::optional<hsr::DepthComplexity>& depth_complexity = picture.depth_complexity;
+    const hsr::DepthComplexity* depth_complexity = picture.depth_complexity.get();
     const hsr_scene& scene_view = picture.scene;
     hsr::AtomicFileSet files;
     hsr::write_png(files.add(output), frame.width, frame.height, 3, frame.rgb);

@@ -9,6 +9,10 @@
 //                                      build, whose allocator keeps freed memory in quarantine)
 //   view_client bench HSR MODELS_DIR   50 frames orbiting the bunny at 512x512: median time per frame,
 //                                      round trip and server side (docs/viewer.md)
+//   view_client memory HSR MODELS_DIR  a 4096x4096 comparison of zbuffer and painter on the bunny, with
+//                                      no buffers, the page's and all of them, each from a fresh
+//                                      server with one worker: the answer's size and the peak resident
+//                                      memory of the server and of the worker
 // Exit status 0 when every check holds.
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -22,6 +26,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -87,11 +92,21 @@ int stop_server(const Server& s) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-long rss_kib(pid_t pid) {
+// A field of /proc/PID/status in KiB: VmRSS (resident now) or VmHWM (the peak).
+long status_kib(pid_t pid, const char* field = "VmRSS:") {
     std::ifstream in("/proc/" + std::to_string(pid) + "/status");
     for (std::string line; std::getline(in, line);)
-        if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+        if (line.rfind(field, 0) == 0) return std::stol(line.substr(std::strlen(field)));
     return -1;
+}
+
+long rss_kib(pid_t pid) { return status_kib(pid); }
+
+std::vector<pid_t> children_of(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children");
+    std::vector<pid_t> out;
+    for (pid_t child; in >> child;) out.push_back(child);
+    return out;
 }
 
 json frame(const std::string& model, const std::string& algorithm, int size, double yaw) {
@@ -238,18 +253,56 @@ int run_bench(const std::string& hsr, const std::string& models) {
     return 0;
 }
 
+int run_memory(const std::string& hsr, const std::string& models) {
+    const json tile = {{"names", {"depth", "face", "instance", "object", "depth_tests", "depth_complexity"}},
+                       {"region", {2016, 2016, 64, 64}}};
+    const std::pair<const char*, json> choices[] = {
+        {"none", false},
+        {"the page's: the depth view over the picture, all six over a 64x64 tile", json::array({{{"names", {"depth"}}}, tile})},
+        {"all six over the whole picture (\"buffers\": true)", true}};
+    std::printf("bunny, POST /api/compare of zbuffer and painter at 4096x4096, peak resident memory (VmHWM):\n");
+    bool all_answered = true;
+    for (const auto& [label, buffers] : choices) {
+        const Server server = start_server(hsr, (fs::path(models) / "bunny.obj").string(), {"--workers", "1"});
+        httplib::Client client = server.client();
+        client.set_read_timeout(300, 0);
+        auto side = [&](const char* algorithm) {
+            json q = frame("0/bunny.obj", algorithm, 4096, 30);
+            q["buffers"] = buffers;
+            return q;
+        };
+        const httplib::Result r =
+            client.Post("/api/compare", json{{"a", side("zbuffer")}, {"b", side("painter")}}.dump(), "application/json");
+        const bool answered = r && r->status == 200;
+        all_answered = all_answered && answered;
+        long worker = 0;
+        for (pid_t child : children_of(server.pid)) worker = std::max(worker, status_kib(child, "VmHWM:"));
+        const long server_peak = status_kib(server.pid, "VmHWM:");
+        stop_server(server);
+        if (!answered) {
+            std::printf("FAIL: %s: %s\n", label, r ? std::to_string(r->status).c_str() : "no answer");
+            continue;
+        }
+        std::printf("  buffers %s: answer %.1f MB, server %ld MB, worker %ld MB\n", label, double(r->body.size()) / 1e6,
+                    server_peak / 1024, worker / 1024);
+    }
+    return all_answered ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     const bool sanitized = argc == 5 && std::string(argv[4]) == "sanitized";
-    if ((argc != 4 && !sanitized) || (std::string(argv[1]) != "load" && std::string(argv[1]) != "bench")) {
-        std::fprintf(stderr, "usage: view_client load|bench HSR MODELS_DIR [sanitized]\n");
+    const std::string mode = argc > 1 ? argv[1] : "";
+    if ((argc != 4 && !sanitized) || (mode != "load" && mode != "bench" && mode != "memory")) {
+        std::fprintf(stderr, "usage: view_client load|bench|memory HSR MODELS_DIR [sanitized]\n");
         return 2;
     }
     signal(SIGPIPE, SIG_IGN);
     setvbuf(stdout, nullptr, _IOLBF, 0);
     try {
-        return std::string(argv[1]) == "load" ? run_load(argv[2], argv[3], !sanitized) : run_bench(argv[2], argv[3]);
+        if (mode == "load") return run_load(argv[2], argv[3], !sanitized);
+        return mode == "bench" ? run_bench(argv[2], argv[3]) : run_memory(argv[2], argv[3]);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "view_client: %s\n", e.what());
         return 1;

@@ -84,15 +84,24 @@ Frame render_supersampled_frame(const hsr_scene& scene, const hsr_camera& camera
 // Depth complexity: how many triangles cover each pixel centre (all of them, front- and
 // back-facing, before any depth test), counted with the same rasterization rules as the z-buffer
 // plugins. An independent measure of the scene, not of an algorithm.
+// Measured over a rectangle of the picture, or over all of it; the totals are the rectangle's.
+struct PixelRegion {
+    uint32_t x = 0, y = 0, width = 0, height = 0;
+    bool operator==(const PixelRegion&) const = default;
+};
 struct DepthComplexity {
-    uint32_t width = 0, height = 0;
-    std::vector<uint32_t> count;  // per pixel
-    uint64_t fragments = 0;       // sum of count
-    uint64_t covered_pixels = 0;  // pixels with count > 0
+    uint32_t x = 0, y = 0;          // the measured rectangle's corner in the picture
+    uint32_t width = 0, height = 0; // and its size
+    std::vector<uint32_t> count;    // per pixel of the rectangle, row by row
+    uint64_t fragments = 0;         // sum of count
+    uint64_t covered_pixels = 0;    // pixels with count > 0
     uint32_t max = 0;
     double mean_over_covered() const { return covered_pixels ? double(fragments) / double(covered_pixels) : 0.0; }
 };
-DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera);
+// region: a rectangle inside the picture (an hsr::Error if it is empty or reaches outside); none:
+// the whole picture.
+DepthComplexity measure_depth_complexity(const hsr_scene& scene, const hsr_camera& camera,
+                                         const std::optional<PixelRegion>& region = std::nullopt);
 
 // Triangles drawn: the sum over instances, or the mesh's count when there are none.
 uint64_t drawn_triangle_count(const hsr_scene& scene);

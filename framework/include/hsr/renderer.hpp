@@ -113,6 +113,9 @@ struct PictureRequest {
     unsigned threads = 0;                   // shading threads; 0: as tbb::global_control allows
     bool count_depth_tests = false;         // Frame::depth_tests
     bool depth_complexity = false;          // Picture::depth_complexity
+    // Depth complexity over this rectangle only, clipped to the picture (none when nothing of it
+    // is left); unset: over the whole picture.
+    std::optional<PixelRegion> depth_complexity_region;
     // Stop the algorithm after this step (1-based) and give the picture as that step left it.
     std::optional<uint64_t> step;
     // With step: also the visibility buffers as the step before left them (Picture::before) and
@@ -123,11 +126,11 @@ struct PictureRequest {
 };
 
 struct Picture {
-    Frame frame;
+    Frame frame;  // shaded: its barycentrics (Frame::bary) are let go
     hsr_camera camera{};
     hsr_scene scene{};  // what was rendered; valid while the LoadedScene lives
     uint32_t samples = 1;
-    std::optional<DepthComplexity> depth_complexity;
+    std::shared_ptr<const DepthComplexity> depth_complexity;  // shared with the renderer's cache
     // With PictureRequest::step_context: the step shown (the last one when the request asked for a
     // step past the end), the steps of the whole run, and the visibility buffers (depth, face,
     // instance, depth tests) after the step before it: empty arrays before step 2.
@@ -171,9 +174,10 @@ public:
     DepthComplexity depth_complexity(const hsr_camera& camera) const;
 
 private:
-    // depth_complexity(), measured once per camera and kept (the last few), since it depends on
+    // depth_complexity(), measured once per camera and region and kept (the last few), since it depends on
     // nothing else: a viewer switching plugins or comparing two keeps its camera.
-    DepthComplexity kept_depth_complexity(const hsr_camera& camera);
+    std::shared_ptr<const DepthComplexity> kept_depth_complexity(const hsr_camera& camera,
+                                                                 const std::optional<PixelRegion>& region);
     uint64_t count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                          StepProgress* progress);
 

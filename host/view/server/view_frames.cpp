@@ -278,6 +278,7 @@ struct hsr::host::FrameRenderer::State {
         // Depth-test counts came with ABI 1.1; an older plugin has none (buffers.depth_tests null).
         request.count_depth_tests = (q.wants("depth_tests") || q.step) && remover.plugin().descriptor.abi_minor >= 1;
         request.depth_complexity = q.wants("depth_complexity");
+        request.depth_complexity_region = depth_complexity_region(q);
         if (q.step) {
             request.step = *q.step;
             request.step_context = true;
@@ -285,7 +286,6 @@ struct hsr::host::FrameRenderer::State {
         }
         hsr::Picture picture = renderer.picture(request, remover, lighting);
         hsr::Frame& frame = picture.frame;
-        std::vector<float>().swap(frame.bary);  // for shading only: 134 MB at 4096²
         const hsr_scene& scene = picture.scene;
         const hsr_camera& camera = picture.camera;
         json steps = nullptr;
@@ -324,12 +324,32 @@ struct hsr::host::FrameRenderer::State {
         json buffers = q.buffers_as_list ? json::array() : json(nullptr);
         arrays.bytes.reserve(arrays.bytes.size() + array_bytes(q, frame.face.size()));
         for (const BufferSpec& spec : q.buffers) {
-            json one = buffers_answer(spec, frame, scene, picture.depth_complexity ? &*picture.depth_complexity : nullptr, arrays);
+            json one = buffers_answer(spec, frame, scene, picture.depth_complexity.get(), arrays);
             if (q.buffers_as_list) buffers.push_back(std::move(one));
             else buffers = std::move(one);
         }
         response["buffers"] = std::move(buffers);
         return {std::move(response), std::move(frame)};
+    }
+
+    // What the request's depth complexity is measured over: the rectangle around the regions that
+    // ask for it, unless one asks for the whole picture.
+    static std::optional<hsr::PixelRegion> depth_complexity_region(const FrameRequest& q) {
+        std::optional<hsr::PixelRegion> around;
+        for (const BufferSpec& spec : q.buffers) {
+            if (std::find(spec.names.begin(), spec.names.end(), "depth_complexity") == spec.names.end()) continue;
+            if (!spec.region) return std::nullopt;
+            const auto [x, y, width, height] = *spec.region;
+            const uint32_t right = x + std::min(width, view_max_image_side), bottom = y + std::min(height, view_max_image_side);
+            if (!around) {
+                around = hsr::PixelRegion{x, y, right - x, bottom - y};
+                continue;
+            }
+            const uint32_t left = std::min(around->x, x), top = std::min(around->y, y);
+            around = hsr::PixelRegion{left, top, std::max(around->x + around->width, right) - left,
+                                      std::max(around->y + around->height, bottom) - top};
+        }
+        return around;
     }
 
     // The bytes of the arrays a request asks for, at most (regions are clipped to the picture), for a
@@ -360,7 +380,8 @@ struct hsr::host::FrameRenderer::State {
         if (wanted("depth_tests") && !frame.depth_tests.empty())
             out["depth_tests"] = arrays.add("uint32", frame.depth_tests, frame.width, r);
         if (wanted("depth_complexity") && complexity != nullptr)
-            out["depth_complexity"] = arrays.add("uint32", complexity->count, frame.width, r);
+            out["depth_complexity"] = arrays.add("uint32", complexity->count, complexity->width,
+                                                 {r[0] - complexity->x, r[1] - complexity->y, r[2], r[3]});
         if (wanted("object")) {
             std::vector<uint32_t> object(std::size_t(r[2]) * r[3], HSR_NO_FACE);
             for (uint32_t y = 0; y < r[3]; ++y)
