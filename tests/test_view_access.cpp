@@ -7,6 +7,7 @@
 #include "test_models.hpp"
 
 #include "view/server/view_server.hpp"
+#include "view_test_server.hpp"
 
 #include "hsr/error.hpp"
 
@@ -25,6 +26,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <optional>
 #include <regex>
 #include <thread>
 
@@ -35,34 +37,32 @@ namespace {
 
 const std::string test_token = "access-test-token-0123456789abcdef";
 
+fs::path access_model_folder() {
+    static std::atomic<int> count{0};
+    const fs::path root = cli::scratch_dir() / fmt::format("access-{}-{}", ::getpid(), count++);
+    fs::remove_all(root);
+    fs::create_directories(root / "models");
+    fs::copy_file(test_models::path("cube.obj"), root / "models" / "cube.obj");
+    std::ofstream(root / "models" / "broken.obj") << "v 1 2\nf 1 2 3\n";
+    return root;
+}
+
 struct RunningServer {
-    fs::path root;
-    std::unique_ptr<hsr::host::ViewServer> server;
+    fs::path root = access_model_folder();
+    std::optional<test_view::Server> server;
     int port = 0;
-    std::thread thread;
 
     explicit RunningServer(hsr::host::HttpLimits limits = {}) {
-        static std::atomic<int> count{0};
-        root = cli::scratch_dir() / fmt::format("access-{}-{}", ::getpid(), count++);
-        fs::remove_all(root);
-        fs::create_directories(root / "models");
-        fs::copy_file(test_models::path("cube.obj"), root / "models" / "cube.obj");
-        std::ofstream(root / "models" / "broken.obj") << "v 1 2\nf 1 2 3\n";
         hsr::host::ViewConfig config;
         config.model_folders = {root / "models"};
         config.plugin_dirs = {HSR_PLUGIN_DIR};
-        config.worker_executable = fs::path(HSR_BINARY_DIR) / "hsr";
         config.upload_parent = root;
         config.token = test_token;
         config.http = limits;
-        server = std::make_unique<hsr::host::ViewServer>(config);
-        port = server->bind("127.0.0.1", 0);
-        thread = std::thread([this] { server->run(); });
+        port = server.emplace(std::move(config)).port();
         REQUIRE(client().Get("/api/info")->status == 200);
     }
     ~RunningServer() {
-        server->stop();
-        thread.join();
         server.reset();
         std::error_code ec;
         fs::remove_all(root, ec);
@@ -70,9 +70,8 @@ struct RunningServer {
 
     std::string host() const { return fmt::format("127.0.0.1:{}", port); }
     httplib::Client client(bool with_token = true) const {
-        httplib::Client c("127.0.0.1", port);
+        httplib::Client c = server->client(with_token);
         c.set_read_timeout(120, 0);
-        if (with_token) c.set_default_headers({{"X-HSR-Token", test_token}});
         return c;
     }
 };

@@ -3,7 +3,7 @@
 // error naming the plugin and what happened, and the server goes on serving every other request.
 #include "test_models.hpp"
 
-#include "view/server/view_server.hpp"
+#include "view_test_server.hpp"
 
 #include "hsr/sanitizers.hpp"
 
@@ -23,30 +23,26 @@ namespace {
 
 const std::string kToken = "isolation-test-token";
 
+hsr::host::ViewConfig isolation_config(std::chrono::milliseconds time_limit, std::size_t workers,
+                                       const std::vector<fs::path>& more_folders) {
+    hsr::host::ViewConfig config;
+    config.model_folders = {test_models::dir};
+    config.model_folders.insert(config.model_folders.end(), more_folders.begin(), more_folders.end());
+    config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_MISBEHAVING_PLUGIN_DIR};
+    config.time_limit = time_limit;
+    config.workers = workers;
+    config.worker_memory_bytes = uint64_t(2) << 30;
+    config.token = kToken;
+    return config;
+}
+
 struct IsolationServer {
-    std::unique_ptr<hsr::host::ViewServer> server;
-    int port = 0;
-    std::thread thread;
+    test_view::Server server;
+    int port;
 
     explicit IsolationServer(std::chrono::milliseconds time_limit, std::size_t workers = 2,
-                             std::vector<fs::path> more_folders = {}) {
-        hsr::host::ViewConfig config;
-        config.model_folders = {test_models::dir};
-        config.model_folders.insert(config.model_folders.end(), more_folders.begin(), more_folders.end());
-        config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_MISBEHAVING_PLUGIN_DIR};
-        config.worker_executable = fs::path(HSR_BINARY_DIR) / "hsr";
-        config.time_limit = time_limit;
-        config.workers = workers;
-        config.worker_memory_bytes = uint64_t(2) << 30;
-        config.token = kToken;
-        server = std::make_unique<hsr::host::ViewServer>(config);
-        port = server->bind("127.0.0.1", 0);
-        thread = std::thread([this] { server->run(); });
-    }
-    ~IsolationServer() {
-        server->stop();
-        thread.join();
-    }
+                             const std::vector<fs::path>& more_folders = {})
+        : server(isolation_config(time_limit, workers, more_folders)), port(server.port()) {}
 
     httplib::Result get(const std::string& path) const {
         httplib::Client c("127.0.0.1", port);
@@ -155,7 +151,7 @@ TEST_CASE("view isolation: other clients are served while a plugin loops", "[vie
     for (int i = 0; i < 3; ++i) server.serves_others();
     CHECK(looping.wait_for(std::chrono::seconds(0)) == std::future_status::timeout);
     // Stopping the server stops the looping worker: the request is answered, not left hanging.
-    server.server->stop();
+    server.server.stop();
     const httplib::Result r = looping.get();
     if (r) CHECK(r->status == 503);
 }

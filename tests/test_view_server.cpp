@@ -7,6 +7,7 @@
 #include "test_models.hpp"
 
 #include "view/server/view_server.hpp"
+#include "view_test_server.hpp"
 #include "view/server/view_theory.hpp"
 
 #include "hsr/camera.hpp"
@@ -24,6 +25,7 @@
 
 #include <cstring>
 #include <unistd.h>
+#include <optional>
 #include <regex>
 #include <thread>
 
@@ -78,10 +80,8 @@ FrameWithArrays split_frame_answer(const std::string& bytes) {
 struct RunningServer {
     fs::path root = make_model_folder();
     fs::path third_party = root / "third-party";  // a plugin folder: a plugin with a page beside it
-    std::string token = "view-server-test-token";
-    std::unique_ptr<hsr::host::ViewServer> server;
+    std::optional<test_view::Server> server;
     int port = 0;
-    std::thread thread;
 
     RunningServer() {
         hsr::host::ViewConfig config;
@@ -92,25 +92,18 @@ struct RunningServer {
         config.plugin_dirs = {HSR_PLUGIN_DIR, HSR_TEST_PLUGIN_DIR, third_party.string()};
         config.initial_model = root / "models" / "cube.obj";
         config.upload_parent = root;
-        config.worker_executable = fs::path(HSR_BINARY_DIR) / "hsr";
-        config.token = token;
-        server = std::make_unique<hsr::host::ViewServer>(config);
-        port = server->bind("127.0.0.1", 0);
-        thread = std::thread([this] { server->run(); });
-        REQUIRE(get("/api/info")->status == 200);  // running: stop() below will end run()
+        port = server.emplace(std::move(config)).port();
+        REQUIRE(get("/api/info")->status == 200);  // running: the destructor's stop() will end run()
     }
     ~RunningServer() {
-        server->stop();
-        thread.join();
         server.reset();
         std::error_code ec;
         fs::remove_all(root, ec);
     }
 
     httplib::Client client() const {
-        httplib::Client c("127.0.0.1", port);
+        httplib::Client c = server->client();
         c.set_read_timeout(120, 0);
-        c.set_default_headers({{"X-HSR-Token", token}});
         return c;
     }
     httplib::Result get(const std::string& path) const { return client().Get(path.c_str()); }

@@ -262,7 +262,9 @@ int run_memory(const std::string& hsr, const std::string& models) {
         {"all six over the whole picture (\"buffers\": true)", true}};
     std::printf("bunny, POST /api/compare of zbuffer and painter at 4096x4096, peak resident memory (VmHWM):\n");
     bool all_answered = true;
-    for (const auto& [label, buffers] : choices) {
+    for (const auto& choice : choices) {
+        const char* label = choice.first;
+        const json& buffers = choice.second;
         const Server server = start_server(hsr, (fs::path(models) / "bunny.obj").string(), {"--workers", "1"});
         httplib::Client client = server.client();
         client.set_read_timeout(300, 0);
