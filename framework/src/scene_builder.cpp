@@ -234,7 +234,8 @@ void add_kept_triangles(const Object& object, uint32_t o, const std::vector<glm:
         scene.indices.insert(scene.indices.end(), corner.begin(), corner.end());
         scene.edge_neighbors.insert(scene.edge_neighbors.end(), across.begin(), across.end());
         scene.face_object.push_back(o);
-        scene.face_colors.insert(scene.face_colors.end(), {options.color.r, options.color.g, options.color.b});
+        const glm::vec3 color = object.face_colors.empty() ? options.color : object.face_colors[t];
+        scene.face_colors.insert(scene.face_colors.end(), {color.r, color.g, color.b});
     }
 }
 
@@ -245,6 +246,11 @@ void add_object(const Object& object, uint32_t o, SceneData& scene, std::vector<
     const MeshOptions& options = object.options;
     const glm::dmat4 transform(options.transform);
     check_options(options);
+    if (!object.face_colors.empty() && object.face_colors.size() != object.indices.size() / 3)
+        throw Error("{}: {} face colours for {} triangles", options.name, object.face_colors.size(), object.indices.size() / 3);
+    for (const glm::vec3& c : object.face_colors)
+        if (!(c.r >= 0.0f && c.r <= 1.0f && c.g >= 0.0f && c.g <= 1.0f && c.b >= 0.0f && c.b <= 1.0f))
+            throw Error("{}: a face colour is outside [0, 1]", options.name);
     const bool mirrored = glm::determinant(glm::dmat3(transform)) < 0.0;
     const std::vector<glm::dvec3> local_world = to_world(object, transform);
     const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);

@@ -23,6 +23,9 @@ struct MeshObject {  // one object in its own coordinates, adjacency already kno
     std::vector<glm::vec3> positions;
     std::vector<uint32_t> indices;
     std::vector<int32_t> neighbors;
+    // One colour per triangle of `indices`, as the file gives them (materials, face or vertex
+    // colours), each channel in [0, 1]; empty: every triangle has options.color.
+    std::vector<glm::vec3> face_colors;
     MeshOptions options;
     std::string source;             // for messages: the file, or the object's name
     uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
