@@ -209,6 +209,51 @@ TEST_CASE("bench isolation: the default list of every plugin found survives the 
     CHECK_THAT(table_row(r.out, "hangs-in-render"), Contains("timed out"));
 }
 
+TEST_CASE("bench isolation: after a time-out, no larger cell of that algorithm is timed", "[bench][isolation][cli]") {
+    // octahedron 8 triangles, cube 12, tetrahedron 4: the plugin runs out of time on octahedron at
+    // 16x16 and on tetrahedron at 16x16, and every other cell of it is at least as large as one of them.
+    const fs::path csv = cli::scratch_dir() / "isolation-skipped.csv";
+    const cli::Run r = cli::run_hsr(std::string("bench --plugin-path ") + HSR_MISBEHAVING_PLUGIN_DIR + " --models-dir " +
+                                        HSR_MODELS_DIR +
+                                        " --models octahedron,cube,tetrahedron --sizes 16,24 -r 1 -w 0 "
+                                        "--cell-time-limit 2 -a zbuffer -a hangs-in-render --csv " + csv.string(),
+                                    "isolation-skipped", 120);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.status == 0);
+    struct Expected {
+        const char* model;
+        const char* size;
+        const char* status;
+        const char* reason;
+    };
+    const Expected expected[] = {
+        {"octahedron", "16", "timed out", "no end within 2 s (--cell-time-limit)"},
+        {"octahedron", "24", "skipped", "timed out on octahedron at 16x16 (a cell no larger)"},
+        {"cube", "16", "skipped", "timed out on octahedron at 16x16 (a cell no larger)"},
+        {"cube", "24", "skipped", "timed out on octahedron at 16x16 (a cell no larger)"},
+        {"tetrahedron", "16", "timed out", "no end within 2 s (--cell-time-limit)"},
+        {"tetrahedron", "24", "skipped", "timed out on tetrahedron at 16x16 (a cell no larger)"},
+    };
+    const auto rows = parse_simple_csv(cli::slurp(csv));
+    REQUIRE(rows.size() == 12);
+    std::size_t k = 0;
+    for (const auto& row : rows) {
+        if (row.at("algorithm") == "zbuffer") {
+            CHECK(row.at("status") == "measured");
+            continue;
+        }
+        REQUIRE(k < std::size(expected));
+        INFO(row.at("model") << " " << row.at("width"));
+        CHECK(row.at("model") == expected[k].model);
+        CHECK(row.at("width") == expected[k].size);
+        CHECK(row.at("status") == expected[k].status);
+        CHECK(row.at("reason") == expected[k].reason);
+        ++k;
+    }
+    CHECK(k == std::size(expected));
+    CHECK_THAT(r.out, Contains("skipped: hangs-in-render on cube: timed out on octahedron at 16x16 (a cell no larger)"));
+}
+
 TEST_CASE("bench isolation: the time limit's bad values", "[bench][isolation][cli]") {
     const std::string quick = std::string("bench --quick --models-dir ") + HSR_MODELS_DIR + " ";
     cli::require_one_line_error(cli::run_hsr(quick + "--cell-time-limit 0", "limit-zero"), "--cell-time-limit");

@@ -227,7 +227,8 @@ po::options_description describe_options(BenchOptions& o) {
         ("threads", po::value(&o.threads)->default_value(0), "threads for loading, visibility and shading (0 = one per core)")
         ("cell-time-limit", po::value(&o.cell_time_limit)->default_value(kDefaultCellTimeLimitSeconds),
          "seconds one algorithm may take on one model at one size, its calls and its start together; "
-         "one that takes longer is stopped and its cell reads 'timed out'")
+         "one that takes longer is stopped and its cell reads 'timed out', and the algorithm's cells at "
+         "least as large (triangles and pixels) read 'skipped'")
         ("in-process", po::bool_switch(&o.in_process),
          "time every cell in this process rather than in worker processes: a plugin that crashes or "
          "hangs then ends or holds the whole run (for a debugger or profiler on one process)")
@@ -371,10 +372,24 @@ public:
                                             sizes[size].second));
             depth_complexity.push_back(model.renderer->depth_complexity(model.cameras[size]));
         }
+        const uint64_t triangles = hsr::drawn_triangle_count(view);
+        auto pixels = [&](std::size_t size) { return uint64_t(sizes[size].first) * sizes[size].second; };
         auto finished = [&](const hsr::bench::Cell& cell, const hsr::bench::CellOutcome& outcome) {
             for (; advanced_in_cell_ < settings_.warmup + settings_.repetitions; ++advanced_in_cell_) progress_.advance();
             advanced_in_cell_ = 0;
+            if (outcome.fault == "timed out")
+                timed_out_.push_back({cell.algorithm, triangles, pixels(cell.size),
+                                      fmt::format("{} at {}x{}", model.scene.name, sizes[cell.size].first,
+                                                  sizes[cell.size].second)});
             add_row(cell, model, view, outcome, depth_complexity[cell.size]);
+        };
+        // A cell no smaller than one its algorithm ran out of time on, in triangles and in pixels,
+        // would only spend the limit again.
+        auto skip = [&](const hsr::bench::Cell& cell) -> std::optional<std::string> {
+            for (const TimedOut& t : timed_out_)
+                if (t.algorithm == cell.algorithm && t.triangles <= triangles && t.pixels <= pixels(cell.size))
+                    return fmt::format("timed out on {} (a cell no larger)", t.where);
+            return std::nullopt;
         };
         if (place_.lighting != nullptr) {
             // Each algorithm makes all its calls in a row, warm-up first, as an application
@@ -392,7 +407,7 @@ public:
             hsr::bench::time_cells_apart(
                 place_.job, std::chrono::duration<double>(place_.cell_time_limit),
                 [&](const hsr::bench::Cell& cell, unsigned call) { calling(cell, model.scene.name, sizes, call); },
-                finished);
+                finished, skip);
         }
         shots_done_ += sizes.size();
         model = {};
@@ -458,6 +473,12 @@ private:
     std::size_t row_ = 0, shots_done_ = 0;
     unsigned advanced_in_cell_ = 0;  // progress steps of the current cell's calls shown so far
     std::vector<hsr::bench::Result> results_;
+    struct TimedOut {
+        std::size_t algorithm;
+        uint64_t triangles, pixels;
+        std::string where;  // "cube at 1024x1024"
+    };
+    std::vector<TimedOut> timed_out_;
 };
 
 // The table on stdout, then the files asked for. Written only once the results are ready, and

@@ -156,7 +156,8 @@ std::string fault_mark(const std::optional<std::string>& fault_line, const std::
 
 std::vector<CellOutcome> time_cells_apart(const WorkerJob& job, std::chrono::duration<double> cell_time_limit,
                                           const std::function<void(const Cell&, unsigned)>& calling,
-                                          const std::function<void(const Cell&, const CellOutcome&)>& finished) {
+                                          const std::function<void(const Cell&, const CellOutcome&)>& finished,
+                                          const std::function<std::optional<std::string>(const Cell&)>& skip) {
     using Clock = std::chrono::steady_clock;
     const auto limit = std::chrono::duration_cast<Clock::duration>(cell_time_limit);
     std::vector<Cell> cells;
@@ -167,11 +168,32 @@ std::vector<CellOutcome> time_cells_apart(const WorkerJob& job, std::chrono::dur
         if (finished) finished(cells[outcomes.size()], outcome);
         outcomes.push_back(std::move(outcome));
     };
+    // The cells from the next one on that are to be timed; those before the first of them that
+    // `skip` passes over are concluded as skipped here. A cell's skipping can change only when a
+    // cell times out, which ends its worker, so it is decided as each worker starts.
+    auto cells_to_time = [&] {
+        std::vector<Cell> timed;
+        std::vector<std::optional<std::string>> skipped;
+        for (std::size_t k = outcomes.size(); k < cells.size(); ++k) {
+            skipped.push_back(skip ? skip(cells[k]) : std::nullopt);
+            if (!skipped.back()) timed.push_back(cells[k]);
+        }
+        return std::pair{std::move(timed), std::move(skipped)};
+    };
 
     const fs::path executable = host::running_executable();
     while (outcomes.size() < cells.size()) {
+        auto [timed, skipped] = cells_to_time();
+        const std::size_t first = outcomes.size();
+        // Concludes the skipped cells up to the next one the worker times.
+        auto pass_skipped = [&] {
+            while (outcomes.size() < cells.size() && skipped[outcomes.size() - first])
+                conclude(faulted("skipped", *skipped[outcomes.size() - first]));
+        };
+        pass_skipped();
+        if (timed.empty()) break;
         host::ChildProcess worker(executable, {host::kBenchWorkerCommand});
-        worker.send(job_json(job, {cells.begin() + std::ptrdiff_t(outcomes.size()), cells.end()}).dump());
+        worker.send(job_json(job, timed).dump());
         Clock::time_point deadline = Clock::now() + limit;
         for (std::string text;;) {
             const host::ChildProcess::Received received = worker.receive(text, deadline, nullptr, kMaxMessageBytes);
@@ -207,11 +229,13 @@ std::vector<CellOutcome> time_cells_apart(const WorkerJob& job, std::chrono::dur
                 CellOutcome outcome;
                 outcome.timing = timing_from(message["timing"]);
                 conclude(std::move(outcome));
+                pass_skipped();
                 deadline = Clock::now() + limit;
             } else if (message.contains("refused")) {
                 CellOutcome outcome;
                 outcome.refused = message["refused"].get<std::string>();
                 conclude(std::move(outcome));
+                pass_skipped();
                 deadline = Clock::now() + limit;
             } else if (message.contains("loaded")) {
                 deadline = Clock::now() + limit;

@@ -46,11 +46,13 @@ struct Cell {
 // The cells of job's model, size after size and within a size algorithm after algorithm (the order
 // of the returned outcomes), each in a worker and within cell_time_limit from its first call's
 // start (the worker's start for the first). calling(cell, i) runs when the worker begins call i of
-// the cell, finished(cell, outcome) once it has its outcome. Throws hsr::Error when a worker cannot
-// load the model or scan the plugins.
+// the cell, finished(cell, outcome) once it has its outcome. skip(cell), asked again after each
+// time-out, gives the reason a cell is not to be timed (its outcome's fault is then "skipped"), or
+// none. Throws hsr::Error when a worker cannot load the model or scan the plugins.
 std::vector<CellOutcome> time_cells_apart(const WorkerJob& job, std::chrono::duration<double> cell_time_limit,
                                           const std::function<void(const Cell&, unsigned)>& calling,
-                                          const std::function<void(const Cell&, const CellOutcome&)>& finished);
+                                          const std::function<void(const Cell&, const CellOutcome&)>& finished,
+                                          const std::function<std::optional<std::string>(const Cell&)>& skip = {});
 
 // How a worker that ended mid-cell is shown: from the fault line hsr/plugin_faults.hpp makes it
 // write ("plugin 'x' crashed in render (SIGSEGV)" becomes "crashed (SIGSEGV)"), else from how it
