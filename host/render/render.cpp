@@ -19,9 +19,9 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <tuple>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
