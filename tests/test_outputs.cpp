@@ -2,6 +2,11 @@
 // depth, ids and normals as .npy, .pfm, .exr and 16-bit PNG, each read back here by readers of the
 // test's own; and standard input and output ("Standard input and output").
 #include "cli_support.hpp"
+#include "surface_test_support.hpp"
+#include "test_models.hpp"
+
+#include "hsr/pixel_data.hpp"
+#include "hsr/renderer.hpp"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -473,4 +478,41 @@ TEST_CASE("outputs: mistakes are one line and leave existing outputs alone", "[o
     require_one_line_error(run_hsr("render --jobs " + stdout_jobs.string(), "jobs-stdout"), "standard output");
     CHECK(slurp(kept) == "an earlier picture");
     CHECK(slurp(keep_depth) == "an earlier depth");
+}
+
+TEST_CASE("outputs: ids agree with the face buffer of the frame", "[outputs]") {
+    // boxes.scene has several objects; each object's triangles follow the one before's.
+    hsr::SceneSource source;
+    source.model = test_models::path("boxes.scene");
+    hsr::Renderer renderer(hsr::LoadedScene::load(source));
+    hsr::HiddenSurfaceRemover remover(surface_tests::plugin("zbuffer"), {});
+    hsr::LightingModel lighting(surface_tests::plugin("facecolor"), {});
+    hsr::PictureRequest request;
+    request.view.width = 96;
+    request.view.height = 64;
+    request.view.yaw_degrees = 25.0f;
+    request.view.pitch_degrees = 15.0f;
+    const hsr::Picture picture = renderer.picture(request, remover, lighting);
+    const hsr_scene& scene = picture.scene;
+    REQUIRE(scene.object_count > 1);
+    std::vector<uint32_t> triangles_before(scene.object_count + 1, 0);  // triangles of the objects before each
+    for (uint32_t t = 0; t < scene.triangle_count; ++t) ++triangles_before[scene.face_object[t] + 1];
+    for (uint32_t k = 1; k <= scene.object_count; ++k) triangles_before[k] += triangles_before[k - 1];
+
+    const std::vector<int32_t> ids = hsr::pixel_ids(picture.frame, scene);
+    std::set<int32_t> objects;
+    for (std::size_t p = 0; p < picture.frame.face.size(); ++p) {
+        const uint32_t face = picture.frame.face[p];
+        INFO("pixel " << p);
+        if (face == HSR_NO_FACE) {
+            CHECK((ids[3 * p] == -1 && ids[3 * p + 1] == -1 && ids[3 * p + 2] == -1));
+            continue;
+        }
+        const uint32_t object = scene.face_object[face];
+        CHECK(ids[3 * p] == int32_t(object));
+        CHECK(uint32_t(ids[3 * p + 1]) + triangles_before[object] == face);
+        CHECK(ids[3 * p + 2] == 0);
+        objects.insert(ids[3 * p]);
+    }
+    CHECK(objects.size() > 1);
 }
