@@ -127,10 +127,17 @@ std::vector<float> face_opacity(const hsr_scene& scene) {
     return opacity;
 }
 
+// What the fragments of a pixel add up to: their colours weighted by what each sample shows of
+// them (premultiplied, over nothing), and the part of the pixel the background shows through (0..1).
+struct CompositedPixel {
+    glm::vec3 premultiplied;
+    float background_weight;
+};
+
 // Composites the shaded fragments [begin, end) of one pixel (colours at `color`, 3 per fragment
-// from `begin`) front to back, sample by sample, over the background.
-glm::vec3 composite_pixel(const FragmentLists& lists, uint32_t begin, uint32_t end, const float* color,
-                          const std::vector<float>& opacity, const glm::vec3& background) {
+// from `begin`) front to back, sample by sample.
+CompositedPixel composite_pixel(const FragmentLists& lists, uint32_t begin, uint32_t end, const float* color,
+                                const std::vector<float>& opacity) {
     constexpr int kSamples = HSR_COVERAGE_SAMPLES;
     float transmitted[kSamples];
     std::fill_n(transmitted, kSamples, 1.0f);
@@ -153,7 +160,7 @@ glm::vec3 composite_pixel(const FragmentLists& lists, uint32_t begin, uint32_t e
     }
     float background_weight = 0.0f;
     for (int s = 0; s < kSamples; ++s) background_weight += transmitted[s];
-    return (sum + background_weight * background) / float(kSamples);
+    return {sum / float(kSamples), background_weight / float(kSamples)};
 }
 
 }  // namespace
@@ -166,6 +173,7 @@ void shade_fragments(const hsr_scene& scene, LightingModel& lighting, const hsr_
     const std::vector<float> opacity = face_opacity(scene);
     const bool instanced = !lists.instance.empty();
     frame.rgb.resize(3 * size_t(lists.width) * lists.height);
+    if (settings.coverage_alpha) frame.alpha.resize(size_t(lists.width) * lists.height);
 
     std::atomic<uint64_t> batches{0};
     for_each_band(lists.height, settings.threads, [&](uint32_t row_begin, uint32_t row_end, FragmentArrays& arrays) {
@@ -184,9 +192,15 @@ void shade_fragments(const hsr_scene& scene, LightingModel& lighting, const hsr_
             ++batches;
         }
         for (size_t p = pixel_begin; p < pixel_end; ++p) {
-            const glm::vec3 c = composite_pixel(lists, lists.first[p], lists.first[p + 1],
-                                                arrays.color.data() + 3 * size_t(lists.first[p] - begin), opacity,
-                                                settings.background);
+            const CompositedPixel pixel =
+                composite_pixel(lists, lists.first[p], lists.first[p + 1],
+                                arrays.color.data() + 3 * size_t(lists.first[p] - begin), opacity);
+            glm::vec3 c = pixel.premultiplied + pixel.background_weight * settings.background;
+            if (settings.coverage_alpha) {
+                const float alpha = 1.0f - pixel.background_weight;
+                frame.alpha[p] = to_byte(alpha);
+                c = alpha > 0.0f ? pixel.premultiplied / alpha : glm::vec3(0.0f);
+            }
             for (int k = 0; k < 3; ++k) frame.rgb[3 * p + k] = to_byte(c[k]);
         }
     });

@@ -50,8 +50,8 @@ void png_warning_ignored(png_structp, png_const_charp) {}
 
 // The libpng calls of encode_png, apart so that no C++ object with a destructor lives in the frame
 // that longjmp leaves. Returns false on failure (writer.error says why).
-bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, int color_type, int zlib_level,
-                    bool srgb, const png_bytep* rows) {
+bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, int bit_depth, int color_type,
+                    int zlib_level, bool srgb, const png_bytep* rows) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &writer, png_failed, png_warning_ignored);
     if (png == nullptr) return false;
     png_infop info = png_create_info_struct(png);
@@ -63,7 +63,7 @@ bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, in
     png_set_compression_level(png, zlib_level);
     // One cheap filter: the adaptive choice among all five costs more time than it saves bytes here.
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
-    png_set_IHDR(png, info, width, height, 8, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+    png_set_IHDR(png, info, width, height, bit_depth, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
     if (srgb) png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
     png_write_info(png, info);
@@ -73,9 +73,10 @@ bool write_png_rows(PngMemoryWriter& writer, uint32_t width, uint32_t height, in
     return true;
 }
 
+// bytes_per_sample 1, or 2 for 16-bit samples stored big-endian (PNG's order).
 std::vector<uint8_t> encode_png_image(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
-                                      int zlib_level, bool srgb) {
-    if (pixels.size() != size_t(width) * height * channels)
+                                      int zlib_level, bool srgb, int bytes_per_sample = 1) {
+    if (pixels.size() != size_t(width) * height * channels * bytes_per_sample)
         throw Error("encode_png: {} bytes for a {}x{}x{} image", pixels.size(), width, height, channels);
     int color_type = PNG_COLOR_TYPE_RGB;
     switch (channels) {
@@ -87,11 +88,12 @@ std::vector<uint8_t> encode_png_image(uint32_t width, uint32_t height, int chann
     if (width == 0 || height == 0) throw Error("encode_png: a {}x{} image", width, height);
     std::vector<png_bytep> rows(height);
     for (uint32_t y = 0; y < height; ++y)
-        rows[y] = const_cast<png_bytep>(pixels.data() + size_t(y) * width * channels);
+        rows[y] = const_cast<png_bytep>(pixels.data() + size_t(y) * width * channels * bytes_per_sample);
     std::vector<uint8_t> out;
     out.reserve(pixels.size() / 4 + 1024);
     PngMemoryWriter writer{&out, {}};
-    if (!write_png_rows(writer, width, height, color_type, std::clamp(zlib_level, 0, 9), srgb, rows.data()))
+    if (!write_png_rows(writer, width, height, 8 * bytes_per_sample, color_type, std::clamp(zlib_level, 0, 9), srgb,
+                        rows.data()))
         throw Error("cannot encode a PNG: {}", writer.error.empty() ? "out of memory" : writer.error);
     return out;
 }
@@ -104,8 +106,24 @@ std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, s
 }
 
 // Encoded as encode_png does (zlib level 1, Sub filter), tagged sRGB: the pixels are sRGB values.
+std::vector<uint8_t> encode_picture_png(uint32_t width, uint32_t height, int channels,
+                                        std::span<const uint8_t> pixels) {
+    return encode_png_image(width, height, channels, pixels, 1, true);
+}
+
 void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels) {
-    const std::vector<uint8_t> png = encode_png_image(width, height, channels, pixels, 1, true);
+    const std::vector<uint8_t> png = encode_picture_png(width, height, channels, pixels);
+    if (std::fwrite(png.data(), 1, png.size(), file.stdio()) != png.size())
+        throw Error("cannot write {}: {}", printable(file.target().string(), kMaxQuotedPathChars), std::strerror(errno));
+}
+
+void write_png16(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint16_t> samples) {
+    std::vector<uint8_t> big_endian(2 * samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+        big_endian[2 * i] = uint8_t(samples[i] >> 8);
+        big_endian[2 * i + 1] = uint8_t(samples[i] & 0xff);
+    }
+    const std::vector<uint8_t> png = encode_png_image(width, height, channels, big_endian, 1, false, 2);
     if (std::fwrite(png.data(), 1, png.size(), file.stdio()) != png.size())
         throw Error("cannot write {}: {}", printable(file.target().string(), kMaxQuotedPathChars), std::strerror(errno));
 }

@@ -266,8 +266,9 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
     const size_t pixels = size_t(frame.width) * frame.height;
     frame.rgb.resize(3 * pixels);
     std::vector<uint8_t> background_row(3 * size_t(frame.width));
-    for (size_t x = 0; x < frame.width; ++x)
-        for (int k = 0; k < 3; ++k) background_row[3 * x + k] = color_to_byte(settings.background[k]);
+    if (!settings.coverage_alpha)
+        for (size_t x = 0; x < frame.width; ++x)
+            for (int k = 0; k < 3; ++k) background_row[3 * x + k] = color_to_byte(settings.background[k]);
 
     // Bands of rows, one batch each. Each thread writes only its bands' pixels, so nothing is
     // shared but the counters.
@@ -292,6 +293,10 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
         ++batches;
     });
 
+    if (settings.coverage_alpha) {
+        frame.alpha.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) frame.alpha[i] = frame.face[i] == HSR_NO_FACE ? 0 : 255;
+    }
     frame.counters.emplace_back("fragments-shaded", fragments.load());
     frame.counters.emplace_back("shading-batches", batches.load());
     frame.shading_ms = ms_since(start);
@@ -406,11 +411,22 @@ Frame render_supersampled_frame(const hsr_scene& scene, const hsr_camera& camera
     if (settings.stop_after_step) throw Error("steps are of one visibility pass: render them with 1 sample");
     if (settings.count_depth_tests) throw Error("depth-test counts are of one visibility pass: count them with 1 sample");
     Frame frame;
-    std::vector<uint32_t> sum;
+    // With coverage alpha, colours are summed weighted by their alpha (premultiplied), so that the
+    // mean colour is that of what covers the pixel, not of the black left where nothing does.
+    std::vector<uint32_t> sum, alpha_sum;
     for (std::size_t k = 0; k < offsets.size(); ++k) {
         Frame sample = render_frame(scene, offset_camera(camera, offsets[k]), remover, lighting, context, settings);
         if (k == 0) sum.assign(sample.rgb.size(), 0);
-        for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += sample.rgb[i];
+        if (settings.coverage_alpha) {
+            if (k == 0) alpha_sum.assign(sample.alpha.size(), 0);
+            for (std::size_t p = 0; p < alpha_sum.size(); ++p) {
+                const uint32_t a = sample.alpha[p];
+                alpha_sum[p] += a;
+                for (int c = 0; c < 3; ++c) sum[3 * p + c] += a * sample.rgb[3 * p + c];
+            }
+        } else {
+            for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += sample.rgb[i];
+        }
         for (const auto& [name, value] : sample.counters) collect_counter(&frame.counters, name.c_str(), value);
         frame.visibility_ms += sample.visibility_ms;
         frame.shading_ms += sample.shading_ms;
@@ -425,6 +441,15 @@ Frame render_supersampled_frame(const hsr_scene& scene, const hsr_camera& camera
     }
     const uint32_t n = uint32_t(offsets.size());
     frame.rgb.resize(sum.size());
+    if (settings.coverage_alpha) {
+        frame.alpha.resize(alpha_sum.size());
+        for (std::size_t p = 0; p < alpha_sum.size(); ++p) {
+            const uint32_t a = alpha_sum[p];
+            frame.alpha[p] = uint8_t((a + n / 2) / n);
+            for (int c = 0; c < 3; ++c) frame.rgb[3 * p + c] = a == 0 ? 0 : uint8_t((sum[3 * p + c] + a / 2) / a);
+        }
+        return frame;
+    }
     for (std::size_t i = 0; i < sum.size(); ++i) frame.rgb[i] = uint8_t((sum[i] + n / 2) / n);
     return frame;
 }

@@ -181,6 +181,7 @@ Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& r
     settings.background = request.background       ? *request.background
                           : file && file->background ? *file->background
                                                      : default_background_color();
+    settings.coverage_alpha = request.transparent_background;
     settings.threads = request.threads;
     settings.count_depth_tests = request.count_depth_tests;
     settings.samples = request.samples ? *request.samples : file && file->samples ? *file->samples : 1u;

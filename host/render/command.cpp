@@ -3,10 +3,12 @@
 #include "common/commands.hpp"
 #include "render/jobs.hpp"
 #include "render/render.hpp"
+#include "render/standard_streams.hpp"
 
 #include <malloc.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,5 +47,12 @@ int hsr::host::run_render(const std::vector<std::string>& args) {
     std::vector<fs::path> files;
     std::vector<RenderJob> jobs;
     jobs.push_back(prepare_render_job(args, registries, files));
+    RenderOptions& job_options = jobs.front().options;
+    std::optional<StdinModel> stdin_model;
+    if (job_options.model == "-") {
+        stdin_model.emplace(job_options.format);
+        job_options.model = stdin_model->path().string();
+    }
+    if (job_options.output == "-") reserve_standard_output();
     return run_jobs(jobs, JobFailures::kStop);
 }

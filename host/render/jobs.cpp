@@ -283,6 +283,9 @@ int run_job_file(const fs::path& file) {
             check_argument_count(args.size());
             std::vector<fs::path> files;
             RenderJob job = prepare_render_job(args, registries, files);
+            if (job.options.model == "-" || job.options.output == "-")
+                throw UsageError("a --jobs line reads and writes files: standard {} ('-') is for a render of its own",
+                                 job.options.model == "-" ? "input" : "output");
             job.origin = origin;
             frames += job.frames.size();
             hsr::check_limit(&hsr::Limits::frames, frames, "the lines so far");

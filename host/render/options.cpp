@@ -28,14 +28,19 @@ po::options_description render_option_descriptions(RenderOptions& o) {
     using hsr::host::default_algorithm;
     using hsr::host::default_background;
     using hsr::host::default_lighting;
-    po::options_description general("hsr render MODEL [options]: render a mesh or .scene file to PNG");
+    po::options_description general(
+        "hsr render MODEL [options]: render a mesh or .scene file to PNG (MODEL '-': standard input, with "
+        "--format)");
     general.add_options()
         ("help,h", "show this help, with every plugin's parameters")
         ("output,o", po::value(&o.output),
          "file to write: PNG for a hidden-surface plugin (default <model name>.png); SVG or PNG for a "
          "hidden-line plugin (default <model name>.svg). With several frames, a frame number goes in every "
          "file name: %d, or %03d for 000, 001, ... (frames count from 0; %% is a % sign; default "
-         "<model name>-%03d.png)")
+         "<model name>-%03d.png). '-' writes the PNG to standard output (one frame; messages stay on stderr)")
+        ("format", po::value(&o.format),
+         "with MODEL '-': the format of the model read from standard input: obj, off, ply, stl, gltf or glb "
+         "(docs/formats.md)")
         ("jobs", po::value(&o.jobs),
          "FILE: run the renders of FILE, one line each of the options of hsr render (# starts a comment "
          "line); each model is loaded once for all the lines that name it (docs/many-frames.md)")
@@ -69,7 +74,9 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "light, repeatable: point:x,y,z or dir:x,y,z (toward the light), camera space (x right, y up, "
          "z toward you), optionally followed by ,intensity=I,color=r/g/b (docs/scene-format.md). "
          "Default: dir:-0.5,0.6,1")
-        ("background", po::value(&o.background)->default_value(default_background), "background colour r/g/b or #rrggbb")
+        ("background", po::value(&o.background)->default_value(default_background),
+         "background colour r/g/b or #rrggbb; 'none': an RGBA PNG whose alpha is each pixel's coverage (straight, "
+         "not premultiplied colour)")
         ("opacity", po::value(&o.opacity),
          "opacity of the model, 0 (invisible) to 1 (opaque; the default); a .scene file gives each object an "
          "`opacity` line. Needs an algorithm that returns fragment lists (a-buffer)")
@@ -86,7 +93,15 @@ po::options_description render_option_descriptions(RenderOptions& o) {
         ("crease-angle", po::value(&o.crease_angle)->default_value(40),
          "degrees: shading normals are not smoothed across edges sharper than this (and, for "
          "hidden-line plugins, such edges are creases)")
-        ("depth-out", po::value(&o.depth_out), "also write the depth buffer as a greyscale PNG (near = white)")
+        ("depth-out", po::value(&o.depth_out),
+         "also write the depth buffer: .png greyscale (near = white); .npy, .pfm or .exr float32 camera-space "
+         "distance along the view axis in the model's units, +inf where nothing is drawn (docs/formats.md)")
+        ("id-out", po::value(&o.id_out),
+         "also write which face each pixel shows: .npy int32 (height, width, 3) of object, face within the object, "
+         "instance (-1 where nothing is drawn); .png 16-bit RGBA of the same (docs/formats.md)")
+        ("normal-out", po::value(&o.normal_out),
+         "also write the visible face's unit normal in camera space (x right, y up, z toward the eye): .npy, .pfm "
+         "or .exr float32, 0 where nothing is drawn; .png 8-bit, (n + 1) / 2 (docs/formats.md)")
         ("overdraw-out", po::value(&o.overdraw_out),
          "also write the scene's depth complexity (surfaces over each pixel) as a heat-map PNG")
         ("depth-tests-out", po::value(&o.depth_tests_out),
@@ -168,8 +183,17 @@ void hsr::host::add_clip_plane_options(const RenderOptions& o, std::vector<glm::
                          HSR_MAX_CLIP_PLANES);
 }
 
+std::string hsr::host::stdin_model_format_list() {
+    std::string list;
+    const std::size_t n = std::size(stdin_model_formats);
+    for (std::size_t i = 0; i < n; ++i)
+        list += std::string(i == 0 ? "" : i + 1 == n ? " or " : ", ") + stdin_model_formats[i];
+    return list;
+}
+
 fs::path hsr::host::model_path(const RenderOptions& o) {
     if (o.was_given("random-triangles")) return "random-triangles";
+    if (o.model == "-") return "stdin";
     return fs::path(!o.model.empty() ? o.model : !o.heightmap.empty() ? o.heightmap : "surface");
 }
 

@@ -30,7 +30,10 @@ struct RenderOptions {
     std::string line_color;     // hidden-line plugins; empty: contrasting with the background
     double line_width = 1.0;    // hidden-line plugins: pixels
     int64_t samples = 1;        // supersampling (signed, so that a negative number is refused)
-    std::string depth_out;
+    std::string depth_out;      // .png (greyscale), .npy, .pfm or .exr (camera-space distance)
+    std::string id_out;         // .npy or .png (16-bit RGBA): object, face, instance per pixel
+    std::string normal_out;     // .npy, .pfm, .exr or .png: camera-space face normals
+    std::string format;         // --format of a MODEL '-' read from standard input
     std::string overdraw_out;
     std::string depth_tests_out;
     std::string repeat;
@@ -72,8 +75,17 @@ void print_render_help(const std::vector<std::string>& plugin_dirs);
 // The sections and clip planes the command line asks for, to add after a .scene file's.
 void add_clip_plane_options(const RenderOptions& options, std::vector<glm::vec4>& planes);
 
+// The formats --format accepts for a model read from standard input (MODEL '-').
+inline constexpr const char* stdin_model_formats[] = {"obj", "off", "ply", "stl", "gltf", "glb"};
+// "obj, off, ply, stl, gltf or glb", for messages.
+std::string stdin_model_format_list();
+
+// With --background none the picture has an alpha channel instead of a background colour.
+inline bool transparent_background(const RenderOptions& options) { return options.background == "none"; }
+
 // The file the scene comes from: MODEL, or --heightmap's PNG, or "surface" for --surface, or
-// "random-triangles" for --random-triangles. Its stem names the default output.
+// "random-triangles" for --random-triangles, or "stdin" for MODEL '-'. Its stem names the default
+// output.
 std::filesystem::path model_path(const RenderOptions& options);
 
 }  // namespace hsr::host

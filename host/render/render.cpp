@@ -16,9 +16,12 @@
 
 #include <boost/program_options.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -74,7 +77,18 @@ void check_render_options(const RenderOptions& o) {
         for (const auto& [option, text] : {std::pair{"eye", &o.eye}, {"target", &o.target}, {"up", &o.up}})
             if (!text->empty()) hsr::host::parse_vector_option(*text, option);  // parsed again where it is used
     }
-    hsr::host::parse_color_option(o.background, "background");  // parsed again where it is used
+    if (!hsr::host::transparent_background(o))
+        hsr::host::parse_color_option(o.background, "background");  // parsed again where it is used
+    if (!o.format.empty()) {
+        const auto& formats = hsr::host::stdin_model_formats;
+        if (std::find(std::begin(formats), std::end(formats), o.format) == std::end(formats))
+            throw UsageError("--format '{}': expected {}", hsr::printable(o.format), hsr::host::stdin_model_format_list());
+        if (o.model != "-")
+            throw UsageError("--format goes with MODEL '-' (standard input); a file's format is its extension");
+    } else if (o.model == "-") {
+        throw UsageError("MODEL '-' reads standard input: name its format with --format {}",
+                         hsr::host::stdin_model_format_list());
+    }
     if (!o.color.empty()) hsr::host::parse_color_option(o.color, "color");  // before a long load
     if (!hsr::is_sample_count(o.samples < 0 || o.samples > 16 ? 0u : uint32_t(o.samples)))
         throw UsageError("--samples {}: expected 1, 2, 4, 8 or 16", o.samples);
@@ -95,10 +109,15 @@ struct RenderPlugins {
 
 hsr::host::LineDrawingPlugin make_line_drawing_plugin(const RenderOptions& o, const hsr::PluginRegistry& registry,
                                                       const hsr::PluginSpec& algorithm) {
-    for (const char* option : {"lighting", "light", "color", "samples", "depth-out", "overdraw-out", "depth-tests-out",
-                               "threads", "step"})
+    for (const char* option : {"lighting", "light", "color", "samples", "depth-out", "id-out", "normal-out",
+                               "overdraw-out", "depth-tests-out", "threads", "step"})
         if (o.was_given(option))
             throw UsageError("--{} is for hidden-surface plugins; '{}' draws lines", option, algorithm.name);
+    if (hsr::host::transparent_background(o))
+        throw UsageError("--background none is for hidden-surface pictures; '{}' draws lines", algorithm.name);
+    if (o.output == "-")
+        throw UsageError("-o -: standard output takes a hidden-surface picture; '{}' draws lines to a file",
+                         algorithm.name);
     hsr::host::LineDrawingPlugin plugin;
     plugin.style = hsr::host::make_line_style(o);
     if (o.edges == "features")
@@ -165,6 +184,16 @@ std::string numbered_file_name(const std::string& text) {
 void set_output_templates(hsr::host::RenderJob& job, bool line_drawing) {
     const RenderOptions& o = job.options;
     const std::size_t frames = job.frames.size();
+    if (o.output == "-" && frames > 1)
+        throw UsageError("-o -: standard output takes one picture, and this render makes {} frames (write them to "
+                         "files named with a frame number)", frames);
+    for (const auto& [option, text] : {std::pair<const char*, const std::string&>{"depth-out", o.depth_out},
+                                       {"id-out", o.id_out},
+                                       {"normal-out", o.normal_out},
+                                       {"overdraw-out", o.overdraw_out},
+                                       {"depth-tests-out", o.depth_tests_out},
+                                       {"trace", o.trace}})
+        if (text == "-") throw UsageError("--{} -: only the picture (-o -) can go to standard output", option);
     std::string output = o.output;
     if (output.empty()) {  // <model name>.png, its % signs kept as they are
         std::string stem;
@@ -174,6 +203,8 @@ void set_output_templates(hsr::host::RenderJob& job, bool line_drawing) {
     for (const auto& [option, text, name] :
          {std::tuple<const char*, const std::string&, hsr::host::OutputTemplate&>{"output", output, job.output},
           {"depth-out", o.depth_out, job.depth_out},
+          {"id-out", o.id_out, job.id_out},
+          {"normal-out", o.normal_out, job.normal_out},
           {"overdraw-out", o.overdraw_out, job.overdraw_out},
           {"depth-tests-out", o.depth_tests_out, job.depth_tests_out},
           {"trace", o.trace, job.trace}}) {
@@ -193,11 +224,15 @@ std::vector<fs::path> check_render_outputs(const hsr::host::RenderJob& job, bool
         line_drawing ? std::vector<std::string>{".svg", ".png"} : std::vector<std::string>{".png"};
     for (std::size_t k = 0; k < job.frames.size(); ++k) {
         const RenderOptions o = job.frame_options(k);
-        outputs.push_back({"output", o.output, output_extensions});
-        for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"depth-out", o.depth_out},
-                                           {"overdraw-out", o.overdraw_out},
-                                           {"depth-tests-out", o.depth_tests_out}})
-            if (!path.empty()) outputs.push_back({option, path, {".png"}});
+        if (o.output != "-") outputs.push_back({"output", o.output, output_extensions});
+        for (const auto& [option, path, extensions] :
+             {std::tuple<const char*, const std::string&, std::vector<std::string>>{"depth-out", o.depth_out,
+                                                                                    hsr::host::depth_out_extensions},
+              {"id-out", o.id_out, hsr::host::id_out_extensions},
+              {"normal-out", o.normal_out, hsr::host::normal_out_extensions},
+              {"overdraw-out", o.overdraw_out, {".png"}},
+              {"depth-tests-out", o.depth_tests_out, {".png"}}})
+            if (!path.empty()) outputs.push_back({option, path, extensions});
         if (!o.trace.empty()) outputs.push_back({"trace", o.trace, {}});
     }
     return hsr::host::check_outputs(outputs);
@@ -212,6 +247,8 @@ hsr::host::RenderOptions hsr::host::RenderJob::frame_options(std::size_t k) cons
     o.yaw_turn = frames[k].yaw_turn;
     o.output = output.name(k);
     for (const auto& [text, name] : {std::pair<std::string&, const OutputTemplate&>{o.depth_out, depth_out},
+                                     {o.id_out, id_out},
+                                     {o.normal_out, normal_out},
                                      {o.overdraw_out, overdraw_out},
                                      {o.depth_tests_out, depth_tests_out},
                                      {o.trace, trace}})

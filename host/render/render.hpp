@@ -48,8 +48,14 @@ struct PicturePlugins {
     std::unique_ptr<hsr::LightingModel> lighting;
 };
 
+// What --depth-out, --id-out and --normal-out may end with (docs/formats.md, "Outputs").
+inline const std::vector<std::string> depth_out_extensions{".png", ".npy", ".pfm", ".exr"};
+inline const std::vector<std::string> id_out_extensions{".npy", ".png"};
+inline const std::vector<std::string> normal_out_extensions{".npy", ".pfm", ".exr", ".png"};
+
 // Samples per pixel: --samples, else the .scene file's, else 1. Throws a UsageError for an option
-// that shows one visibility pass (--depth-out, --depth-tests-out, --step) with more than 1.
+// that shows one visibility pass (--depth-out, --id-out, --normal-out, --depth-tests-out, --step)
+// with more than 1.
 uint32_t picture_samples(const RenderOptions& options, const hsr::LoadedScene* scene);
 
 // Renders the picture, and the depth complexity when the options ask for it.
@@ -86,7 +92,7 @@ struct RenderJob {
     std::optional<PicturePlugins> picture;
     std::vector<FrameView> frames;
     // The files' names, a frame number in each when there are several frames.
-    OutputTemplate output, depth_out, overdraw_out, depth_tests_out, trace;
+    OutputTemplate output, depth_out, id_out, normal_out, overdraw_out, depth_tests_out, trace;
     // The options of frame k: its angles and the names of its files.
     RenderOptions frame_options(std::size_t k) const;
 };

@@ -38,6 +38,9 @@ struct FrameSettings {
     // Supersampling (render_supersampled_frame; render_frame renders the pixel centres only):
     // visibility and shading once per position of sample_offsets(samples), the colours averaged.
     uint32_t samples = 1;
+    // A transparent background: Frame::alpha holds each pixel's coverage and Frame::rgb the colour of
+    // what covers it, not composited over the background (straight alpha; black where nothing does).
+    bool coverage_alpha = false;
 };
 
 // One of a plugin's own buffers at a step (hsr_step_buffer), copied.
@@ -88,6 +91,9 @@ struct Frame {
     std::vector<uint32_t> instance;     // per pixel; empty unless the scene has instances
     std::vector<uint32_t> depth_tests;  // per pixel; empty unless asked for (FrameSettings)
     std::vector<uint8_t> rgb;   // 3 * width * height, rows top to bottom; with samples, their mean
+    // With FrameSettings::coverage_alpha, width * height: 255 times the part of the pixel covered
+    // (of its samples, or the a-buffer's coverage times opacity), rounded; else empty.
+    std::vector<uint8_t> alpha;
     std::vector<std::pair<std::string, uint64_t>> counters;  // the plugins' and the host's, in order
     std::optional<StepRun> steps;  // when rendered step by step (FrameSettings::stop_after_step)
     double visibility_ms = 0;   // time inside the hidden-surface plugin

@@ -1,4 +1,4 @@
-// Image output: 8-bit PNG through libpng, into an AtomicFile (hsr/atomic_file.hpp) that the caller
+// Image output: 8-bit (and 16-bit data) PNG through libpng, into an AtomicFile (hsr/atomic_file.hpp) that the caller
 // commits, or, given a path, into a file of its own committed at once, or into memory.
 #pragma once
 
@@ -16,6 +16,14 @@ class AtomicFile;
 void write_png(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels);
 void write_png(const std::filesystem::path& path, uint32_t width, uint32_t height, int channels,
                std::span<const uint8_t> pixels);
+
+// The bytes write_png writes, for standard output.
+std::vector<uint8_t> encode_picture_png(uint32_t width, uint32_t height, int channels,
+                                        std::span<const uint8_t> pixels);
+
+// 16-bit samples (channels 1, 3 or 4), rows top to bottom, not tagged as colour (they are data:
+// the --id-out PNG).
+void write_png16(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint16_t> samples);
 
 // The PNG file's bytes, for a server: zlib level 1 unless another (0-9) is given, each row filtered
 // by its left neighbour (PNG's Sub). On the bunny at 512x512, level 1 compresses in a third of

@@ -109,6 +109,7 @@ struct PictureRequest {
     ViewRequest view;
     std::vector<LightSpec> lights;          // empty: the .scene file's, else default_light
     std::optional<glm::vec3> background;    // unset: the .scene file's, else default_background
+    bool transparent_background = false;    // instead of a background colour: Frame::alpha (frame.hpp)
     std::optional<uint32_t> samples;        // unset: the .scene file's, else 1
     unsigned threads = 0;                   // shading threads; 0: as tbb::global_control allows
     bool count_depth_tests = false;         // Frame::depth_tests
