@@ -3,16 +3,17 @@
 // face of the opposite half-edge).
 //
 // Text files are checked before OpenMesh sees them (malformed_models.hpp), OpenMesh's own messages
-// are captured instead of printed, and what it loaded is checked again. The checks of an OBJ file
-// also parse it, and its mesh is built here as OpenMesh's OBJ reader builds it (as OpenMesh's
-// importer), without that reader's two iostream passes; ASCII OFF goes to OpenMesh as the checks
-// re-write it, PLY as the checks convert it.
+// are captured instead of printed, and what it loaded is checked again. The checks of an OBJ, OFF or
+// PLY file also parse it, and its mesh is built here as OpenMesh's importer builds an OBJ file's,
+// except that a face of more than 3 corners is cut by polygon_triangulation.hpp rather than into a
+// fan; only STL goes through OpenMesh's reader.
 #include "model_reader.hpp"
 
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "malformed_models.hpp"
+#include "polygon_triangulation.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -252,18 +253,27 @@ TriMesh::FaceHandle add_triangle(TriMesh& mesh, TriMesh::VertexHandle a, TriMesh
     return face;
 }
 
-// The mesh OpenMesh's OBJ reader makes of the text: every vertex first, then each face with its
-// repeated corners left out (keeping the first), if 3 remain, added as OpenMesh's importer
-// (ImporterT::add_face) adds it: TriMesh::add_face splits a polygon into a fan (done here with
-// add_triangle), and when it fails (the last triangle would make the mesh non-manifold) the whole
-// face is added again on vertices of its own, and that last triangle marked. The importer's checks
-// for invalid and repeated vertices are left out: check_obj_text and the loop here have done them.
-void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
+// What building a mesh noticed about its faces.
+struct FaceCounts {
+    uint32_t intersecting = 0;  // faces whose outline crosses itself, cut into a fan
+};
+
+// The mesh of a model's contents, built as OpenMesh's importer (ImporterT::add_face) builds it:
+// every vertex first, then each face with its repeated corners left out (keeping the first), if 3
+// remain, cut into triangles (triangulate_face) and each added on its own (with add_triangle); when
+// the last fails (it would make the mesh non-manifold) the whole face is added again on vertices of
+// its own, and that last triangle marked. A convex face's triangles are the fan TriMesh::add_face
+// makes, so such a face is added exactly as OpenMesh adds it. The importer's checks for invalid and
+// repeated vertices are left out: the checks of the text and the loop here have done them.
+FaceCounts build_polygon_mesh(const ModelContents& contents, TriMesh& mesh) {
     const std::size_t corners = contents.corners.size();  // at least 3 a face
     mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
                  static_cast<unsigned>(corners - 2 * contents.face_ends.size()));
     for (const std::array<float, 3>& p : contents.positions) mesh.add_vertex(TriMesh::Point(p[0], p[1], p[2]));
+    FaceCounts counts;
     std::vector<TriMesh::VertexHandle> face;
+    std::vector<glm::vec3> face_positions;
+    std::vector<uint32_t> triangles;
     uint32_t begin = 0;
     for (uint32_t end : contents.face_ends) {
         face.clear();
@@ -273,15 +283,27 @@ void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
         }
         begin = end;
         if (face.size() < 3) continue;
-        // TriMesh::add_face: a fan from the first corner, each triangle added on its own; the face
-        // is the last one's.
+        triangles.clear();
+        if (face.size() == 3) {
+            triangles = {0, 1, 2};
+        } else {
+            face_positions.clear();
+            for (TriMesh::VertexHandle v : face) {
+                const TriMesh::Point& p = mesh.point(v);
+                face_positions.emplace_back(p[0], p[1], p[2]);
+            }
+            if (triangulate_face(face_positions, triangles) == FaceCut::fan_intersecting) ++counts.intersecting;
+        }
         TriMesh::FaceHandle added;
-        for (std::size_t k = 1; k + 1 < face.size(); ++k) added = add_triangle(mesh, face[0], face[k], face[k + 1]);
+        for (std::size_t t = 0; t < triangles.size(); t += 3)
+            added = add_triangle(mesh, face[triangles[t]], face[triangles[t + 1]], face[triangles[t + 2]]);
         if (added.is_valid()) continue;
         for (TriMesh::VertexHandle& v : face) v = mesh.add_vertex(TriMesh::Point(mesh.point(v)));
-        added = mesh.add_face(face);
+        for (std::size_t t = 0; t < triangles.size(); t += 3)
+            added = mesh.add_face(face[triangles[t]], face[triangles[t + 1]], face[triangles[t + 2]]);
         mesh.status(added).set_fixed_nonmanifold(true);
     }
+    return counts;
 }
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -290,14 +312,13 @@ bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && st
 
 Object read_model_object(const std::filesystem::path& file) {
     Format format = format_of(file);
-    std::optional<std::string> cleaned;
-    std::optional<ObjContents> obj;
+    std::optional<ModelContents> contents;
     {
         std::string text = read_whole_file(file);
         switch (format) {
-        case Format::obj: obj = check_obj_text(file, text); break;
-        case Format::off: cleaned = check_off_text(file, text); break;
-        case Format::ply: cleaned = check_ply_text(file, text); break;
+        case Format::obj: contents = check_obj_text(file, text); break;
+        case Format::off: contents = check_off_text(file, text); break;
+        case Format::ply: contents = check_ply_text(file, text); break;
         case Format::stl: check_stl_text(file, text); break;
         }
     }
@@ -306,20 +327,14 @@ Object read_model_object(const std::filesystem::path& file) {
     mesh.request_face_status();
     std::string chatter;
     bool read = false;
+    FaceCounts face_counts;
     {
         OpenMeshCapture capture;
         try {
-            if (obj) {
-                build_obj_mesh(*obj, mesh);
-                obj.reset();
+            if (contents) {
+                face_counts = build_polygon_mesh(*contents, mesh);
+                contents.reset();
                 read = true;
-            } else if (cleaned) {
-                std::istringstream stream(std::move(*cleaned));
-                cleaned.reset();
-                OpenMesh::IO::Options options;
-                const char* extension = format == Format::obj ? ".obj" : format == Format::off ? ".off" : ".ply";
-                if (format == Format::ply) options += OpenMesh::IO::Options::Binary;
-                read = OpenMesh::IO::read_mesh(mesh, stream, extension, options);
             } else {
                 read = OpenMesh::IO::read_mesh(mesh, file.string());
             }
@@ -345,6 +360,11 @@ Object read_model_object(const std::filesystem::path& file) {
     Object object = object_from_mesh(mesh);
     object.separated_faces = separated;
     object.source = display(file);
+    if (face_counts.intersecting > 0)
+        object.warnings.push_back(fmt::format("{}: {} face{} crossing {} outline cut into a fan from the first corner",
+                                              object.source, face_counts.intersecting,
+                                              face_counts.intersecting == 1 ? "" : "s",
+                                              face_counts.intersecting == 1 ? "its" : "their"));
     for (std::size_t v = 0; v < object.positions.size(); ++v)
         if (!finite(object.positions[v]))
             throw Error("{}: vertex {} has a coordinate that is not a finite number", display(file), v);

@@ -192,8 +192,10 @@ KeptTriangles keep_triangles(const Object& object, const std::vector<glm::dvec3>
     return kept;
 }
 
-// One line each for the triangles dropped and the faces the loader separated.
+// One line each for what the reader noticed, the triangles dropped and the faces the loader
+// separated.
 void warn_about(const Object& object, const KeptTriangles& kept, std::vector<std::string>& warnings) {
+    warnings.insert(warnings.end(), object.warnings.begin(), object.warnings.end());
     if (kept.without_area > 0)
         warnings.push_back(fmt::format("{}: {} triangle{} without area dropped", object.source, kept.without_area,
                                        kept.without_area == 1 ? "" : "s"));

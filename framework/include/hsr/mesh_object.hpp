@@ -29,6 +29,7 @@ struct MeshObject {  // one object in its own coordinates, adjacency already kno
     MeshOptions options;
     std::string source;             // for messages: the file, or the object's name
     uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
+    std::vector<std::string> warnings;  // what the reader noticed, one line each, the file named
 };
 
 }  // namespace hsr
