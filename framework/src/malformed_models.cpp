@@ -365,6 +365,12 @@ private:
                     contents.corners.push_back(static_cast<int32_t>(std::max(corner, -1LL)));
                 }
                 if (!skipped) contents.face_ends.push_back(static_cast<uint32_t>(contents.corners.size()));
+            } else if (kind == "mtllib") {
+                for (std::size_t i = 1; i < line.tokens.size(); ++i)
+                    contents.material_libraries.emplace_back(line.tokens[i]);
+            } else if (kind == "usemtl") {
+                contents.material_uses.push_back({static_cast<uint32_t>(contents.face_ends.size()),
+                                                  line.tokens.size() > 1 ? std::string(line.tokens[1]) : std::string()});
             }
         }
         piece.vertices_after = vertices;
@@ -403,6 +409,11 @@ private:
         contents.corners.reserve(corners);
         contents.face_ends.reserve(faces);
         for (const ObjPiece& piece : pieces) {
+            const auto faces_before = static_cast<uint32_t>(contents.face_ends.size());
+            for (const std::string& library : piece.contents.material_libraries)
+                contents.material_libraries.push_back(library);
+            for (const ModelContents::MaterialUse& use : piece.contents.material_uses)
+                contents.material_uses.push_back({faces_before + use.first_face, use.name});
             const auto offset = static_cast<uint32_t>(contents.corners.size());
             contents.positions.insert(contents.positions.end(), piece.contents.positions.begin(),
                                       piece.contents.positions.end());
@@ -460,7 +471,28 @@ public:
         return text;
     }
 
-    // Checks an ASCII OFF file and returns its positions and faces.
+    static constexpr std::array<float, 3> no_color = {NAN, NAN, NAN};
+
+    // The colour r g b [a] of an OFF vertex or face (the rest of its line): whole numbers with one
+    // above 1 are 0-255, anything else 0-1, each channel clamped to [0, 1]; no_color for fewer than
+    // three numbers.
+    static std::array<float, 3> off_color(std::span<const std::string_view> words) {
+        if (words.size() < 3) return no_color;
+        std::array<double, 3> values;
+        bool whole = true;
+        for (int k = 0; k < 3; ++k) {
+            const std::optional<double> v = parse_number(words[k]);
+            if (!v || !std::isfinite(*v)) return no_color;
+            values[k] = *v;
+            whole = whole && words[k].find_first_of(".eE") == std::string_view::npos;
+        }
+        const double scale = whole && std::max({values[0], values[1], values[2]}) > 1.0 ? 255.0 : 1.0;
+        std::array<float, 3> color;
+        for (int k = 0; k < 3; ++k) color[k] = static_cast<float>(std::clamp(values[k] / scale, 0.0, 1.0));
+        return color;
+    }
+
+    // Checks an ASCII OFF file and returns its positions, faces and colours.
     ModelContents check_off(std::string_view text) {
         text.remove_prefix(byte_order_mark(text));
         LineReader lines(text, '#');
@@ -496,12 +528,18 @@ public:
             return *line;
         };
         ModelContents contents;
+        // [ST][C][N]OFF: a vertex is x y z, then nx ny nz with N, then its colour with C.
+        const bool vertex_colors = keyword.find('C') != std::string::npos;
+        const std::size_t color_start = keyword.find('N') != std::string::npos ? 6 : 3;
         for (long long v = 0; v < *vertex_count; ++v) {
             const Line& line = next_line();
             coordinates(line, 0);  // x y z come first
             std::array<float, 3> position;
             for (int k = 0; k < 3; ++k) position[k] = static_cast<float>(*parse_number(line.tokens[k]));
             contents.positions.push_back(position);
+            if (vertex_colors)
+                contents.vertex_colors.push_back(
+                    off_color(std::span(line.tokens).subspan(std::min(color_start, line.tokens.size()))));
         }
         for (long long f = 0; f < *face_count; ++f) {
             const Line& line = next_line();
@@ -521,7 +559,17 @@ public:
                 contents.corners.push_back(static_cast<int32_t>(*index));
             }
             contents.face_ends.push_back(static_cast<uint32_t>(contents.corners.size()));
+            // A colour after the indices: r g b [a]; one number (a colour-map index) is not read.
+            contents.face_colors.push_back(off_color(std::span(line.tokens).subspan(1 + *corners)));
         }
+        if (std::all_of(contents.face_colors.begin(), contents.face_colors.end(),
+                        [](const std::array<float, 3>& c) { return std::isnan(c[0]); }))
+            contents.face_colors.clear();
+        if (!vertex_colors) return contents;
+        // A file whose vertices carry no colour at all keeps the object's colour.
+        if (std::all_of(contents.vertex_colors.begin(), contents.vertex_colors.end(),
+                        [](const std::array<float, 3>& c) { return std::isnan(c[0]); }))
+            contents.vertex_colors.clear();
         return contents;
     }
 
@@ -718,12 +766,20 @@ private:
         for (const PlyElement& element : elements) {
             const bool is_vertex = &element == vertex_element;
             const bool is_face = &element == face_element;
+            const bool colored = (is_vertex || is_face) && has_rgb(element);
             for (long long e = 0; e < element.count; ++e) {
                 float position[3] = {0, 0, 0};
+                std::array<float, 3> color = {0, 0, 0};
                 bool face_listed = false;
                 for (const PlyProperty& property : element.properties) {
                     if (!property.count_type) {
                         double v = values.next(element, *property.type);
+                        if (const int channel = rgb_channel(property); colored && channel >= 0) {
+                            const bool whole = property.type->scalar != PlyScalar::float32 &&
+                                               property.type->scalar != PlyScalar::float64;
+                            const double value = whole ? v / 255.0 : v;
+                            color[channel] = std::isfinite(value) ? static_cast<float>(std::clamp(value, 0.0, 1.0)) : 0.0f;
+                        }
                         if (!is_vertex || property.name.size() != 1 || property.name[0] < 'x' || property.name[0] > 'z')
                             continue;
                         if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
@@ -753,9 +809,23 @@ private:
                     if (indices) mesh.face_ends.push_back(static_cast<uint32_t>(mesh.corners.size()));
                 }
                 if (is_vertex) mesh.positions.push_back({position[0], position[1], position[2]});
+                if (colored && is_vertex) mesh.vertex_colors.push_back(color);
+                if (colored && face_listed) mesh.face_colors.push_back(color);
             }
         }
         return mesh;
+    }
+
+    // Which colour channel a property is (red, green, blue: 0, 1, 2), -1 for none.
+    static int rgb_channel(const PlyProperty& property) {
+        if (property.count_type) return -1;
+        return property.name == "red" ? 0 : property.name == "green" ? 1 : property.name == "blue" ? 2 : -1;
+    }
+    static bool has_rgb(const PlyElement& element) {
+        bool channels[3] = {false, false, false};
+        for (const PlyProperty& property : element.properties)
+            if (const int channel = rgb_channel(property); channel >= 0) channels[channel] = true;
+        return channels[0] && channels[1] && channels[2];
     }
 
     // A face of `corners` vertices is stored as corners - 2 triangles; the stored-triangles limit is

@@ -21,6 +21,16 @@ struct ModelContents {
     std::vector<std::array<float, 3>> positions;
     std::vector<int32_t> corners;     // each face's vertices as listed (0-based), face after face
     std::vector<uint32_t> face_ends;  // where each face's corners end
+    // Colours the file gives, each channel in [0, 1]: one per position (OFF, PLY), or one per face
+    // (OFF, PLY), a face without one NaN; empty when the file gives none.
+    std::vector<std::array<float, 3>> vertex_colors, face_colors;
+    // OBJ: the material libraries named (mtllib), and each usemtl line, from which face on.
+    struct MaterialUse {
+        uint32_t first_face;
+        std::string name;
+    };
+    std::vector<std::string> material_libraries;
+    std::vector<MaterialUse> material_uses;
 };
 
 // Checks an OBJ file and returns what it holds: the same contents, or the same first error, as a

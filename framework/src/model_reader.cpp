@@ -13,6 +13,7 @@
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "malformed_models.hpp"
+#include "material_library.hpp"
 #include "polygon_triangulation.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -253,9 +254,13 @@ TriMesh::FaceHandle add_triangle(TriMesh& mesh, TriMesh::VertexHandle a, TriMesh
     return face;
 }
 
-// What building a mesh noticed about its faces.
+using Color = std::array<float, 3>;
+constexpr Color no_color = {NAN, NAN, NAN};
+
+// What building a mesh noticed about its faces, and the colour of each triangle it added.
 struct FaceCounts {
     uint32_t intersecting = 0;  // faces whose outline crosses itself, cut into a fan
+    std::vector<Color> triangle_colors;  // by OpenMesh face index; empty when the faces have none
 };
 
 // The mesh of a model's contents, built as OpenMesh's importer (ImporterT::add_face) builds it:
@@ -265,7 +270,8 @@ struct FaceCounts {
 // its own, and that last triangle marked. A convex face's triangles are the fan TriMesh::add_face
 // makes, so such a face is added exactly as OpenMesh adds it. The importer's checks for invalid and
 // repeated vertices are left out: the checks of the text and the loop here have done them.
-FaceCounts build_polygon_mesh(const ModelContents& contents, TriMesh& mesh) {
+// `face_colors` holds one colour per face (no_color for none) or is empty.
+FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<Color>& face_colors, TriMesh& mesh) {
     const std::size_t corners = contents.corners.size();  // at least 3 a face
     mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
                  static_cast<unsigned>(corners - 2 * contents.face_ends.size()));
@@ -275,7 +281,14 @@ FaceCounts build_polygon_mesh(const ModelContents& contents, TriMesh& mesh) {
     std::vector<glm::vec3> face_positions;
     std::vector<uint32_t> triangles;
     uint32_t begin = 0;
-    for (uint32_t end : contents.face_ends) {
+    auto set_color = [&](TriMesh::FaceHandle added, std::size_t face_number) {
+        if (face_colors.empty() || !added.is_valid()) return;
+        const auto index = static_cast<std::size_t>(added.idx());
+        if (counts.triangle_colors.size() <= index) counts.triangle_colors.resize(index + 1, no_color);
+        counts.triangle_colors[index] = face_colors[face_number];
+    };
+    for (std::size_t face_number = 0; face_number < contents.face_ends.size(); ++face_number) {
+        const uint32_t end = contents.face_ends[face_number];
         face.clear();
         for (uint32_t c = begin; c < end; ++c) {
             const TriMesh::VertexHandle v(contents.corners[c]);
@@ -295,15 +308,93 @@ FaceCounts build_polygon_mesh(const ModelContents& contents, TriMesh& mesh) {
             if (triangulate_face(face_positions, triangles) == FaceCut::fan_intersecting) ++counts.intersecting;
         }
         TriMesh::FaceHandle added;
-        for (std::size_t t = 0; t < triangles.size(); t += 3)
+        for (std::size_t t = 0; t < triangles.size(); t += 3) {
             added = add_triangle(mesh, face[triangles[t]], face[triangles[t + 1]], face[triangles[t + 2]]);
+            set_color(added, face_number);
+        }
         if (added.is_valid()) continue;
         for (TriMesh::VertexHandle& v : face) v = mesh.add_vertex(TriMesh::Point(mesh.point(v)));
-        for (std::size_t t = 0; t < triangles.size(); t += 3)
+        for (std::size_t t = 0; t < triangles.size(); t += 3) {
             added = mesh.add_face(face[triangles[t]], face[triangles[t + 1]], face[triangles[t + 2]]);
+            set_color(added, face_number);
+        }
         mesh.status(added).set_fixed_nonmanifold(true);
     }
+    if (!counts.triangle_colors.empty()) counts.triangle_colors.resize(mesh.n_faces(), no_color);
     return counts;
+}
+
+// Each face's colour from its OBJ material's Kd (no_color before any usemtl, or for a material
+// not found); empty when the file uses no material. One warning line for each library not read,
+// for the materials not found, and for textures, which are not drawn.
+std::vector<Color> material_colors(const std::filesystem::path& file, const ModelContents& contents,
+                                   std::vector<std::string>& warnings) {
+    if (contents.material_uses.empty()) return {};
+    MaterialLibrary materials;
+    for (const std::string& name : contents.material_libraries) {
+        std::string text;
+        if (!read_material_file(file, name, text, warnings)) continue;
+        MaterialLibrary library = parse_material_library(text, display(file.parent_path() / name), warnings);
+        materials.diffuse.merge(library.diffuse);  // the first library to define a name wins
+        materials.has_textures = materials.has_textures || library.has_textures;
+    }
+    if (contents.material_libraries.empty())
+        warnings.push_back(fmt::format("{}: usemtl without an mtllib line: the faces keep the object's colour",
+                                       display(file)));
+    if (materials.has_textures)
+        warnings.push_back(fmt::format("{}: textures (map_Kd and other maps) are not drawn: faces take their "
+                                       "material's Kd colour", display(file)));
+    std::vector<Color> colors(contents.face_ends.size(), no_color);
+    std::vector<std::string> missing;
+    for (std::size_t u = 0; u < contents.material_uses.size(); ++u) {
+        const ModelContents::MaterialUse& use = contents.material_uses[u];
+        const std::size_t last = u + 1 < contents.material_uses.size() ? contents.material_uses[u + 1].first_face
+                                                                         : colors.size();
+        const auto found = materials.diffuse.find(use.name);
+        if (found == materials.diffuse.end()) {
+            if (!contents.material_libraries.empty() && use.first_face < last &&
+                std::find(missing.begin(), missing.end(), use.name) == missing.end())
+                missing.push_back(use.name);
+            continue;
+        }
+        for (std::size_t f = use.first_face; f < last; ++f) colors[f] = {found->second.r, found->second.g, found->second.b};
+    }
+    if (!missing.empty())
+        warnings.push_back(fmt::format("{}: no Kd colour for material '{}'{} in the material libraries read: "
+                                       "those faces keep the object's colour",
+                                       display(file), printable(missing[0]),
+                                       missing.size() == 1 ? std::string()
+                                                           : fmt::format(" (and {} more)", missing.size() - 1)));
+    return colors;
+}
+
+// Each face's colour from an OFF or PLY file: its own colour, else the mean of its corners'
+// colours; empty when the file gives none.
+std::vector<Color> file_colors(const ModelContents& contents) {
+    if (contents.face_colors.empty() && contents.vertex_colors.empty()) return {};
+    std::vector<Color> colors(contents.face_ends.size(), no_color);
+    uint32_t begin = 0;
+    for (std::size_t f = 0; f < contents.face_ends.size(); ++f) {
+        const uint32_t end = contents.face_ends[f];
+        if (!contents.face_colors.empty() && !std::isnan(contents.face_colors[f][0])) {
+            colors[f] = contents.face_colors[f];
+        } else if (!contents.vertex_colors.empty()) {
+            glm::dvec3 sum(0.0);
+            int counted = 0;
+            for (uint32_t c = begin; c < end; ++c) {
+                const Color& corner = contents.vertex_colors[static_cast<std::size_t>(contents.corners[c])];
+                if (std::isnan(corner[0])) continue;
+                sum += glm::dvec3(corner[0], corner[1], corner[2]);
+                ++counted;
+            }
+            if (counted > 0) {
+                const glm::dvec3 mean = sum / double(counted);
+                colors[f] = {float(mean.x), float(mean.y), float(mean.z)};
+            }
+        }
+        begin = end;
+    }
+    return colors;
 }
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -323,6 +414,11 @@ Object read_model_object(const std::filesystem::path& file) {
         }
     }
 
+    std::vector<std::string> warnings;
+    const std::vector<Color> face_colors = !contents ? std::vector<Color>{}
+                                           : format == Format::obj ? material_colors(file, *contents, warnings)
+                                                                   : file_colors(*contents);
+
     TriMesh mesh;
     mesh.request_face_status();
     std::string chatter;
@@ -332,7 +428,7 @@ Object read_model_object(const std::filesystem::path& file) {
         OpenMeshCapture capture;
         try {
             if (contents) {
-                face_counts = build_polygon_mesh(*contents, mesh);
+                face_counts = build_polygon_mesh(*contents, face_colors, mesh);
                 contents.reset();
                 read = true;
             } else {
@@ -360,6 +456,10 @@ Object read_model_object(const std::filesystem::path& file) {
     Object object = object_from_mesh(mesh);
     object.separated_faces = separated;
     object.source = display(file);
+    object.warnings = std::move(warnings);
+    const glm::vec3 object_color = MeshOptions().color;
+    for (const Color& c : face_counts.triangle_colors)
+        object.face_colors.push_back(std::isnan(c[0]) ? object_color : glm::vec3(c[0], c[1], c[2]));
     if (face_counts.intersecting > 0)
         object.warnings.push_back(fmt::format("{}: {} face{} crossing {} outline cut into a fan from the first corner",
                                               object.source, face_counts.intersecting,

@@ -236,7 +236,8 @@ void add_kept_triangles(const Object& object, uint32_t o, const std::vector<glm:
         scene.indices.insert(scene.indices.end(), corner.begin(), corner.end());
         scene.edge_neighbors.insert(scene.edge_neighbors.end(), across.begin(), across.end());
         scene.face_object.push_back(o);
-        const glm::vec3 color = object.face_colors.empty() ? options.color : object.face_colors[t];
+        const glm::vec3 color =
+            object.face_colors.empty() || options.color_given ? options.color : object.face_colors[t];
         scene.face_colors.insert(scene.face_colors.end(), {color.r, color.g, color.b});
     }
 }
