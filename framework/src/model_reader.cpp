@@ -324,16 +324,24 @@ FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<C
     return counts;
 }
 
+bool any_color(const std::vector<Color>& colors) {
+    return std::any_of(colors.begin(), colors.end(), [](const Color& c) { return !std::isnan(c[0]); });
+}
+
 // Each face's colour from its OBJ material's Kd (no_color before any usemtl, or for a material
-// not found); empty when the file uses no material. One warning line for each library not read,
-// for the materials not found, and for textures, which are not drawn.
+// not found); empty when no face has one. One warning line for each library not read, one for the
+// materials not found when every library was read, and one for textures, which are not drawn.
 std::vector<Color> material_colors(const std::filesystem::path& file, const ModelContents& contents,
                                    std::vector<std::string>& warnings) {
     if (contents.material_uses.empty()) return {};
     MaterialLibrary materials;
+    bool all_read = true;
     for (const std::string& name : contents.material_libraries) {
         std::string text;
-        if (!read_material_file(file, name, text, warnings)) continue;
+        if (!read_material_file(file, name, text, warnings)) {
+            all_read = false;
+            continue;
+        }
         MaterialLibrary library = parse_material_library(text, display(file.parent_path() / name), warnings);
         materials.diffuse.merge(library.diffuse);  // the first library to define a name wins
         materials.has_textures = materials.has_textures || library.has_textures;
@@ -352,7 +360,8 @@ std::vector<Color> material_colors(const std::filesystem::path& file, const Mode
                                                                          : colors.size();
         const auto found = materials.diffuse.find(use.name);
         if (found == materials.diffuse.end()) {
-            if (!contents.material_libraries.empty() && use.first_face < last &&
+            // A library not read has had its warning, which explains its materials too.
+            if (!contents.material_libraries.empty() && all_read && use.first_face < last &&
                 std::find(missing.begin(), missing.end(), use.name) == missing.end())
                 missing.push_back(use.name);
             continue;
@@ -365,11 +374,11 @@ std::vector<Color> material_colors(const std::filesystem::path& file, const Mode
                                        display(file), printable(missing[0]),
                                        missing.size() == 1 ? std::string()
                                                            : fmt::format(" (and {} more)", missing.size() - 1)));
-    return colors;
+    return any_color(colors) ? colors : std::vector<Color>{};
 }
 
 // Each face's colour from an OFF or PLY file: its own colour, else the mean of its corners'
-// colours; empty when the file gives none.
+// colours; empty when no face has one.
 std::vector<Color> file_colors(const ModelContents& contents) {
     if (contents.face_colors.empty() && contents.vertex_colors.empty()) return {};
     std::vector<Color> colors(contents.face_ends.size(), no_color);
@@ -394,7 +403,7 @@ std::vector<Color> file_colors(const ModelContents& contents) {
         }
         begin = end;
     }
-    return colors;
+    return any_color(colors) ? colors : std::vector<Color>{};
 }
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }

@@ -24,7 +24,7 @@ PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const 
 enum class FaceCut {
     polygon,          // the face's own area: a fan if it is convex, ear clipping otherwise
     fan_no_area,      // its corners are collinear or coincide: a fan, whose triangles have no area
-    fan_intersecting  // its outline crosses itself: a fan from its first corner
+    fan_intersecting  // its outline crosses or touches itself: a fan from its first corner
 };
 
 // Cuts a face of 4 or more corners (positions in the file's order, not necessarily planar) into
