@@ -344,6 +344,7 @@ TEST_CASE("OBJ: checked in pieces of any size, the contents or the first refusal
         triangle + "f 1 2 3\n" + triangle + "f 9 2 3\nf 1 2 0\n",       // out of range, then a bad line
         triangle + "\vv 1 1 1\nf 1 2 3\nf 2 3 4\n",                      // a vertex OpenMesh does not have
         triangle + "f 1 2 3 1 2 3\nv 1 1 1\nf 1 2 3 4\nfx 1 2\nv# 2 2 2\nf#\nf 1 2 4",
+        "mtllib a.mtl b.mtl\nusemtl a\n" + triangle + "f 1 2 3\nf 1 3 2\nusemtl b\nf 2 3 1\nmtllib c.mtl\nusemtl\nf 1 2 3\n",
     };
     for (std::size_t k = 0; k < texts.size(); ++k) files.emplace_back(fmt::format("case-{}.obj", k), texts[k]);
     for (const auto& [file, text] : files) {
@@ -372,6 +373,12 @@ TEST_CASE("OBJ: checked in pieces of any size, the contents or the first refusal
                    std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof a.positions[0]) == 0));
             CHECK(a.corners == b.corners);
             CHECK(a.face_ends == b.face_ends);
+            CHECK(a.material_libraries == b.material_libraries);
+            REQUIRE(a.material_uses.size() == b.material_uses.size());
+            for (std::size_t u = 0; u < a.material_uses.size(); ++u) {
+                CHECK(a.material_uses[u].first_face == b.material_uses[u].first_face);
+                CHECK(a.material_uses[u].name == b.material_uses[u].name);
+            }
         }
     }
 }
