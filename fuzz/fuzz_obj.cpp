@@ -1,6 +1,6 @@
 // Fuzz target: the input as a model file input.obj through hsr::load_model, as `hsr render` reads a
-// model: OBJ: the pre-parser check_obj_text, then OpenMesh's OBJ reader,
-// then the scene build (normals, adjacency, bounds).
+// model: OBJ: the checks of check_obj_text, which parse it, the mesh built with its polygons
+// cut into triangles, then the scene build (normals, adjacency, bounds).
 #include "fuzz_support.hpp"
 
 #include "hsr/scene_builder.hpp"

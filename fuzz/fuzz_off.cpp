@@ -1,6 +1,6 @@
 // Fuzz target: the input as a model file input.off through hsr::load_model, as `hsr render` reads a
-// model: OFF: the pre-parser check_off_text, then OpenMesh's OFF reader,
-// then the scene build (normals, adjacency, bounds).
+// model: OFF: the checks of check_off_text, which parse it, the mesh built with its polygons
+// cut into triangles, then the scene build (normals, adjacency, bounds).
 #include "fuzz_support.hpp"
 
 #include "hsr/scene_builder.hpp"

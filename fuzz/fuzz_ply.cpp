@@ -1,6 +1,6 @@
 // Fuzz target: the input as a model file input.ply through hsr::load_model, as `hsr render` reads a
-// model: PLY (ASCII and binary): the pre-parser check_ply_text, then OpenMesh's PLY reader,
-// then the scene build (normals, adjacency, bounds).
+// model: PLY (ASCII and binary): the checks of check_ply_text, which parse it, the mesh built
+// with its polygons cut into triangles, then the scene build (normals, adjacency, bounds).
 #include "fuzz_support.hpp"
 
 #include "hsr/scene_builder.hpp"

@@ -177,13 +177,6 @@ std::size_t ply_header_end(std::string_view text) {
     return std::string_view::npos;
 }
 
-// Appends the bytes of a value as they lie in memory.
-template <class T>
-void append_bytes(std::string& out, T value) {
-    const auto bytes = std::bit_cast<std::array<char, sizeof value>>(value);
-    out.append(bytes.data(), bytes.size());
-}
-
 class TextChecker {
 public:
     explicit TextChecker(const std::filesystem::path& file) : file_(file) {}
@@ -220,7 +213,7 @@ public:
     // rewrite_obj does. That reader skips a line that starts with a vertical tab or form feed (it
     // trims only " \t\r\n"), which the checks read as any other line, so the vertices it counts
     // can fall behind theirs: its own count resolves relative references.
-    ObjContents check_obj(std::string_view text) {
+    ModelContents check_obj(std::string_view text) {
         text.remove_prefix(byte_order_mark(text));
         std::vector<ObjPiece> pieces(1);
         check_obj_lines(text, ObjCounts{}, pieces[0]);
@@ -233,7 +226,7 @@ public:
     // (the line numbers, the vertex counts relative references resolve against, the triangles the
     // limit counts). The first piece that fails fails the whole: every line before its first bad line
     // is good, so its counts, and so its message, are those of a check line by line.
-    ObjContents check_obj_in_pieces(std::string_view text, std::size_t piece_bytes) {
+    ModelContents check_obj_in_pieces(std::string_view text, std::size_t piece_bytes) {
         text.remove_prefix(byte_order_mark(text));
         std::vector<std::string_view> parts;
         while (!text.empty()) {
@@ -285,7 +278,7 @@ private:
     };
     // What the lines of a piece of an OBJ text hold.
     struct ObjPiece {
-        ObjContents contents;
+        ModelContents contents;
         long long vertices_after = 0;  // the file's vertices up to the piece's end, and OpenMesh's count
         long long openmesh_vertices_after = 0;
         long long largest = 0;  // the largest vertex reference, and the line of its first use
@@ -328,7 +321,7 @@ private:
     // Checks the lines of text, `before` being what the lines before it held, into piece.
     void check_obj_lines(std::string_view text, const ObjCounts& before, ObjPiece& piece) {
         LineReader lines(text, '#', before.lines);
-        ObjContents& contents = piece.contents;
+        ModelContents& contents = piece.contents;
         long long vertices = before.vertices;
         long long openmesh_vertices = before.openmesh_vertices;
         triangles_ = before.triangles;
@@ -372,6 +365,12 @@ private:
                     contents.corners.push_back(static_cast<int32_t>(std::max(corner, -1LL)));
                 }
                 if (!skipped) contents.face_ends.push_back(static_cast<uint32_t>(contents.corners.size()));
+            } else if (kind == "mtllib") {
+                for (std::size_t i = 1; i < line.tokens.size(); ++i)
+                    contents.material_libraries.emplace_back(line.tokens[i]);
+            } else if (kind == "usemtl") {
+                contents.material_uses.push_back({static_cast<uint32_t>(contents.face_ends.size()),
+                                                  line.tokens.size() > 1 ? std::string(line.tokens[1]) : std::string()});
             }
         }
         piece.vertices_after = vertices;
@@ -379,7 +378,7 @@ private:
     }
 
     // The checks of the whole file once its lines are checked, and the pieces' contents as one.
-    ObjContents finish_obj(std::vector<ObjPiece>& pieces) const {
+    ModelContents finish_obj(std::vector<ObjPiece>& pieces) const {
         long long largest = 0;
         std::size_t largest_line = 0;
         bool missing_vertex = false;
@@ -405,11 +404,16 @@ private:
             if (missing_vertex) fail("some faces refer to vertices that do not exist");
             return std::move(pieces[0].contents);
         }
-        ObjContents contents;
+        ModelContents contents;
         contents.positions.reserve(positions);
         contents.corners.reserve(corners);
         contents.face_ends.reserve(faces);
         for (const ObjPiece& piece : pieces) {
+            const auto faces_before = static_cast<uint32_t>(contents.face_ends.size());
+            for (const std::string& library : piece.contents.material_libraries)
+                contents.material_libraries.push_back(library);
+            for (const ModelContents::MaterialUse& use : piece.contents.material_uses)
+                contents.material_uses.push_back({faces_before + use.first_face, use.name});
             const auto offset = static_cast<uint32_t>(contents.corners.size());
             contents.positions.insert(contents.positions.end(), piece.contents.positions.begin(),
                                       piece.contents.positions.end());
@@ -467,9 +471,29 @@ public:
         return text;
     }
 
-    // Returns the file re-written for OpenMesh's reader: no comments, counts on their own line,
-    // faces without colours.
-    std::string check_off(std::string_view text) {
+    static constexpr std::array<float, 3> no_color = {NAN, NAN, NAN};
+
+    // The colour r g b [a] of an OFF vertex or face (the rest of its line): whole numbers with one
+    // above 1 are 0-255, anything else 0-1, each channel clamped to [0, 1]; no_color for fewer than
+    // three numbers.
+    static std::array<float, 3> off_color(std::span<const std::string_view> words) {
+        if (words.size() < 3) return no_color;
+        std::array<double, 3> values;
+        bool whole = true;
+        for (int k = 0; k < 3; ++k) {
+            const std::optional<double> v = parse_number(words[k]);
+            if (!v || !std::isfinite(*v)) return no_color;
+            values[k] = *v;
+            whole = whole && words[k].find_first_of(".eE") == std::string_view::npos;
+        }
+        const double scale = whole && std::max({values[0], values[1], values[2]}) > 1.0 ? 255.0 : 1.0;
+        std::array<float, 3> color;
+        for (int k = 0; k < 3; ++k) color[k] = static_cast<float>(std::clamp(values[k] / scale, 0.0, 1.0));
+        return color;
+    }
+
+    // Checks an ASCII OFF file and returns its positions, faces and colours.
+    ModelContents check_off(std::string_view text) {
         text.remove_prefix(byte_order_mark(text));
         LineReader lines(text, '#');
         const Line* first = lines.next();
@@ -503,15 +527,19 @@ public:
                                  *face_count));
             return *line;
         };
-        std::string cleaned = keyword + "\n" + std::string(counts[0]) + " " + std::string(counts[1]) + " 0\n";
-        auto append = [&cleaned](std::span<const std::string_view> tokens) {
-            for (std::string_view token : tokens) (cleaned += token) += ' ';
-            cleaned += '\n';
-        };
+        ModelContents contents;
+        // [ST][C][N]OFF: a vertex is x y z, then nx ny nz with N, then its colour with C.
+        const bool vertex_colors = keyword.find('C') != std::string::npos;
+        const std::size_t color_start = keyword.find('N') != std::string::npos ? 6 : 3;
         for (long long v = 0; v < *vertex_count; ++v) {
             const Line& line = next_line();
             coordinates(line, 0);  // x y z come first
-            append(line.tokens);
+            std::array<float, 3> position;
+            for (int k = 0; k < 3; ++k) position[k] = static_cast<float>(*parse_number(line.tokens[k]));
+            contents.positions.push_back(position);
+            if (vertex_colors)
+                contents.vertex_colors.push_back(
+                    off_color(std::span(line.tokens).subspan(std::min(color_start, line.tokens.size()))));
         }
         for (long long f = 0; f < *face_count; ++f) {
             const Line& line = next_line();
@@ -528,20 +556,26 @@ public:
                 if (*index < 0 || *index >= *vertex_count)
                     fail(line.number, fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                                   *index, *vertex_count));
+                contents.corners.push_back(static_cast<int32_t>(*index));
             }
-            // Without its colour: OpenMesh reads the faces as one stream of numbers, so a colour
-            // after the indices would be read as the next face's corner count (-1: four billion).
-            append(std::span(line.tokens).first(static_cast<std::size_t>(1 + *corners)));
+            contents.face_ends.push_back(static_cast<uint32_t>(contents.corners.size()));
+            // A colour after the indices: r g b [a]; one number (a colour-map index) is not read.
+            contents.face_colors.push_back(off_color(std::span(line.tokens).subspan(1 + *corners)));
         }
-        return cleaned;
+        if (std::all_of(contents.face_colors.begin(), contents.face_colors.end(),
+                        [](const std::array<float, 3>& c) { return std::isnan(c[0]); }))
+            contents.face_colors.clear();
+        if (!vertex_colors) return contents;
+        // A file whose vertices carry no colour at all keeps the object's colour.
+        if (std::all_of(contents.vertex_colors.begin(), contents.vertex_colors.end(),
+                        [](const std::array<float, 3>& c) { return std::isnan(c[0]); }))
+            contents.vertex_colors.clear();
+        return contents;
     }
 
     // Walks the whole file the way a PLY reader would, ASCII or binary, and returns the vertex
-    // positions and faces as a binary PLY of one layout (float x y z; list int int vertex_indices).
-    // OpenMesh's binary reader skips a property whose type it does not convert (an integer x, a
-    // double colour, a short list count) without consuming its bytes, and then reads the rest of the
-    // file out of step: counts of billions from a few hundred bytes.
-    std::string check_ply(std::string_view text) {
+    // positions and faces.
+    ModelContents check_ply(std::string_view text) {
         const std::size_t header_end = ply_header_end(text);
         const PlyHeader header = read_ply_header(text, header_end);
         PlyValues values(*this, text, header_end, header.format);
@@ -549,14 +583,7 @@ public:
         const PlyElement* face_element = nullptr;
         find_vertices_and_faces(header.elements, vertex_element, face_element);
         const long long vertex_count = vertex_element ? vertex_element->count : 0;
-        const PlyMesh mesh = read_ply_body(header.elements, vertex_element, face_element, vertex_count, values);
-        const bool little = std::endian::native == std::endian::little;
-        std::string clean = fmt::format(
-            "ply\nformat {} 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
-            "element face {}\nproperty list int int vertex_indices\nend_header\n",
-            little ? "binary_little_endian" : "binary_big_endian", vertex_count, mesh.face_count);
-        clean.reserve(clean.size() + mesh.vertices.size() + mesh.faces.size());
-        return clean.append(mesh.vertices).append(mesh.faces);
+        return read_ply_body(header.elements, vertex_element, face_element, vertex_count, values);
     }
 
     void check_stl(std::string_view text) {
@@ -732,26 +759,27 @@ private:
                     fail(fmt::format("the vertex element has no {} property", axis));
     }
 
-    // The positions (float x y z) and faces (int count, int indices) of a PLY body, in the bytes
-    // of the clean file.
-    struct PlyMesh {
-        std::string vertices, faces;
-        long long face_count = 0;
-    };
-
     // Reads every element's entries from values, checking the vertices and faces.
-    PlyMesh read_ply_body(const std::vector<PlyElement>& elements, const PlyElement* vertex_element,
-                          const PlyElement* face_element, long long vertex_count, PlyValues& values) {
-        PlyMesh mesh;
+    ModelContents read_ply_body(const std::vector<PlyElement>& elements, const PlyElement* vertex_element,
+                                const PlyElement* face_element, long long vertex_count, PlyValues& values) {
+        ModelContents mesh;
         for (const PlyElement& element : elements) {
             const bool is_vertex = &element == vertex_element;
             const bool is_face = &element == face_element;
+            const bool colored = (is_vertex || is_face) && has_rgb(element);
             for (long long e = 0; e < element.count; ++e) {
                 float position[3] = {0, 0, 0};
+                std::array<float, 3> color = {0, 0, 0};
                 bool face_listed = false;
                 for (const PlyProperty& property : element.properties) {
                     if (!property.count_type) {
                         double v = values.next(element, *property.type);
+                        if (const int channel = rgb_channel(property); colored && channel >= 0) {
+                            const bool whole = property.type->scalar != PlyScalar::float32 &&
+                                               property.type->scalar != PlyScalar::float64;
+                            const double value = whole ? v / 255.0 : v;
+                            color[channel] = std::isfinite(value) ? static_cast<float>(std::clamp(value, 0.0, 1.0)) : 0.0f;
+                        }
                         if (!is_vertex || property.name.size() != 1 || property.name[0] < 'x' || property.name[0] > 'z')
                             continue;
                         if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
@@ -768,8 +796,6 @@ private:
                     if (indices && count > max_face_corners) values.fail_at(too_many_corners);
                     if (indices) {
                         count_face(static_cast<uint64_t>(count));
-                        append_bytes(mesh.faces, static_cast<int32_t>(count));
-                        ++mesh.face_count;
                         face_listed = true;
                     }
                     for (double i = 0; i < count; ++i) {
@@ -778,14 +804,28 @@ private:
                         if (index != std::floor(index) || index < 0 || index >= static_cast<double>(vertex_count))
                             values.fail_at(fmt::format("vertex index {} is out of range (the file has {} vertices)",
                                                        index, vertex_count));
-                        append_bytes(mesh.faces, static_cast<int32_t>(index));
+                        mesh.corners.push_back(static_cast<int32_t>(index));
                     }
+                    if (indices) mesh.face_ends.push_back(static_cast<uint32_t>(mesh.corners.size()));
                 }
-                if (is_vertex)
-                    for (float c : position) append_bytes(mesh.vertices, c);
+                if (is_vertex) mesh.positions.push_back({position[0], position[1], position[2]});
+                if (colored && is_vertex) mesh.vertex_colors.push_back(color);
+                if (colored && face_listed) mesh.face_colors.push_back(color);
             }
         }
         return mesh;
+    }
+
+    // Which colour channel a property is (red, green, blue: 0, 1, 2), -1 for none.
+    static int rgb_channel(const PlyProperty& property) {
+        if (property.count_type) return -1;
+        return property.name == "red" ? 0 : property.name == "green" ? 1 : property.name == "blue" ? 2 : -1;
+    }
+    static bool has_rgb(const PlyElement& element) {
+        bool channels[3] = {false, false, false};
+        for (const PlyProperty& property : element.properties)
+            if (const int channel = rgb_channel(property); channel >= 0) channels[channel] = true;
+        return channels[0] && channels[1] && channels[2];
     }
 
     // A face of `corners` vertices is stored as corners - 2 triangles; the stored-triangles limit is
@@ -802,7 +842,7 @@ private:
 
 }  // namespace
 
-ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text, std::size_t piece_bytes) {
+ModelContents check_obj_text(const std::filesystem::path& file, std::string_view text, std::size_t piece_bytes) {
     return TextChecker(file).check_obj_in_pieces(text, piece_bytes);
 }
 
@@ -812,11 +852,11 @@ std::string obj_text_for_openmesh(const std::filesystem::path& file, std::string
     return checker.rewrite_obj(std::move(text));
 }
 
-std::string check_off_text(const std::filesystem::path& file, std::string_view text) {
+ModelContents check_off_text(const std::filesystem::path& file, std::string_view text) {
     return TextChecker(file).check_off(text);
 }
 
-std::string check_ply_text(const std::filesystem::path& file, std::string_view text) {
+ModelContents check_ply_text(const std::filesystem::path& file, std::string_view text) {
     return TextChecker(file).check_ply(text);
 }
 

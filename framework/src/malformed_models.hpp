@@ -2,7 +2,8 @@
 // header without end_header or an OFF face claiming a billion corners makes them spin, and an
 // unparsable number silently shifts every later vertex. These checks walk the text (structure,
 // finite coordinates, index ranges) and throw hsr::Error "file:line: message" at the first problem.
-// An OBJ file's checks also keep what they parse, which model_reader.cpp builds the mesh from.
+// The checks of OBJ, OFF and PLY files also keep what they parse, which model_reader.cpp builds the
+// mesh from.
 #pragma once
 
 #include <array>
@@ -14,27 +15,35 @@
 
 namespace hsr {
 
-// An OBJ file's vertex positions and faces, as OpenMesh's OBJ reader reads the text that
+// A model file's vertex positions and faces. For OBJ, as OpenMesh's OBJ reader reads the text that
 // obj_text_for_openmesh returns (same vertices in the same order, same numbers).
-struct ObjContents {
+struct ModelContents {
     std::vector<std::array<float, 3>> positions;
     std::vector<int32_t> corners;     // each face's vertices as listed (0-based), face after face
     std::vector<uint32_t> face_ends;  // where each face's corners end
+    // Colours the file gives, each channel in [0, 1]: one per position (OFF, PLY), or one per face
+    // (OFF, PLY), a face without one NaN; empty when the file gives none.
+    std::vector<std::array<float, 3>> vertex_colors, face_colors;
+    // OBJ: the material libraries named (mtllib), and each usemtl line, from which face on.
+    struct MaterialUse {
+        uint32_t first_face;
+        std::string name;
+    };
+    std::vector<std::string> material_libraries;
+    std::vector<MaterialUse> material_uses;
 };
 
 // Checks an OBJ file and returns what it holds: the same contents, or the same first error, as a
 // check line by line, with pieces of about piece_bytes checked in parallel.
-ObjContents check_obj_text(const std::filesystem::path& file, std::string_view text,
+ModelContents check_obj_text(const std::filesystem::path& file, std::string_view text,
                            std::size_t piece_bytes = std::size_t(1) << 18);
 // Checks an OBJ file and returns its text for OpenMesh's OBJ reader, with lines that would make it
 // open other files commented out (the reference that tests compare check_obj_text with).
 std::string obj_text_for_openmesh(const std::filesystem::path& file, std::string text);
-// Returns the text re-written for OpenMesh's OFF reader, which accepts neither comment lines nor
-// the counts on the header line, and reads a face's colour as the next face.
-std::string check_off_text(const std::filesystem::path& file, std::string_view text);
-// Returns the vertex positions and faces of an ASCII or binary PLY as a binary PLY of the one layout
-// that OpenMesh's binary reader reads reliably.
-std::string check_ply_text(const std::filesystem::path& file, std::string_view text);
+// Checks an ASCII OFF file and returns what it holds.
+ModelContents check_off_text(const std::filesystem::path& file, std::string_view text);
+// Checks an ASCII or binary PLY file and returns what it holds.
+ModelContents check_ply_text(const std::filesystem::path& file, std::string_view text);
 void check_stl_text(const std::filesystem::path& file, std::string_view text);  // ASCII or binary
 
 }  // namespace hsr

@@ -3,16 +3,18 @@
 // face of the opposite half-edge).
 //
 // Text files are checked before OpenMesh sees them (malformed_models.hpp), OpenMesh's own messages
-// are captured instead of printed, and what it loaded is checked again. The checks of an OBJ file
-// also parse it, and its mesh is built here as OpenMesh's OBJ reader builds it (as OpenMesh's
-// importer), without that reader's two iostream passes; ASCII OFF goes to OpenMesh as the checks
-// re-write it, PLY as the checks convert it.
+// are captured instead of printed, and what it loaded is checked again. The checks of an OBJ, OFF or
+// PLY file also parse it, and its mesh is built here as OpenMesh's importer builds an OBJ file's,
+// except that a face of more than 3 corners is cut by polygon_triangulation.hpp rather than into a
+// fan; only STL goes through OpenMesh's reader.
 #include "model_reader.hpp"
 
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "malformed_models.hpp"
+#include "material_library.hpp"
+#include "polygon_triangulation.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -252,20 +254,41 @@ TriMesh::FaceHandle add_triangle(TriMesh& mesh, TriMesh::VertexHandle a, TriMesh
     return face;
 }
 
-// The mesh OpenMesh's OBJ reader makes of the text: every vertex first, then each face with its
-// repeated corners left out (keeping the first), if 3 remain, added as OpenMesh's importer
-// (ImporterT::add_face) adds it: TriMesh::add_face splits a polygon into a fan (done here with
-// add_triangle), and when it fails (the last triangle would make the mesh non-manifold) the whole
-// face is added again on vertices of its own, and that last triangle marked. The importer's checks
-// for invalid and repeated vertices are left out: check_obj_text and the loop here have done them.
-void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
+using Color = std::array<float, 3>;
+constexpr Color no_color = {NAN, NAN, NAN};
+
+// What building a mesh noticed about its faces, and the colour of each triangle it added.
+struct FaceCounts {
+    uint32_t intersecting = 0;  // faces whose outline crosses itself, cut into a fan
+    std::vector<Color> triangle_colors;  // by OpenMesh face index; empty when the faces have none
+};
+
+// The mesh of a model's contents, built as OpenMesh's importer (ImporterT::add_face) builds it:
+// every vertex first, then each face with its repeated corners left out (keeping the first), if 3
+// remain, cut into triangles (triangulate_face) and each added on its own (with add_triangle); when
+// the last fails (it would make the mesh non-manifold) the whole face is added again on vertices of
+// its own, and that last triangle marked. A convex face's triangles are the fan TriMesh::add_face
+// makes, so such a face is added exactly as OpenMesh adds it. The importer's checks for invalid and
+// repeated vertices are left out: the checks of the text and the loop here have done them.
+// `face_colors` holds one colour per face (no_color for none) or is empty.
+FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<Color>& face_colors, TriMesh& mesh) {
     const std::size_t corners = contents.corners.size();  // at least 3 a face
     mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
                  static_cast<unsigned>(corners - 2 * contents.face_ends.size()));
     for (const std::array<float, 3>& p : contents.positions) mesh.add_vertex(TriMesh::Point(p[0], p[1], p[2]));
+    FaceCounts counts;
     std::vector<TriMesh::VertexHandle> face;
+    std::vector<glm::vec3> face_positions;
+    std::vector<uint32_t> triangles;
     uint32_t begin = 0;
-    for (uint32_t end : contents.face_ends) {
+    auto set_color = [&](TriMesh::FaceHandle added, std::size_t face_number) {
+        if (face_colors.empty() || !added.is_valid()) return;
+        const auto index = static_cast<std::size_t>(added.idx());
+        if (counts.triangle_colors.size() <= index) counts.triangle_colors.resize(index + 1, no_color);
+        counts.triangle_colors[index] = face_colors[face_number];
+    };
+    for (std::size_t face_number = 0; face_number < contents.face_ends.size(); ++face_number) {
+        const uint32_t end = contents.face_ends[face_number];
         face.clear();
         for (uint32_t c = begin; c < end; ++c) {
             const TriMesh::VertexHandle v(contents.corners[c]);
@@ -273,15 +296,114 @@ void build_obj_mesh(const ObjContents& contents, TriMesh& mesh) {
         }
         begin = end;
         if (face.size() < 3) continue;
-        // TriMesh::add_face: a fan from the first corner, each triangle added on its own; the face
-        // is the last one's.
+        triangles.clear();
+        if (face.size() == 3) {
+            triangles = {0, 1, 2};
+        } else {
+            face_positions.clear();
+            for (TriMesh::VertexHandle v : face) {
+                const TriMesh::Point& p = mesh.point(v);
+                face_positions.emplace_back(p[0], p[1], p[2]);
+            }
+            if (triangulate_face(face_positions, triangles) == FaceCut::fan_intersecting) ++counts.intersecting;
+        }
         TriMesh::FaceHandle added;
-        for (std::size_t k = 1; k + 1 < face.size(); ++k) added = add_triangle(mesh, face[0], face[k], face[k + 1]);
+        for (std::size_t t = 0; t < triangles.size(); t += 3) {
+            added = add_triangle(mesh, face[triangles[t]], face[triangles[t + 1]], face[triangles[t + 2]]);
+            set_color(added, face_number);
+        }
         if (added.is_valid()) continue;
         for (TriMesh::VertexHandle& v : face) v = mesh.add_vertex(TriMesh::Point(mesh.point(v)));
-        added = mesh.add_face(face);
+        for (std::size_t t = 0; t < triangles.size(); t += 3) {
+            added = mesh.add_face(face[triangles[t]], face[triangles[t + 1]], face[triangles[t + 2]]);
+            set_color(added, face_number);
+        }
         mesh.status(added).set_fixed_nonmanifold(true);
     }
+    if (!counts.triangle_colors.empty()) counts.triangle_colors.resize(mesh.n_faces(), no_color);
+    return counts;
+}
+
+bool any_color(const std::vector<Color>& colors) {
+    return std::any_of(colors.begin(), colors.end(), [](const Color& c) { return !std::isnan(c[0]); });
+}
+
+// Each face's colour from its OBJ material's Kd (no_color before any usemtl, or for a material
+// not found); empty when no face has one. One warning line for each library not read, one for the
+// materials not found when every library was read, and one for textures, which are not drawn.
+std::vector<Color> material_colors(const std::filesystem::path& file, const ModelContents& contents,
+                                   std::vector<std::string>& warnings) {
+    if (contents.material_uses.empty()) return {};
+    MaterialLibrary materials;
+    bool all_read = true;
+    for (const std::string& name : contents.material_libraries) {
+        std::string text;
+        if (!read_material_file(file, name, text, warnings)) {
+            all_read = false;
+            continue;
+        }
+        MaterialLibrary library = parse_material_library(text, display(file.parent_path() / name), warnings);
+        materials.diffuse.merge(library.diffuse);  // the first library to define a name wins
+        materials.has_textures = materials.has_textures || library.has_textures;
+    }
+    if (contents.material_libraries.empty())
+        warnings.push_back(fmt::format("{}: usemtl without an mtllib line: the faces keep the object's colour",
+                                       display(file)));
+    if (materials.has_textures)
+        warnings.push_back(fmt::format("{}: textures (map_Kd and other maps) are not drawn: faces take their "
+                                       "material's Kd colour", display(file)));
+    std::vector<Color> colors(contents.face_ends.size(), no_color);
+    std::vector<std::string> missing;
+    for (std::size_t u = 0; u < contents.material_uses.size(); ++u) {
+        const ModelContents::MaterialUse& use = contents.material_uses[u];
+        const std::size_t last = u + 1 < contents.material_uses.size() ? contents.material_uses[u + 1].first_face
+                                                                         : colors.size();
+        const auto found = materials.diffuse.find(use.name);
+        if (found == materials.diffuse.end()) {
+            // A library not read has had its warning, which explains its materials too.
+            if (!contents.material_libraries.empty() && all_read && use.first_face < last &&
+                std::find(missing.begin(), missing.end(), use.name) == missing.end())
+                missing.push_back(use.name);
+            continue;
+        }
+        for (std::size_t f = use.first_face; f < last; ++f) colors[f] = {found->second.r, found->second.g, found->second.b};
+    }
+    if (!missing.empty())
+        warnings.push_back(fmt::format("{}: no Kd colour for material '{}'{} in the material libraries read: "
+                                       "those faces keep the object's colour",
+                                       display(file), printable(missing[0]),
+                                       missing.size() == 1 ? std::string()
+                                                           : fmt::format(" (and {} more)", missing.size() - 1)));
+    return any_color(colors) ? colors : std::vector<Color>{};
+}
+
+// Each face's colour from an OFF or PLY file: its own colour, else the mean of its corners'
+// colours; empty when no face has one.
+std::vector<Color> file_colors(const ModelContents& contents) {
+    if (contents.face_colors.empty() && contents.vertex_colors.empty()) return {};
+    std::vector<Color> colors(contents.face_ends.size(), no_color);
+    uint32_t begin = 0;
+    for (std::size_t f = 0; f < contents.face_ends.size(); ++f) {
+        const uint32_t end = contents.face_ends[f];
+        if (!contents.face_colors.empty() && !std::isnan(contents.face_colors[f][0])) {
+            colors[f] = contents.face_colors[f];
+        } else if (!contents.vertex_colors.empty()) {
+            glm::dvec3 sum(0.0);
+            int counted = 0;
+            for (uint32_t c = begin; c < end; ++c) {
+                const Color& corner = contents.vertex_colors[static_cast<std::size_t>(contents.corners[c])];
+                if (std::isnan(corner[0])) continue;
+                sum += glm::dvec3(corner[0], corner[1], corner[2]);
+                ++counted;
+            }
+            if (counted > 0) {
+                const glm::dvec3 mean = sum / double(counted);
+                colors[f] = {float(mean.x), float(mean.y), float(mean.z)};
+            }
+        }
+        begin = end;
+    }
+    return any_color(colors) ? colors : std::vector<Color>{};
 }
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -290,36 +412,34 @@ bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && st
 
 Object read_model_object(const std::filesystem::path& file) {
     Format format = format_of(file);
-    std::optional<std::string> cleaned;
-    std::optional<ObjContents> obj;
+    std::optional<ModelContents> contents;
     {
         std::string text = read_whole_file(file);
         switch (format) {
-        case Format::obj: obj = check_obj_text(file, text); break;
-        case Format::off: cleaned = check_off_text(file, text); break;
-        case Format::ply: cleaned = check_ply_text(file, text); break;
+        case Format::obj: contents = check_obj_text(file, text); break;
+        case Format::off: contents = check_off_text(file, text); break;
+        case Format::ply: contents = check_ply_text(file, text); break;
         case Format::stl: check_stl_text(file, text); break;
         }
     }
+
+    std::vector<std::string> warnings;
+    const std::vector<Color> face_colors = !contents ? std::vector<Color>{}
+                                           : format == Format::obj ? material_colors(file, *contents, warnings)
+                                                                   : file_colors(*contents);
 
     TriMesh mesh;
     mesh.request_face_status();
     std::string chatter;
     bool read = false;
+    FaceCounts face_counts;
     {
         OpenMeshCapture capture;
         try {
-            if (obj) {
-                build_obj_mesh(*obj, mesh);
-                obj.reset();
+            if (contents) {
+                face_counts = build_polygon_mesh(*contents, face_colors, mesh);
+                contents.reset();
                 read = true;
-            } else if (cleaned) {
-                std::istringstream stream(std::move(*cleaned));
-                cleaned.reset();
-                OpenMesh::IO::Options options;
-                const char* extension = format == Format::obj ? ".obj" : format == Format::off ? ".off" : ".ply";
-                if (format == Format::ply) options += OpenMesh::IO::Options::Binary;
-                read = OpenMesh::IO::read_mesh(mesh, stream, extension, options);
             } else {
                 read = OpenMesh::IO::read_mesh(mesh, file.string());
             }
@@ -345,6 +465,15 @@ Object read_model_object(const std::filesystem::path& file) {
     Object object = object_from_mesh(mesh);
     object.separated_faces = separated;
     object.source = display(file);
+    object.warnings = std::move(warnings);
+    const glm::vec3 object_color = MeshOptions().color;
+    for (const Color& c : face_counts.triangle_colors)
+        object.face_colors.push_back(std::isnan(c[0]) ? object_color : glm::vec3(c[0], c[1], c[2]));
+    if (face_counts.intersecting > 0)
+        object.warnings.push_back(fmt::format("{}: {} face{} crossing {} outline cut into a fan from the first corner",
+                                              object.source, face_counts.intersecting,
+                                              face_counts.intersecting == 1 ? "" : "s",
+                                              face_counts.intersecting == 1 ? "its" : "their"));
     for (std::size_t v = 0; v < object.positions.size(); ++v)
         if (!finite(object.positions[v]))
             throw Error("{}: vertex {} has a coordinate that is not a finite number", display(file), v);

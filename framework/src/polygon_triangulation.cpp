@@ -1,8 +1,11 @@
-// Planar polygons into triangles. The polygon is checked (finite, planar by its Newell normal, not
-// intersecting itself), projected onto the coordinate plane it faces most and cut by ear clipping:
-// by the two-ears theorem (Meisters, "Polygons have ears", American Mathematical Monthly 82, 1975)
-// every simple polygon with more than three corners has an ear, a corner whose triangle with its
-// two neighbours holds no other corner, so cutting off ears one at a time triangulates it.
+// Polygons into triangles: the planar polygons of a .scene file and the faces of model files. A
+// polygon is projected onto a plane and cut by ear clipping: by the two-ears theorem (Meisters,
+// "Polygons have ears", American Mathematical Monthly 82, 1975) every simple polygon with more than
+// three corners has an ear, a corner whose triangle with its two neighbours holds no other corner,
+// so cutting off ears one at a time triangulates it. The plane is the one of the Newell normal
+// (Newell's method: the normal as the sum of the edges' cross products, Sutherland, Sproull and
+// Schumacker, "A characterization of ten hidden-surface algorithms", Computing Surveys 6, 1974),
+// which is also the best-fitting plane's normal for a face that is not quite planar.
 #include "polygon_triangulation.hpp"
 
 #include "hsr/error.hpp"
@@ -10,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <optional>
 #include <utility>
 
 namespace hsr {
@@ -33,23 +37,25 @@ bool segments_touch(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d) {
            (d3 == 0 && on_segment(a, b, c)) || (d4 == 0 && on_segment(a, b, d));
 }
 
-// Throws if two edges that are not neighbours along the outline meet.
-void check_simple(const std::vector<glm::dvec2>& points, const std::string& what) {
+// Two edges, not neighbours along the outline, that meet (numbered from 1), if there are any.
+std::optional<std::pair<std::size_t, std::size_t>> meeting_edges(const std::vector<glm::dvec2>& points) {
     const std::size_t n = points.size();
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i + 1; j < n; ++j) {
             if (j == i + 1 || (i == 0 && j == n - 1)) continue;  // neighbouring edges share a corner
             if (segments_touch(points[i], points[(i + 1) % n], points[j], points[(j + 1) % n]))
-                throw Error("{}: the polygon intersects itself (edges {} and {} meet)", what, i + 1, j + 1);
+                return std::pair(i + 1, j + 1);
         }
+    return std::nullopt;
 }
 
-// Ear clipping of a counter-clockwise simple polygon; returns corner indices, 3 per triangle.
-// Collinear corners are removed without a triangle (they add no area).
-std::vector<uint32_t> ear_clip(const std::vector<glm::dvec2>& points, const std::string& what) {
+// Ear clipping of a counter-clockwise simple polygon into corner indices, 3 per triangle, appended
+// to `triangles`; false (with `triangles` as it was) if no ear is left, which happens only when the
+// polygon is not simple. Collinear corners are removed without a triangle (they add no area).
+bool ear_clip(const std::vector<glm::dvec2>& points, std::vector<uint32_t>& triangles) {
+    const std::size_t first_triangle = triangles.size();
     std::vector<uint32_t> remaining(points.size());
     for (uint32_t i = 0; i < remaining.size(); ++i) remaining[i] = i;
-    std::vector<uint32_t> triangles;
     std::size_t i = 0, misses = 0;
     while (remaining.size() > 3) {
         std::size_t n = remaining.size();
@@ -77,13 +83,55 @@ std::vector<uint32_t> ear_clip(const std::vector<glm::dvec2>& points, const std:
             misses = 0;
             if (i >= remaining.size()) i = 0;
         } else {
-            if (++misses > n) throw Error("{}: the polygon intersects itself", what);
+            if (++misses > n) {
+                triangles.resize(first_triangle);
+                return false;
+            }
             i = (i + 1) % n;
         }
     }
     if (cross2(points[remaining[0]], points[remaining[1]], points[remaining[2]]) != 0.0)
         triangles.insert(triangles.end(), {remaining[0], remaining[1], remaining[2]});
-    return triangles;
+    return true;
+}
+
+// Twice the vector area of a polygon about its centre (Newell's method), and the largest distance
+// of a corner from that centre.
+template <class Point>
+std::pair<glm::dvec3, double> newell_normal(std::span<const Point> corners, glm::dvec3& centre) {
+    centre = glm::dvec3(0.0);
+    for (const Point& c : corners) centre += glm::dvec3(c);
+    centre /= static_cast<double>(corners.size());
+    glm::dvec3 normal(0.0);
+    double extent = 0.0;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        glm::dvec3 a = glm::dvec3(corners[i]) - centre, b = glm::dvec3(corners[(i + 1) % corners.size()]) - centre;
+        normal += glm::cross(a, b);
+        extent = std::max(extent, glm::length(a));
+    }
+    return {normal, extent};
+}
+
+// Whether a counter-clockwise outline turns left (or goes straight) at every corner and winds once
+// around: then it is convex and the fan from any corner covers it exactly.
+bool is_convex(const std::vector<glm::dvec2>& points) {
+    const std::size_t n = points.size();
+    double turning = 0.0;
+    glm::dvec2 previous_edge(0.0);
+    bool have_previous = false;
+    for (std::size_t k = 0; k <= n; ++k) {  // the first edge again at the end, to turn onto it
+        const glm::dvec2 edge = points[(k + 1) % n] - points[k % n];
+        if (edge == glm::dvec2(0.0)) continue;
+        if (have_previous) {
+            const double cross = previous_edge.x * edge.y - previous_edge.y * edge.x;
+            if (cross < 0.0) return false;
+            turning += std::atan2(cross, glm::dot(previous_edge, edge));
+        }
+        previous_edge = edge;
+        have_previous = true;
+    }
+    constexpr double full_turn = 2.0 * 3.14159265358979323846;
+    return std::fabs(turning - full_turn) < 1e-6;
 }
 
 }  // namespace
@@ -97,16 +145,8 @@ PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const 
     while (corners.size() > 1 && corners.front() == corners.back()) corners.pop_back();
     if (corners.size() < 3) throw Error("{}: needs at least 3 distinct vertices", what);
 
-    glm::dvec3 centre(0.0);
-    for (const glm::dvec3& c : corners) centre += c;
-    centre /= static_cast<double>(corners.size());
-    glm::dvec3 normal(0.0);  // Newell's method: twice the vector area
-    double extent = 0.0;
-    for (std::size_t i = 0; i < corners.size(); ++i) {
-        glm::dvec3 a = corners[i] - centre, b = corners[(i + 1) % corners.size()] - centre;
-        normal += glm::cross(a, b);
-        extent = std::max(extent, glm::length(a));
-    }
+    glm::dvec3 centre;
+    auto [normal, extent] = newell_normal(std::span<const glm::dvec3>(corners), centre);
     double area2 = glm::length(normal);
     if (!(area2 > 1e-12 * extent * extent)) throw Error("{}: has no area (its vertices are collinear)", what);
     normal /= area2;
@@ -124,9 +164,37 @@ PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const 
     if (normal[axis] < 0) std::swap(u, w);
     std::vector<glm::dvec2> flat;
     for (const glm::dvec3& c : corners) flat.emplace_back(c[u], c[w]);
-    check_simple(flat, what);
-    std::vector<uint32_t> triangles = ear_clip(flat, what);
+    if (auto edges = meeting_edges(flat))
+        throw Error("{}: the polygon intersects itself (edges {} and {} meet)", what, edges->first, edges->second);
+    std::vector<uint32_t> triangles;
+    if (!ear_clip(flat, triangles)) throw Error("{}: the polygon intersects itself", what);
     return {std::vector<glm::vec3>(corners.begin(), corners.end()), std::move(triangles)};
+}
+
+FaceCut triangulate_face(std::span<const glm::vec3> corners, std::vector<uint32_t>& triangles) {
+    const auto n = static_cast<uint32_t>(corners.size());
+    auto fan = [&](FaceCut cut) {
+        for (uint32_t k = 1; k + 1 < n; ++k) triangles.insert(triangles.end(), {0, k, k + 1});
+        return cut;
+    };
+    glm::dvec3 centre;
+    auto [normal, extent] = newell_normal(corners, centre);
+    const double area2 = glm::length(normal);
+    if (!(area2 > 1e-12 * extent * extent)) return fan(FaceCut::fan_no_area);
+    normal /= area2;
+    // Axes u, v of the plane with u x v = normal, so that the outline stays counter-clockwise.
+    const glm::dvec3 helper = std::fabs(normal.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    const glm::dvec3 u = glm::normalize(glm::cross(helper, normal));
+    const glm::dvec3 v = glm::cross(normal, u);
+    std::vector<glm::dvec2> flat;
+    flat.reserve(n);
+    for (glm::vec3 c : corners) {
+        const glm::dvec3 d = glm::dvec3(c) - centre;
+        flat.emplace_back(glm::dot(d, u), glm::dot(d, v));
+    }
+    if (is_convex(flat)) return fan(FaceCut::polygon);
+    if (meeting_edges(flat) || !ear_clip(flat, triangles)) return fan(FaceCut::fan_intersecting);
+    return FaceCut::polygon;
 }
 
 }  // namespace hsr

@@ -192,8 +192,10 @@ KeptTriangles keep_triangles(const Object& object, const std::vector<glm::dvec3>
     return kept;
 }
 
-// One line each for the triangles dropped and the faces the loader separated.
+// One line each for what the reader noticed, the triangles dropped and the faces the loader
+// separated.
 void warn_about(const Object& object, const KeptTriangles& kept, std::vector<std::string>& warnings) {
+    warnings.insert(warnings.end(), object.warnings.begin(), object.warnings.end());
     if (kept.without_area > 0)
         warnings.push_back(fmt::format("{}: {} triangle{} without area dropped", object.source, kept.without_area,
                                        kept.without_area == 1 ? "" : "s"));
@@ -234,7 +236,8 @@ void add_kept_triangles(const Object& object, uint32_t o, const std::vector<glm:
         scene.indices.insert(scene.indices.end(), corner.begin(), corner.end());
         scene.edge_neighbors.insert(scene.edge_neighbors.end(), across.begin(), across.end());
         scene.face_object.push_back(o);
-        const glm::vec3 color = object.face_colors.empty() ? options.color : object.face_colors[t];
+        const glm::vec3 color =
+            object.face_colors.empty() || options.color_given ? options.color : object.face_colors[t];
         scene.face_colors.insert(scene.face_colors.end(), {color.r, color.g, color.b});
     }
 }

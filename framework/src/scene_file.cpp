@@ -388,6 +388,7 @@ private:
             if (object_.has_color) fail(s.line, "the object already has a colour");
             object_.has_color = true;
             options.color = color(s, "color <r> <g> <b>  (each in [0, 1])");
+            options.color_given = true;
         } else if (keyword == "opacity") {
             expect_count(s, 2, "opacity <a>  (0 invisible .. 1 opaque)");
             if (object_.has_opacity) fail(s.line, "the object already has an opacity");

@@ -80,7 +80,7 @@ po::options_description render_option_descriptions(RenderOptions& o) {
         ("opacity", po::value(&o.opacity),
          "opacity of the model, 0 (invisible) to 1 (opaque; the default); a .scene file gives each object an "
          "`opacity` line. Needs an algorithm that returns fragment lists (a-buffer)")
-        ("color", po::value(&o.color), "model colour r/g/b or #rrggbb (a mesh file's faces; default 0.8/0.8/0.8)")
+        ("color", po::value(&o.color), "model colour r/g/b or #rrggbb, over the file's own colours (default: the file's, else 0.8/0.8/0.8)")
         ("samples", po::value(&o.samples)->default_value(1),
          "hidden-surface plugins: anti-aliasing by supersampling, 1, 2, 4, 8 or 16 samples per pixel "
          "(4: rotated grid); docs/antialiasing.md")

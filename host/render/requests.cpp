@@ -95,7 +95,10 @@ hsr::SceneSource hsr::host::scene_source(const RenderOptions& o) {
     } else {
         source.model = o.model;
         source.mesh.crease_angle_degrees = o.crease_angle;
-        if (!o.color.empty()) source.mesh.color = parse_color_option(o.color, "color");
+        if (!o.color.empty()) {
+            source.mesh.color = parse_color_option(o.color, "color");
+            source.mesh.color_given = true;  // over the file's own colours
+        }
     }
     if (o.was_given("opacity")) source.opacity = o.opacity;
     if (!o.repeat.empty()) {

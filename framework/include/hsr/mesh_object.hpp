@@ -13,6 +13,9 @@ namespace hsr {
 struct MeshOptions {
     glm::mat4 transform{1.0f};  // object to world; a mirroring transform keeps the front outside
     glm::vec3 color{0.8f, 0.8f, 0.8f};
+    // Set when the colour was asked for (a .scene file's color line, --color): it then wins over
+    // the colours the file gives its faces. Otherwise a face the file colours keeps that colour.
+    bool color_given = false;
     // Corner normals average only the faces around a vertex whose normal is within this angle of
     // the corner's own face normal: 0 gives flat facets, 180 smooths everything.
     float crease_angle_degrees = 40.0f;
@@ -24,11 +27,13 @@ struct MeshObject {  // one object in its own coordinates, adjacency already kno
     std::vector<uint32_t> indices;
     std::vector<int32_t> neighbors;
     // One colour per triangle of `indices`, as the file gives them (materials, face or vertex
-    // colours), each channel in [0, 1]; empty: every triangle has options.color.
+    // colours), each channel in [0, 1]; empty, or options.color_given: every triangle has
+    // options.color.
     std::vector<glm::vec3> face_colors;
     MeshOptions options;
     std::string source;             // for messages: the file, or the object's name
     uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
+    std::vector<std::string> warnings;  // what the reader noticed, one line each, the file named
 };
 
 }  // namespace hsr
