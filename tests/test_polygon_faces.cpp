@@ -1,8 +1,9 @@
 // Faces of more than three corners in OBJ, OFF and PLY files cut into triangles that cover the face
 // exactly: a C shape and a square ring with a slit, drawn by the z-buffer with a pixel camera whose
 // pixel centres never lie on the outline, cover as many pixels as their area, worked out by hand;
-// assimp's concave_polygon.obj (a thin ring as one face) is cut as the same polygon of a .scene file
-// is. A face whose outline crosses itself becomes a fan, with one warning.
+// assimp's concave_polygon.obj (a thin ring written as one keyhole face) covers the ring's area
+// and the pixels a crossing-number count finds inside it. A face whose outline crosses itself
+// becomes a fan, with one warning.
 #include "hsr/error.hpp"
 #include "hsr/scene_builder.hpp"
 #include "surface_test_support.hpp"
@@ -105,6 +106,12 @@ const std::vector<glm::vec2> square_ring = {{41, 10}, {70, 10}, {70, 70}, {10, 7
                                             {39, 30}, {30, 30}, {30, 50}, {50, 50}, {50, 30}, {41, 30}};
 constexpr uint64_t square_ring_area = 60 * 60 - 20 * 20 - 2 * 20;
 
+// The same ring as a keyhole: the slit closed to a bridge from (40, 10) to (40, 30), gone over in
+// and out, so two corners each stand twice. 3600 - 400 = 3200 pixels.
+const std::vector<glm::vec2> keyhole_ring = {{40, 10}, {70, 10}, {70, 70}, {10, 70}, {10, 10}, {40, 10},
+                                             {40, 30}, {30, 30}, {30, 50}, {50, 50}, {50, 30}, {40, 30}};
+constexpr uint64_t keyhole_ring_area = 60 * 60 - 20 * 20;
+
 }  // namespace
 
 TEST_CASE("polygon faces: a C shape and a square ring cover their area in OBJ, OFF and PLY",
@@ -114,7 +121,8 @@ TEST_CASE("polygon faces: a C shape and a square ring cover their area in OBJ, O
         const std::vector<glm::vec2>& corners;
         uint64_t area;
     };
-    for (const Shape& shape : {Shape{"c-shape", c_shape, c_shape_area}, Shape{"ring", square_ring, square_ring_area}}) {
+    for (const Shape& shape : {Shape{"c-shape", c_shape, c_shape_area}, Shape{"ring", square_ring, square_ring_area},
+                               Shape{"keyhole", keyhole_ring, keyhole_ring_area}}) {
         for (const auto& [extension, text] : {std::pair{"obj", obj_face(shape.corners)},
                                               std::pair{"off", off_face(shape.corners)},
                                               std::pair{"ply", ply_face(shape.corners)}}) {
@@ -132,6 +140,16 @@ TEST_CASE("polygon faces: a C shape and a square ring cover their area in OBJ, O
             }
         }
     }
+}
+
+TEST_CASE("polygon faces: a .scene polygon may be a keyhole too", "[model-loading][polygons]") {
+    std::vector<glm::vec3> corners;
+    for (glm::vec2 c : keyhole_ring) corners.emplace_back(c, 0.0f);
+    hsr::SceneBuilder builder;
+    builder.add_polygon(corners, glm::vec3(0.5f), "keyhole");
+    const hsr::SceneData scene = builder.build();
+    CHECK(triangle_area_sum(scene) == Approx(double(keyhole_ring_area)));
+    CHECK(covered_pixels(scene) == keyhole_ring_area);
 }
 
 TEST_CASE("polygon faces: a face that is not quite planar is cut in the plane of its Newell normal",
@@ -162,16 +180,16 @@ TEST_CASE("polygon faces: a face crossing its own outline is cut into a fan, wit
                Catch::EndsWith("stars.obj: 2 faces crossing their outline cut into a fan from the first corner"));
 }
 
-TEST_CASE("polygon faces: assimp's concave_polygon.obj, a thin ring as one face, is not a filled disc",
+TEST_CASE("polygon faces: assimp's concave_polygon.obj, a thin ring as one face, is cut as a ring",
           "[model-loading][polygons]") {
     const fs::path assimp = "/usr/share/assimp/models/OBJ/concave_polygon.obj";
     if (!fs::exists(assimp))  // reported as skipped by ctest (tests/CMakeLists.txt)
         FAIL("models not fetched: run models/fetch-models.sh (assimp's test models are missing)");
-    // The face read by hand: its corners in the plane x = -1.146 as (y, z), a corner listed again
-    // left out (the face closes its ring by going back over its first edge: 32 31 at the end).
+    // The face read by hand: its corners in the plane x = -1.146 as (y, z). It is a keyhole: the
+    // outer circle, a bridge 31-32 to the inner circle, the inner circle the other way round, and
+    // back over the bridge (32 31 at the end).
     std::ifstream in(assimp);
     std::vector<glm::dvec2> positions, outline;
-    std::vector<std::size_t> listed;
     for (std::string line; std::getline(in, line);) {
         std::istringstream words(line);
         std::string kind;
@@ -181,16 +199,11 @@ TEST_CASE("polygon faces: assimp's concave_polygon.obj, a thin ring as one face,
             words >> x >> y >> z;
             positions.emplace_back(y, z);
         } else if (kind == "f") {
-            for (std::string corner; words >> corner;) {
-                const std::size_t index = std::stoul(corner) - 1;
-                if (std::find(listed.begin(), listed.end(), index) != listed.end()) continue;
-                listed.push_back(index);
-                outline.push_back(positions.at(index));
-            }
+            for (std::string corner; words >> corner;) outline.push_back(positions.at(std::stoul(corner) - 1));
         }
     }
-    REQUIRE(outline.size() == 64);
-    double outline_area = 0;  // the shoelace formula
+    REQUIRE(outline.size() == 66);
+    double outline_area = 0;  // the shoelace formula: the outer circle's area less the inner one's
     for (std::size_t i = 0; i < outline.size(); ++i) {
         const glm::dvec2 a = outline[i], b = outline[(i + 1) % outline.size()];
         outline_area += 0.5 * (a.x * b.y - b.x * a.y);
@@ -199,7 +212,7 @@ TEST_CASE("polygon faces: assimp's concave_polygon.obj, a thin ring as one face,
 
     const hsr::SceneData ring = hsr::load_model(assimp);
     CHECK(ring.warnings.empty());
-    CHECK(ring.triangle_count() == 62);
+    CHECK(ring.triangle_count() == 64);  // 66 corners, n - 2 triangles
     CHECK(triangle_area_sum(ring) == Approx(outline_area));
     const double radius = 0.5 * (ring.bounds_max.y - ring.bounds_min.y);
     CHECK(outline_area < 0.2 * 3.14159 * radius * radius);

@@ -289,11 +289,14 @@ FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<C
     };
     for (std::size_t face_number = 0; face_number < contents.face_ends.size(); ++face_number) {
         const uint32_t end = contents.face_ends[face_number];
+        // A corner repeated right after itself adds nothing; one visited again later is kept, as
+        // the two ends of a keyhole's bridge are (a ring written as one face).
         face.clear();
         for (uint32_t c = begin; c < end; ++c) {
             const TriMesh::VertexHandle v(contents.corners[c]);
-            if (std::find(face.begin(), face.end(), v) == face.end()) face.push_back(v);
+            if (face.empty() || face.back() != v) face.push_back(v);
         }
+        while (face.size() > 1 && face.front() == face.back()) face.pop_back();
         begin = end;
         if (face.size() < 3) continue;
         triangles.clear();
@@ -307,6 +310,15 @@ FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<C
             }
             if (triangulate_face(face_positions, triangles) == FaceCut::fan_intersecting) ++counts.intersecting;
         }
+        // Corners visited twice can put one vertex in a triangle twice: it has no area.
+        for (std::size_t t = 0; t < triangles.size();) {
+            const TriMesh::VertexHandle a = face[triangles[t]], b = face[triangles[t + 1]], c = face[triangles[t + 2]];
+            if (a == b || b == c || c == a)
+                triangles.erase(triangles.begin() + std::ptrdiff_t(t), triangles.begin() + std::ptrdiff_t(t + 3));
+            else
+                t += 3;
+        }
+        if (triangles.empty()) continue;
         TriMesh::FaceHandle added;
         for (std::size_t t = 0; t < triangles.size(); t += 3) {
             added = add_triangle(mesh, face[triangles[t]], face[triangles[t + 1]], face[triangles[t + 2]]);

@@ -37,14 +37,27 @@ bool segments_touch(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d) {
            (d3 == 0 && on_segment(a, b, c)) || (d4 == 0 && on_segment(a, b, d));
 }
 
-// Two edges, not neighbours along the outline, that meet (numbered from 1), if there are any.
+// Whether two edges meet only as a polygon with a hole does where a bridge joins the hole to the
+// outline (a keyhole, as model files write such faces): the same segment gone over both ways, or
+// a corner the outline passes through twice, the edges meeting at nothing else.
+bool bridge_or_shared_corner(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d) {
+    if (a == d && b == c) return true;
+    if ((a == c) + (a == d) + (b == c) + (b == d) != 1) return false;
+    const glm::dvec2 corner = (a == c || a == d) ? a : b;
+    const glm::dvec2 along_ab = (corner == a ? b : a) - corner, along_cd = (corner == c ? d : c) - corner;
+    // Not in line, or in line but going off either way from the corner.
+    return along_ab.x * along_cd.y - along_ab.y * along_cd.x != 0.0 || glm::dot(along_ab, along_cd) < 0.0;
+}
+
+// Two edges, not neighbours along the outline, that meet (numbered from 1), if there are any; a
+// keyhole's bridges and doubly visited corners do not count.
 std::optional<std::pair<std::size_t, std::size_t>> meeting_edges(const std::vector<glm::dvec2>& points) {
     const std::size_t n = points.size();
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i + 1; j < n; ++j) {
             if (j == i + 1 || (i == 0 && j == n - 1)) continue;  // neighbouring edges share a corner
-            if (segments_touch(points[i], points[(i + 1) % n], points[j], points[(j + 1) % n]))
-                return std::pair(i + 1, j + 1);
+            const glm::dvec2 a = points[i], b = points[(i + 1) % n], c = points[j], d = points[(j + 1) % n];
+            if (segments_touch(a, b, c, d) && !bridge_or_shared_corner(a, b, c, d)) return std::pair(i + 1, j + 1);
         }
     return std::nullopt;
 }
