@@ -12,6 +12,7 @@
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
+#include "gltf_reader.hpp"
 #include "malformed_models.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -108,7 +109,7 @@ Format format_of(const std::filesystem::path& file) {
     if (extension == ".off") return Format::off;
     if (extension == ".ply") return Format::ply;
     if (extension == ".stl") return Format::stl;
-    throw Error("{}: unsupported model format '{}' (use .obj, .off, .ply or .stl)", display(file),
+    throw Error("{}: unsupported model format '{}' (use .obj, .off, .ply, .stl, .gltf or .glb)", display(file),
                 extension.empty() ? "no extension" : printable(extension));
 }
 
@@ -289,6 +290,7 @@ bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && st
 }  // namespace
 
 Object read_model_object(const std::filesystem::path& file) {
+    if (is_gltf_file(file)) return read_gltf_object(file);
     Format format = format_of(file);
     std::optional<std::string> cleaned;
     std::optional<ObjContents> obj;

@@ -6,6 +6,7 @@
 #include "hsr/error.hpp"
 #include "hsr/scene_builder.hpp"
 
+#include "gltf_reader.hpp"
 #include "model_reader.hpp"
 #include "polygon_triangulation.hpp"
 
@@ -424,6 +425,7 @@ SceneData SceneBuilder::build() const {
 }
 
 SceneData load_model(const std::filesystem::path& file, const MeshOptions& options) {
+    if (is_gltf_file(file)) return load_gltf_scene(file, options);
     SceneBuilder builder;
     builder.add_model_file(file, options);
     return builder.build();

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hsr {
@@ -27,6 +28,8 @@ public:
     void add_polygon(std::span<const glm::vec3> vertices, glm::vec3 color, const std::string& name = {});
     void add_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
                        const MeshOptions& options = {});
+    // An object already read (a glTF mesh), with its options set.
+    void add_read_object(MeshObject object) { objects_.push_back(std::move(object)); }
     // Throws hsr::Error if the scene has no triangles.
     SceneData build() const;
 

@@ -1,0 +1,60 @@
+// glTF 2.0 models (.gltf with its .bin files and data URIs, and .glb) read through tinygltf into
+// mesh objects and placements (gltf_reader.cpp).
+#pragma once
+
+#include "hsr/mesh_object.hpp"
+#include "hsr/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hsr {
+
+bool is_gltf_file(const std::filesystem::path& file);
+
+// A camera of the file, placed by the first node that names it.
+struct GltfCamera {
+    std::string name;        // the file's name for it, or "camera N"
+    bool orthographic = false;
+    float yfov_radians = 0;  // perspective
+    float aspect_ratio = 0;  // perspective; 0 when the file leaves it open
+    float xmag = 0, ymag = 0;  // orthographic half extents
+    float znear = 0;
+    glm::vec3 eye{0}, forward{0, 0, -1}, up{0, 1, 0};  // world space
+};
+
+struct GltfModel {
+    std::vector<MeshObject> meshes;  // one per glTF mesh that has triangles, in its own coordinates
+    struct Placement {
+        std::size_t mesh;            // into meshes
+        glm::dmat4 transform;        // mesh to world: the node's world transform
+    };
+    std::vector<Placement> placements;
+    std::vector<GltfCamera> cameras;  // every camera a node of the scene places
+    std::vector<std::string> notes;   // what was skipped, one line each
+};
+
+// The default scene of the file (or its first) with the limits (limits.hpp) checked before the work
+// they bound. Throws hsr::Error naming the file on any problem with it.
+GltfModel read_gltf(const std::filesystem::path& file, const MeshOptions& options = {});
+
+// The same from bytes already in memory, with no other file readable (the fuzzer's entry).
+GltfModel read_gltf_bytes(const std::string& bytes, bool binary, const std::string& what,
+                          const MeshOptions& options = {});
+
+// The model as a scene: a mesh placed once is transformed; a mesh placed by several nodes is stored
+// once and placed as instances when every placement is a similarity (ABI 1.1), else copied.
+SceneData gltf_scene(GltfModel model, const MeshOptions& options);
+SceneData load_gltf_scene(const std::filesystem::path& file, const MeshOptions& options = {});
+
+// Every placement copied into one object in world space (what a .scene file's `mesh` line adds).
+MeshObject read_gltf_object(const std::filesystem::path& file);
+
+// The cameras of a file, for --camera.
+std::vector<GltfCamera> read_gltf_cameras(const std::filesystem::path& file);
+
+}  // namespace hsr
