@@ -334,11 +334,12 @@ public:
         if (a.count > std::numeric_limits<uint32_t>::max())
             throw Error("{}: {}: {} elements, more than a mesh can hold", what_, name, a.count);
         const uint64_t element = uint64_t(size) * have;
-        check_limit(&Limits::model_bytes, a.count * 8 * components, name);
+        uint64_t stride = 0;
+        const unsigned char* base =
+            a.bufferView >= 0 ? view_bytes(a.bufferView, a.byteOffset, a.count, 0, element, name, &stride) : nullptr;
+        check_limit(&Limits::model_bytes, a.count * 8 * components, name);  // what `out` takes
         std::vector<double> out(a.count * std::size_t(components), 0.0);
-        if (a.bufferView >= 0) {
-            uint64_t stride = 0;
-            const unsigned char* base = view_bytes(a.bufferView, a.byteOffset, a.count, 0, element, name, &stride);
+        if (base != nullptr) {
             for (std::size_t i = 0; i < a.count; ++i)
                 for (int c = 0; c < components; ++c)
                     out[i * components + c] = component_value(base + i * stride + c * size, a.componentType, a.normalized);

@@ -2,6 +2,7 @@
 // mesh objects and placements (gltf_reader.cpp).
 #pragma once
 
+#include "hsr/camera.hpp"
 #include "hsr/mesh_object.hpp"
 #include "hsr/scene.hpp"
 
@@ -17,15 +18,7 @@ namespace hsr {
 bool is_gltf_file(const std::filesystem::path& file);
 
 // A camera of the file, placed by the first node that names it.
-struct GltfCamera {
-    std::string name;        // the file's name for it, or "camera N"
-    bool orthographic = false;
-    float yfov_radians = 0;  // perspective
-    float aspect_ratio = 0;  // perspective; 0 when the file leaves it open
-    float xmag = 0, ymag = 0;  // orthographic half extents
-    float znear = 0;
-    glm::vec3 eye{0}, forward{0, 0, -1}, up{0, 1, 0};  // world space
-};
+using GltfCamera = ModelCamera;
 
 struct GltfModel {
     std::vector<MeshObject> meshes;  // one per glTF mesh that has triangles, in its own coordinates
@@ -53,8 +46,5 @@ SceneData load_gltf_scene(const std::filesystem::path& file, const MeshOptions& 
 
 // Every placement copied into one object in world space (what a .scene file's `mesh` line adds).
 MeshObject read_gltf_object(const std::filesystem::path& file);
-
-// The cameras of a file, for --camera.
-std::vector<GltfCamera> read_gltf_cameras(const std::filesystem::path& file);
 
 }  // namespace hsr
