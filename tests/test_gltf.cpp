@@ -267,11 +267,12 @@ TEST_CASE("glTF: a mesh used by two nodes is stored once and drawn as 2 instance
     const int p = g.floats(cube);
     const int i = g.indices(faces, 5123);
     const std::string primitive = "{\"attributes\":{\"POSITION\":" + std::to_string(p) + "},\"indices\":" + std::to_string(i) + "}";
-    const std::string nodes = "\"nodes\":[{\"children\":[1,2]},{\"mesh\":0,\"translation\":[0.5,0.25,-1.5]},"
-                              "{\"mesh\":MESH,\"translation\":[-1,0,0],\"scale\":[0.5,0.5,0.5]}],\"scenes\":[{\"nodes\":[0]}]";
-    std::string shared_nodes = nodes, separate_nodes = nodes;
-    shared_nodes.replace(shared_nodes.find("MESH"), 4, "0");
-    separate_nodes.replace(separate_nodes.find("MESH"), 4, "1");
+    // The second placement names mesh `second`: the same mesh again, or its copy.
+    const auto nodes = [](const char* second) {
+        return std::string("\"nodes\":[{\"children\":[1,2]},{\"mesh\":0,\"translation\":[0.5,0.25,-1.5]},{\"mesh\":") +
+               second + ",\"translation\":[-1,0,0],\"scale\":[0.5,0.5,0.5]}],\"scenes\":[{\"nodes\":[0]}]";
+    };
+    const std::string shared_nodes = nodes("0"), separate_nodes = nodes("1");
     const fs::path shared = write("shared.gltf", g.json("\"meshes\":[{\"primitives\":[" + primitive + "]}]," + shared_nodes));
     const fs::path separate = write("separate.gltf", g.json("\"meshes\":[{\"primitives\":[" + primitive +
                                                             "]},{\"primitives\":[" + primitive + "]}]," + separate_nodes));

@@ -4,7 +4,6 @@
 
 #include "hsr/camera.hpp"
 #include "hsr/mesh_object.hpp"
-#include "hsr/scene.hpp"
 
 #include <glm/glm.hpp>
 
@@ -38,11 +37,6 @@ GltfModel read_gltf(const std::filesystem::path& file, const MeshOptions& option
 // The same from bytes already in memory, with no other file readable (the fuzzer's entry).
 GltfModel read_gltf_bytes(const std::string& bytes, bool binary, const std::string& what,
                           const MeshOptions& options = {});
-
-// The model as a scene: a mesh placed once is transformed; a mesh placed by several nodes is stored
-// once and placed as instances when every placement is a similarity (ABI 1.1), else copied.
-SceneData gltf_scene(GltfModel model, const MeshOptions& options);
-SceneData load_gltf_scene(const std::filesystem::path& file, const MeshOptions& options = {});
 
 // Every placement copied into one object in world space (what a .scene file's `mesh` line adds).
 MeshObject read_gltf_object(const std::filesystem::path& file);

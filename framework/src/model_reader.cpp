@@ -12,7 +12,6 @@
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
-#include "gltf_reader.hpp"
 #include "malformed_models.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -290,7 +289,6 @@ bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && st
 }  // namespace
 
 Object read_model_object(const std::filesystem::path& file) {
-    if (is_gltf_file(file)) return read_gltf_object(file);
     Format format = format_of(file);
     std::optional<std::string> cleaned;
     std::optional<ObjContents> obj;

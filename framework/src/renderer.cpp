@@ -2,7 +2,6 @@
 // what the request sets, what the .scene file says and the defaults, in that order.
 #include "hsr/renderer.hpp"
 
-#include "gltf_reader.hpp"
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 #include "hsr/params.hpp"
@@ -34,12 +33,7 @@ SceneData load_source(const SceneSource& source, const ReadPolicy& policy, std::
         file->scene = {};
         return scene;
     }
-    if (is_gltf_file(path)) {
-        GltfModel model = read_gltf(path, source.mesh);
-        cameras = model.cameras;
-        return gltf_scene(std::move(model), source.mesh);
-    }
-    return load_model(path, source.mesh);
+    return load_model(path, source.mesh, &cameras);
 }
 
 // The model's camera that --camera names: by name, else by index.
@@ -125,7 +119,8 @@ std::shared_ptr<LoadedScene> LoadedScene::load(const SceneSource& source, const 
     }
     if (source.repeat) {
         if (!scene.instances.empty())
-            throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line); use one or the other",
+            throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line, or glTF nodes "
+                             "sharing a mesh); use one or the other",
                              printable(path.string(), kMaxQuotedPathChars));
         try {
             scene = make_instance_grid(scene, *source.repeat);

@@ -2,6 +2,7 @@
 // gathered into one world-space triangle mesh (SceneData).
 #pragma once
 
+#include "hsr/camera.hpp"
 #include "hsr/mesh_object.hpp"
 #include "hsr/scene.hpp"
 
@@ -49,7 +50,9 @@ private:
     std::vector<Object> objects_;
 };
 
-// One model file as a scene of one object.
-SceneData load_model(const std::filesystem::path& file, const MeshOptions& options = {});
+// One model file as a scene: one object, or a glTF file's meshes placed by its nodes (as instances
+// when a mesh is placed several times), whose cameras go to `cameras` when given.
+SceneData load_model(const std::filesystem::path& file, const MeshOptions& options = {},
+                     std::vector<ModelCamera>* cameras = nullptr);
 
 }  // namespace hsr
