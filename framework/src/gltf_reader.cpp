@@ -309,10 +309,10 @@ public:
         if (stride < element)
             throw Error("{}: {}: byte stride {} is smaller than an element ({} bytes)", what_, use, stride, element);
         if (stride_out) *stride_out = stride;
+        // offset + (count - 1) * stride + element <= byteLength, without overflowing (stride >= element >= 1)
         if (count > 0) {
-            // count <= 2^32 and stride < 2^32 here, so nothing overflows
-            const uint64_t end = offset + (count - 1) * stride + element;
-            if (offset > view.byteLength || end > view.byteLength)
+            const uint64_t length = view.byteLength;
+            if (offset > length || element > length - offset || count - 1 > (length - offset - element) / stride)
                 throw Error("{}: {}: {} elements of {} bytes every {} from byte {} run past the end of buffer view {} "
                             "({} bytes)",
                             what_, use, count, element, stride, offset, view_index, view.byteLength);
@@ -582,7 +582,7 @@ glm::dmat4 local_transform(const tinygltf::Node& node, std::size_t n, const std:
     return t * r * s;
 }
 
-GltfCamera camera_of(const tinygltf::Model& model, std::size_t c, const glm::dmat4& world, const std::string& what) {
+GltfCamera camera_of(const tinygltf::Model& model, std::size_t c, const glm::dmat4& world) {
     const tinygltf::Camera& source = model.cameras[c];
     GltfCamera camera;
     camera.name = source.name.empty() ? fmt::format("camera {}", c) : source.name;
@@ -599,7 +599,6 @@ GltfCamera camera_of(const tinygltf::Model& model, std::size_t c, const glm::dma
     camera.eye = glm::vec3(world[3]);
     camera.forward = glm::vec3(glm::normalize(glm::dvec3(world * glm::dvec4(0, 0, -1, 0))));
     camera.up = glm::vec3(glm::normalize(glm::dvec3(world * glm::dvec4(0, 1, 0, 0))));
-    (void)what;
     return camera;
 }
 
@@ -650,7 +649,7 @@ void place_nodes(const tinygltf::Model& model, const std::string& what, const st
                 throw Error("{}: node {} names camera {}, which does not exist", what, n, node.camera);
             if (!camera_placed[std::size_t(node.camera)]) {
                 camera_placed[std::size_t(node.camera)] = true;
-                out.cameras.push_back(camera_of(model, std::size_t(node.camera), world, what));
+                out.cameras.push_back(camera_of(model, std::size_t(node.camera), world));
             }
         }
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) stack.emplace_back(*child, world);

@@ -34,7 +34,7 @@ struct GltfModel {
 // they bound. Throws hsr::Error naming the file on any problem with it.
 GltfModel read_gltf(const std::filesystem::path& file, const MeshOptions& options = {});
 
-// The same from bytes already in memory, with no other file readable (the fuzzer's entry).
+// The same from bytes already in memory (a fuzzing harness's), with no other file readable.
 GltfModel read_gltf_bytes(const std::string& bytes, bool binary, const std::string& what,
                           const MeshOptions& options = {});
 
