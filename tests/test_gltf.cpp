@@ -467,3 +467,18 @@ TEST_CASE("glTF: broken and hostile files are refused with one line", "[gltf][cl
     refuse(write("refusals/points.gltf", g.json(one_mesh("\"attributes\":{\"POSITION\":" + std::to_string(p) + "},\"mode\":0"))),
            "only points and lines");
 }
+
+TEST_CASE("glTF: a .scene file's mesh line adds every placed mesh as one object", "[gltf][scene]") {
+    Gltf g;
+    const int p = g.floats(unit_quad);
+    const int i = g.indices(std::vector<uint16_t>{0, 1, 2, 0, 2, 3}, 5123);
+    write("placed.glb", g.glb("\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":" + std::to_string(p) +
+                              "},\"indices\":" + std::to_string(i) + "}]}],\"nodes\":[{\"mesh\":0},{\"mesh\":0,"
+                              "\"translation\":[0,0,-2]}],\"scenes\":[{\"nodes\":[0,1]}]"));
+    const hsr::SceneData scene = load(write("placed.scene", "mesh placed.glb\n"));
+    CHECK(scene.triangle_count() == 4);
+    CHECK(scene.instances.empty());
+    CHECK(scene.object_names.size() == 1);
+    CHECK(scene.bounds_min == glm::vec3(0, 0, -2));
+    CHECK(scene.bounds_max == glm::vec3(1, 1, 0));
+}
