@@ -10,9 +10,11 @@
 // skins, morph targets, animations; Draco and meshopt compression are refused.
 //
 // Files a .gltf names are read only from its own folder, as regular files, through the checked
-// reader below (tinygltf's file-system callbacks); images are never read.
-// The system headers first: tiny_gltf.h includes its JSON parser with hidden visibility, which
-// would otherwise apply to their declarations too.
+// reader below (tinygltf's file-system callbacks); image files are never opened.
+//
+// tinygltf's implementation is compiled here and nowhere else, without stb_image. The system
+// headers come first: tiny_gltf.h includes its JSON parser under hidden visibility, which would
+// otherwise apply to their declarations too.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
