@@ -8,7 +8,7 @@
 #             lack of memory
 # Anything else (a signal, a timeout, over 1 GB of peak RSS, several lines or none, exit 0 without a
 # picture) fails the test, naming the file and what happened. Files of the formats hsr reads (OBJ,
-# OFF, PLY, STL) are also tried altered: renamed (without an extension, with the extension
+# OFF, PLY, STL, glTF) are also tried altered: renamed (without an extension, with the extension
 # upper-case, with the extension of another of those formats) and cut off at half their size. The
 # files that render are drawn again by the hidden-line plugins roberts and appel, with at most
 # 20,000 stored triangles so that a big mesh is refused at once rather than drawn for minutes.
@@ -147,7 +147,7 @@ if [ ! -s "$corpus_list" ]; then
 fi
 altered_list=$scratch/altered.list
 : > "$altered_list"
-declare -A wrong_extension=([obj]=ply [ply]=stl [stl]=off [off]=obj)
+declare -A wrong_extension=([obj]=ply [ply]=stl [stl]=off [off]=obj [gltf]=glb [glb]=gltf)
 n=0
 while IFS= read -r -d '' file; do
     base=$(basename "$file")

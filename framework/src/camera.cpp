@@ -112,8 +112,12 @@ glm::dmat4 projection_matrix(const CameraSettings& s, double radius, double near
     const double zoom = s.zoom;
     if (s.orthographic) {
         const double half = radius * frame_margin / zoom;  // half of the smaller image dimension
-        const double half_x = aspect >= 1.0 ? half * aspect : half;
-        const double half_y = aspect >= 1.0 ? half : half / aspect;
+        double half_x = aspect >= 1.0 ? half * aspect : half;
+        double half_y = aspect >= 1.0 ? half : half / aspect;
+        if (s.ortho_half_height) {
+            half_y = *s.ortho_half_height / zoom;
+            half_x = half_y * aspect;
+        }
         return glm::ortho(-half_x, half_x, -half_y, half_y, near_plane, far_plane);
     }
     const double tan_half_y = std::tan(glm::radians(static_cast<double>(s.fov_y_degrees)) / 2.0);

@@ -110,7 +110,9 @@ Format format_of(const std::filesystem::path& file) {
     if (extension == ".off") return Format::off;
     if (extension == ".ply") return Format::ply;
     if (extension == ".stl") return Format::stl;
-    throw Error("{}: unsupported model format '{}' (use .obj, .off, .ply or .stl)", display(file),
+    throw Error("{}: unsupported model format '{}' (hsr reads .obj, .off, .ply, .stl, .gltf and .glb; convert others "
+                "to .glb with assimp: see docs/formats.md)",
+                display(file),
                 extension.empty() ? "no extension" : printable(extension));
 }
 

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <utility>
 
@@ -17,7 +19,8 @@ namespace fs = std::filesystem;
 namespace hsr {
 namespace {
 
-SceneData load_source(const SceneSource& source, const ReadPolicy& policy, std::optional<SceneFile>& file) {
+SceneData load_source(const SceneSource& source, const ReadPolicy& policy, std::optional<SceneFile>& file,
+                      std::vector<ModelCamera>& cameras) {
     if (source.random_triangles) return make_random_triangles(source.random_triangles->count, source.random_triangles->seed);
     if (source.formula) return make_formula_surface(source.formula->text, source.formula->range, source.formula->color);
     const fs::path path = source.path();
@@ -30,7 +33,45 @@ SceneData load_source(const SceneSource& source, const ReadPolicy& policy, std::
         file->scene = {};
         return scene;
     }
-    return load_model(path, source.mesh);
+    return load_model(path, source.mesh, &cameras);
+}
+
+// The model's camera that --camera names: by name, else by index.
+const ModelCamera& find_model_camera(const LoadedScene& scene, const std::string& wanted) {
+    const std::vector<ModelCamera>& cameras = scene.cameras();
+    const std::string file = printable(scene.source_name(), kMaxQuotedPathChars);
+    if (cameras.empty()) throw UsageError("--camera {}: {} has no cameras", printable(wanted, 100), file);
+    for (const ModelCamera& camera : cameras)
+        if (camera.name == wanted) return camera;
+    if (!wanted.empty() && wanted.size() < 10 && std::all_of(wanted.begin(), wanted.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
+        std::stoul(wanted) < cameras.size())
+        return cameras[std::stoul(wanted)];
+    std::string known;
+    for (std::size_t c = 0; c < cameras.size(); ++c)
+        known += fmt::format("{}{} '{}'", c == 0 ? "" : ", ", c, printable(cameras[c].name, 100));
+    throw UsageError("--camera {}: no such camera in {} (its cameras: {})", printable(wanted, 100), file, known);
+}
+
+// The view through a model's camera; what the request sets besides still wins.
+void apply_model_camera(const ModelCamera& camera, const ViewRequest& request, CameraSettings& view) {
+    LookAt look;
+    look.eye = camera.eye;
+    look.target = camera.eye + camera.forward;
+    look.up = camera.up;
+    view.look_at = look;
+    if (!request.near_plane && camera.znear > 0) view.near_plane = camera.znear;
+    if (camera.orthographic) {
+        if (!request.orthographic) view.orthographic = true;
+        if (camera.ymag > 0) view.ortho_half_height = camera.ymag;
+        const float aspect = camera.ymag > 0 ? camera.xmag / camera.ymag : 0;
+        if (aspect > 0 && std::isfinite(aspect) && !request.width)
+            view.width = std::max(1u, uint32_t(std::lround(double(view.height) * aspect)));
+    } else {
+        if (!request.fov_y_degrees && camera.yfov_radians > 0 && camera.yfov_radians < 3.14159f)
+            view.fov_y_degrees = glm::degrees(camera.yfov_radians);
+        if (camera.aspect_ratio > 0 && std::isfinite(camera.aspect_ratio) && !request.width)
+            view.width = std::max(1u, uint32_t(std::lround(double(view.height) * camera.aspect_ratio)));
+    }
 }
 
 // The .scene file's size and view, where the request leaves them open.
@@ -67,7 +108,8 @@ fs::path SceneSource::path() const {
 std::shared_ptr<LoadedScene> LoadedScene::load(const SceneSource& source, const ReadPolicy& policy) {
     auto loaded = std::make_shared<LoadedScene>();
     SceneData& scene = loaded->scene_;
-    scene = load_source(source, policy, loaded->file_);
+    scene = load_source(source, policy, loaded->file_, loaded->cameras_);
+    loaded->source_name_ = source.path().string();
     const fs::path path = source.path();
     if (source.opacity) {
         if (is_scene_file(path))
@@ -77,7 +119,8 @@ std::shared_ptr<LoadedScene> LoadedScene::load(const SceneSource& source, const 
     }
     if (source.repeat) {
         if (!scene.instances.empty())
-            throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line); use one or the other",
+            throw UsageError("--repeat: '{}' already places copies of its meshes (a 'repeat' line, or glTF nodes "
+                             "sharing a mesh); use one or the other",
                              printable(path.string(), kMaxQuotedPathChars));
         try {
             scene = make_instance_grid(scene, *source.repeat);
@@ -132,6 +175,7 @@ hsr_camera Renderer::camera(const ViewRequest& request) const {
         }
         view.clip_planes = file->clip_planes;
     }
+    if (!request.model_camera.empty()) apply_model_camera(find_model_camera(*scene_, request.model_camera), request, view);
     if (request.yaw_turn_degrees != 0) view.yaw_degrees = float(double(view.yaw_degrees) + request.yaw_turn_degrees);
     check_image_size(view.width, view.height);
     check_image_pixels(view.width, view.height);

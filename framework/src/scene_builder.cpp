@@ -4,8 +4,11 @@
 // JGT 1998), limited to faces within a crease angle of the corner's own face, so hard edges stay
 // hard.
 #include "hsr/error.hpp"
+#include "hsr/instancing.hpp"
+#include "hsr/limits.hpp"
 #include "hsr/scene_builder.hpp"
 
+#include "gltf_reader.hpp"
 #include "model_reader.hpp"
 #include "polygon_triangulation.hpp"
 
@@ -379,10 +382,106 @@ void set_corner_normals(const std::vector<glm::dvec3>& world, const std::vector<
     });
 }
 
+// ---------------------------------------------------------------------------------------------
+// glTF models (gltf_reader.hpp): their meshes placed by their nodes.
+
+// A placement's transform as an instance's similarity: rotation times a positive uniform scale.
+std::optional<std::pair<glm::mat3, float>> similarity(const glm::dmat4& transform) {
+    const glm::dmat3 a(transform);
+    const double det = glm::determinant(a);
+    if (!(det > 0) || !std::isfinite(det)) return std::nullopt;
+    const double scale = std::cbrt(det);
+    const glm::dmat3 rotation = a / scale;
+    const glm::dmat3 should_be_identity = glm::transpose(rotation) * rotation;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (std::fabs(should_be_identity[c][r] - (c == r ? 1.0 : 0.0)) > 1e-5) return std::nullopt;
+    return std::pair{glm::mat3(rotation), float(scale)};
+}
+
+// Each stored mesh once, in its own coordinates, and one instance per placement.
+SceneData instanced_scene(const GltfModel& model) {
+    SceneBuilder builder;
+    for (const MeshObject& mesh : model.meshes) {
+        MeshObject copy = mesh;
+        copy.options.transform = glm::mat4(1.0f);
+        builder.add_read_object(std::move(copy));
+    }
+    SceneData scene = builder.build();
+    struct Range {
+        uint32_t first_triangle = UINT32_MAX, triangles = 0, first_vertex = UINT32_MAX, last_vertex = 0;
+        glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+    };
+    std::vector<Range> ranges(model.meshes.size());
+    for (uint32_t t = 0; t < scene.triangle_count(); ++t) {
+        Range& range = ranges[scene.face_object[t]];
+        range.first_triangle = std::min(range.first_triangle, t);
+        ++range.triangles;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = scene.indices[3 * t + k];
+            range.first_vertex = std::min(range.first_vertex, v);
+            range.last_vertex = std::max(range.last_vertex, v);
+            const glm::vec3 p(scene.positions[3 * v], scene.positions[3 * v + 1], scene.positions[3 * v + 2]);
+            range.lo = glm::min(range.lo, p);
+            range.hi = glm::max(range.hi, p);
+        }
+    }
+    glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    for (const GltfModel::Placement& placement : model.placements) {
+        const Range& range = ranges[placement.mesh];
+        if (range.triangles == 0) continue;  // every triangle dropped as without area
+        const auto [rotation, scale] = *similarity(placement.transform);
+        const hsr_instance instance =
+            make_instance(range.first_triangle, range.triangles, range.first_vertex,
+                          range.last_vertex - range.first_vertex + 1, rotation, scale,
+                          glm::vec3(placement.transform[3]), range.lo, range.hi);
+        for (int i = 0; i < 3; ++i) {
+            lo[i] = std::min(lo[i], instance.bounds_min[i]);
+            hi[i] = std::max(hi[i], instance.bounds_max[i]);
+        }
+        scene.instances.push_back(instance);
+    }
+    scene.bounds_min = lo;
+    scene.bounds_max = hi;
+    return scene;
+}
+
+
+// A glTF model as a scene: a mesh placed once is transformed; a mesh placed by several nodes is
+// stored once and placed as instances when every placement is a similarity (ABI 1.1), else copied.
+SceneData gltf_scene(GltfModel model, const MeshOptions& options) {
+    std::vector<std::size_t> uses(model.meshes.size(), 0);
+    for (const GltfModel::Placement& placement : model.placements) ++uses[placement.mesh];
+    const bool reused = std::any_of(uses.begin(), uses.end(), [](std::size_t n) { return n > 1; });
+    const bool similar = std::all_of(model.placements.begin(), model.placements.end(),
+                                     [](const GltfModel::Placement& p) { return similarity(p.transform).has_value(); });
+    SceneData scene;
+    if (reused && similar) {
+        scene = instanced_scene(model);
+    } else {
+        // Each placement its own transformed copy.
+        uint64_t stored = 0;
+        for (const GltfModel::Placement& placement : model.placements)
+            stored += model.meshes[placement.mesh].indices.size() / 3;
+        check_limit(&Limits::stored_triangles, stored, model.meshes.front().source + ": the placed meshes");
+        SceneBuilder builder;
+        for (std::size_t p = 0; p < model.placements.size(); ++p) {
+            const GltfModel::Placement& placement = model.placements[p];
+            MeshObject copy = uses[placement.mesh] > 1 || p + 1 < model.placements.size() ? model.meshes[placement.mesh]
+                                                                                          : std::move(model.meshes[placement.mesh]);
+            copy.options.transform = options.transform * glm::mat4(placement.transform);
+            builder.add_read_object(std::move(copy));
+        }
+        scene = builder.build();
+    }
+    scene.warnings.insert(scene.warnings.begin(), model.notes.begin(), model.notes.end());
+    return scene;
+}
+
 }  // namespace
 
 void SceneBuilder::add_model_file(const std::filesystem::path& file, const MeshOptions& options) {
-    Object object = read_model_object(file);
+    Object object = is_gltf_file(file) ? read_gltf_object(file) : read_model_object(file);
     object.options = options;
     if (object.options.name.empty()) object.options.name = file.stem().string();
     objects_.push_back(std::move(object));
@@ -426,7 +525,12 @@ SceneData SceneBuilder::build() const {
     return scene;
 }
 
-SceneData load_model(const std::filesystem::path& file, const MeshOptions& options) {
+SceneData load_model(const std::filesystem::path& file, const MeshOptions& options, std::vector<ModelCamera>* cameras) {
+    if (is_gltf_file(file)) {
+        GltfModel model = read_gltf(file, options);
+        if (cameras) *cameras = model.cameras;
+        return gltf_scene(std::move(model), options);
+    }
     SceneBuilder builder;
     builder.add_model_file(file, options);
     return builder.build();

@@ -64,6 +64,8 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "--pitch; the picture is not framed to the model, --zoom still magnifies")
         ("target", po::value(&o.target), "x,y,z: the point the --eye looks at (default: the centre of the model's bounds)")
         ("up", po::value(&o.up), "x,y,z: the direction that is up on screen with --eye (default 0,1,0)")
+        ("camera", po::value(&o.camera), "NAME|INDEX: look through a camera of the model file (glTF): its eye, "
+         "direction, field of view or window, near plane and aspect ratio")
         ("near", po::value(&o.near_plane), "view-space distance of the near plane (default: just in front of the "
                                            "model), so that it can cut into the model")
         ("section", po::value(&o.sections)->composing(),

@@ -51,6 +51,7 @@ struct RenderOptions {
     double yaw_turn = 0;       // this frame's turn of the turntable, degrees added to the yaw
     float zoom = 1, crease_angle = 40, fov = 35;
     std::string eye, target, up;  // x,y,z each: a look-at camera
+    std::string camera;           // --camera NAME|INDEX: a camera of the model file (glTF)
     std::vector<std::string> clip_planes;  // --clip-plane a,b,c,d (repeatable)
     std::vector<float> sections;           // --section z (repeatable)
     float near_plane = 0;                  // --near, when given

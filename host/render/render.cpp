@@ -68,6 +68,11 @@ void check_render_options(const RenderOptions& o) {
     std::vector<glm::vec4> planes;
     hsr::host::add_clip_plane_options(o, planes);  // checked here, added again where the camera is made
     if (!(o.fov > 0 && o.fov < 180)) throw UsageError("--fov must be between 0 and 180 degrees");
+    if (o.was_given("camera")) {
+        if (o.camera.empty()) throw UsageError("--camera needs a camera's name or index");
+        for (const char* option : {"eye", "yaw", "pitch", "views"})
+            if (o.was_given(option)) throw UsageError("--camera replaces --{}: give one or the other", option);
+    }
     if (o.eye.empty()) {
         for (const char* option : {"target", "up"})
             if (o.was_given(option)) throw UsageError("--{} goes with --eye", option);

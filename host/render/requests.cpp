@@ -128,6 +128,7 @@ hsr::ViewRequest hsr::host::view_request(const RenderOptions& o) {
         if (!o.up.empty()) look_at.up = parse_vector_option(o.up, "up");
         view.look_at = look_at;
     }
+    view.model_camera = o.camera;
     add_clip_plane_options(o, view.clip_planes);
     return view;
 }

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace hsr {
@@ -44,6 +45,20 @@ struct CameraSettings {
     std::optional<float> near_plane;
     // Sections (hsr_camera.clip_planes): world-space planes (a, b, c, d) keeping a*x + b*y + c*z + d >= 0.
     std::vector<glm::vec4> clip_planes;
+    // Orthographic only: half the window's height in world units instead of fitting the bounds (a
+    // glTF camera's ymag); zoom still divides it.
+    std::optional<double> ortho_half_height;
+};
+
+// A camera a model file gives (glTF 2.0 cameras), placed in world space by its node.
+struct ModelCamera {
+    std::string name;          // the file's name for it, or "camera N"
+    bool orthographic = false;
+    float yfov_radians = 0;    // perspective: the vertical field of view
+    float aspect_ratio = 0;    // perspective: width / height, 0 when the file leaves it open
+    float xmag = 0, ymag = 0;  // orthographic: half the window's width and height
+    float znear = 0;           // distance of the near plane
+    glm::vec3 eye{0}, forward{0, 0, -1}, up{0, 1, 0};
 };
 
 // The clip plane of the textbook's section "cut at z <= z_section": keeps world z <= z_section, the

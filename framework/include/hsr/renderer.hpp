@@ -78,6 +78,9 @@ public:
     const SceneData& scene() const { return scene_; }
     // A .scene file's lights, camera, size... (its scene moved into scene()); unset for other sources.
     const std::optional<SceneFile>& file() const { return file_; }
+    // The cameras the model file gives (glTF), and the file's name for messages.
+    const std::vector<ModelCamera>& cameras() const { return cameras_; }
+    const std::string& source_name() const { return source_name_; }
     // The scene with its instances copied out, for hidden-line plugins: made on first use.
     const SceneData& flat_scene() const;
     // About what it holds in memory, for a cache's bound.
@@ -86,6 +89,8 @@ public:
 private:
     SceneData scene_;
     std::optional<SceneFile> file_;
+    std::vector<ModelCamera> cameras_;
+    std::string source_name_;
     mutable std::once_flag flat_once_;
     mutable std::optional<SceneData> flat_;
 };
@@ -102,6 +107,9 @@ struct ViewRequest {
     std::vector<glm::vec4> clip_planes;  // world space, after the .scene file's
     // A .scene file with `camera pixel` keeps its own size whatever width and height say.
     bool pixel_camera_keeps_size = false;
+    // A camera of the model file (glTF), by name or index: its eye, direction, field of view or
+    // window and near plane; the width follows from its aspect ratio unless given.
+    std::string model_camera;
 };
 
 // A shaded picture: a hidden-surface plugin and a lighting model.

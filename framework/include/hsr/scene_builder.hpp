@@ -2,6 +2,7 @@
 // gathered into one world-space triangle mesh (SceneData).
 #pragma once
 
+#include "hsr/camera.hpp"
 #include "hsr/mesh_object.hpp"
 #include "hsr/scene.hpp"
 
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hsr {
@@ -27,6 +29,8 @@ public:
     void add_polygon(std::span<const glm::vec3> vertices, glm::vec3 color, const std::string& name = {});
     void add_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
                        const MeshOptions& options = {});
+    // An object already read (a glTF mesh), with its options set.
+    void add_read_object(MeshObject object) { objects_.push_back(std::move(object)); }
     // Throws hsr::Error if the scene has no triangles.
     SceneData build() const;
 
@@ -46,7 +50,9 @@ private:
     std::vector<Object> objects_;
 };
 
-// One model file as a scene of one object.
-SceneData load_model(const std::filesystem::path& file, const MeshOptions& options = {});
+// One model file as a scene: one object, or a glTF file's meshes placed by its nodes (as instances
+// when a mesh is placed several times), whose cameras go to `cameras` when given.
+SceneData load_model(const std::filesystem::path& file, const MeshOptions& options = {},
+                     std::vector<ModelCamera>* cameras = nullptr);
 
 }  // namespace hsr
