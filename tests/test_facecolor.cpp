@@ -1,5 +1,7 @@
 // facecolor's palettes (by=face, by=object) through the real ABI: faces that share an edge differ,
 // objects differ, and by=given is the scene's own colours.
+#include "face_colors.hpp"
+
 #include "hsr/abi.h"
 #include "hsr/instancing.hpp"
 #include "hsr/plugin_registry.hpp"
@@ -17,41 +19,8 @@
 
 namespace {
 
-const hsr::Plugin& facecolor() {
-    static const hsr::PluginRegistry registry = [] {
-        hsr::PluginRegistry r;
-        r.scan_directory(HSR_PLUGIN_DIR);
-        return r;
-    }();
-    return registry.find(HSR_KIND_LIGHTING_MODEL, "facecolor");
-}
-
-// The colour facecolor gives one fragment of each face (of instance `instance` when the scene has
-// instances), in face order.
 std::vector<glm::vec3> colors_by(const std::string& by, const hsr::SceneData& scene, uint32_t instance = 0) {
-    hsr::LightingModel model(facecolor(), by.empty() ? std::vector<hsr::Setting>{} : std::vector<hsr::Setting>{{"by", by}});
-    const hsr_scene view = scene.view();
-    hsr_shading_context context{};
-    context.struct_size = sizeof context;
-    model.prepare(view, context);
-    const uint32_t n = scene.triangle_count();
-    std::vector<uint32_t> face(n), pixel(n), instances(n, instance);
-    std::vector<float> bary(2 * n, 0.25f), position(3 * n, 0.0f), normal(3 * n, 0.0f), color(3 * n, -1.0f);
-    for (uint32_t t = 0; t < n; ++t) face[t] = pixel[t] = t;
-    hsr_fragment_batch batch{};
-    batch.struct_size = sizeof batch;
-    batch.count = n;
-    batch.face = face.data();
-    batch.bary = bary.data();
-    batch.position = position.data();
-    batch.normal = normal.data();
-    batch.pixel = pixel.data();
-    batch.color = color.data();
-    batch.instance = scene.instances.empty() ? nullptr : instances.data();
-    model.shade(batch);
-    std::vector<glm::vec3> out;
-    for (uint32_t t = 0; t < n; ++t) out.emplace_back(color[3 * t], color[3 * t + 1], color[3 * t + 2]);
-    return out;
+    return test_colors::face_colors(scene, by, instance);
 }
 
 hsr::SceneData model(const char* name) { return hsr::load_model(std::string(HSR_MODELS_DIR) + "/" + name); }
@@ -138,5 +107,5 @@ TEST_CASE("facecolor by=given, and no parameter, is the scene's own colour", "[f
 }
 
 TEST_CASE("facecolor: an unknown by= is refused", "[facecolor]") {
-    CHECK_THROWS(hsr::LightingModel(facecolor(), {{"by", "vertex"}}));
+    CHECK_THROWS(hsr::LightingModel(test_colors::facecolor(), {{"by", "vertex"}}));
 }

@@ -2,6 +2,7 @@
 // hand) read back with known triangles, bounds, placements and colours, rendered through the same
 // camera as the equivalent plain scene, and refused with one line when they are broken or hostile.
 #include "cli_support.hpp"
+#include "face_colors.hpp"
 #include "surface_test_support.hpp"
 
 #include "hsr/abi.h"
@@ -301,31 +302,7 @@ TEST_CASE("glTF: a mesh used by two nodes is stored once and drawn as 2 instance
 
 namespace {
 
-// The colour facecolor (by=given) gives each face of the scene.
-std::vector<glm::vec3> given_colors(const hsr::SceneData& scene) {
-    hsr::LightingModel model(plugin("facecolor"), {{"by", "given"}});
-    const hsr_scene view = scene.view();
-    hsr_shading_context context{};
-    context.struct_size = sizeof context;
-    model.prepare(view, context);
-    const uint32_t n = scene.triangle_count();
-    std::vector<uint32_t> face(n), pixel(n);
-    std::vector<float> bary(2 * n, 0.25f), position(3 * n, 0.0f), normal(3 * n, 0.0f), color(3 * n, -1.0f);
-    for (uint32_t t = 0; t < n; ++t) face[t] = pixel[t] = t;
-    hsr_fragment_batch batch{};
-    batch.struct_size = sizeof batch;
-    batch.count = n;
-    batch.face = face.data();
-    batch.bary = bary.data();
-    batch.position = position.data();
-    batch.normal = normal.data();
-    batch.pixel = pixel.data();
-    batch.color = color.data();
-    model.shade(batch);
-    std::vector<glm::vec3> out;
-    for (uint32_t t = 0; t < n; ++t) out.emplace_back(color[3 * t], color[3 * t + 1], color[3 * t + 2]);
-    return out;
-}
+std::vector<glm::vec3> given_colors(const hsr::SceneData& scene) { return test_colors::face_colors(scene); }
 
 }  // namespace
 

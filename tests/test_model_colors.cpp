@@ -3,6 +3,8 @@
 // scene's own colours) against the values written in the files; a .scene file's colour over them;
 // and the material libraries that are not read (outside the model's folder, through a link, a
 // pipe, missing), each with its one warning line and without waiting.
+#include "face_colors.hpp"
+
 #include "hsr/abi.h"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
@@ -47,40 +49,7 @@ fs::path write_file(const std::string& relative, const std::string& text) {
     return file;
 }
 
-const hsr::Plugin& facecolor() {
-    static const hsr::PluginRegistry registry = [] {
-        hsr::PluginRegistry r;
-        r.scan_directory(HSR_PLUGIN_DIR);
-        return r;
-    }();
-    return registry.find(HSR_KIND_LIGHTING_MODEL, "facecolor");
-}
-
-// The colour facecolor by=given gives one fragment of each triangle, in triangle order.
-std::vector<glm::vec3> shaded_colors(const hsr::SceneData& scene) {
-    hsr::LightingModel model(facecolor(), std::vector<hsr::Setting>{{"by", "given"}});
-    const hsr_scene view = scene.view();
-    hsr_shading_context context{};
-    context.struct_size = sizeof context;
-    model.prepare(view, context);
-    const uint32_t n = scene.triangle_count();
-    std::vector<uint32_t> face(n), pixel(n);
-    std::vector<float> bary(2 * n, 0.25f), position(3 * n, 0.0f), normal(3 * n, 0.0f), color(3 * n, -1.0f);
-    for (uint32_t t = 0; t < n; ++t) face[t] = pixel[t] = t;
-    hsr_fragment_batch batch{};
-    batch.struct_size = sizeof batch;
-    batch.count = n;
-    batch.face = face.data();
-    batch.bary = bary.data();
-    batch.position = position.data();
-    batch.normal = normal.data();
-    batch.pixel = pixel.data();
-    batch.color = color.data();
-    model.shade(batch);
-    std::vector<glm::vec3> out;
-    for (uint32_t t = 0; t < n; ++t) out.emplace_back(color[3 * t], color[3 * t + 1], color[3 * t + 2]);
-    return out;
-}
+std::vector<glm::vec3> shaded_colors(const hsr::SceneData& scene) { return test_colors::face_colors(scene); }
 
 // Each colour to within float rounding (the files give decimals; /255 is not exact).
 void check_colors(const std::vector<glm::vec3>& got, const std::vector<glm::vec3>& expected) {
