@@ -583,6 +583,19 @@ TEST_CASE("view: uploads, and their cap", "[view]") {
     INFO(models.dump());
     CHECK(std::count_if(models.begin(), models.end(), [&](const json& m) { return m["id"] == id; }) == 1);
 
+    // A glTF file whose buffer is a data: URI stands alone: one triangle, (0,0,0), (1,0,0), (0,1,0).
+    const std::string triangle_gltf =
+        R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],)"
+        R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+        R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]})";
+    httplib::Result gltf =
+        s.client().Post("/api/upload", {{"X-File-Name", "triangle.gltf"}}, triangle_gltf, "application/octet-stream");
+    REQUIRE(gltf);
+    REQUIRE(gltf->status == 200);
+    CHECK(s.post_json("/api/frame", frame_request(json::parse(gltf->body)["id"], "zbuffer", 32))["stats"]["triangles"] == 1);
+
     httplib::Result large = s.client().Post("/api/upload", headers, std::string(3000, 'v'), "application/octet-stream");
     REQUIRE(large);
     CHECK(large->status == 413);

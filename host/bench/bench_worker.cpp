@@ -183,7 +183,9 @@ std::vector<CellOutcome> time_cells_apart(const WorkerJob& job, std::chrono::dur
 
     const fs::path executable = host::running_executable();
     while (outcomes.size() < cells.size()) {
-        auto [timed, skipped] = cells_to_time();
+        const std::pair<std::vector<Cell>, std::vector<std::optional<std::string>>> cut = cells_to_time();
+        const std::vector<Cell>& timed = cut.first;
+        const std::vector<std::optional<std::string>>& skipped = cut.second;
         const std::size_t first = outcomes.size();
         // Concludes the skipped cells up to the next one the worker times.
         auto pass_skipped = [&] {

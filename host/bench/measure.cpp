@@ -29,7 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::array<const char*, 4> mesh_extensions = {".obj", ".off", ".ply", ".stl"};
+constexpr std::array<const char*, 6> mesh_extensions = {".obj", ".off", ".ply", ".stl", ".gltf", ".glb"};
 constexpr uint32_t max_layers = 10000;
 
 std::optional<uint32_t> parse_count(std::string_view text) {

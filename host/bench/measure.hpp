@@ -49,7 +49,7 @@ const std::vector<std::string>& default_models();
 const std::vector<std::string>& quick_models();
 
 // A model as `hsr bench --models` names it:
-//   NAME            models/NAME.obj (or .off, .ply, .stl) in the models folder: cube, monkey, bunny, ...
+//   NAME            models/NAME.obj (or .off, .ply, .stl, .gltf, .glb) in the models folder: cube, monkey, bunny, ...
 //   NAME-loop[K]    that model with K levels of Loop subdivision (default 1): bunny-loop
 //   deep-N[:NAME]   NAME (default monkey) placed on a DeepGrid with N layers: deep-20
 //   random-N[:SEED] N random triangles (hsr/random_triangles.hpp), seed 1 unless given: random-1000:7

@@ -92,7 +92,8 @@ void remove_stale_uploads(const fs::path& parent) {
 
 bool hsr::host::is_model_file_name(const std::string& name) {
     const std::string ext = lowercase(fs::path(name).extension().string());
-    return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" || ext == ".scene";
+    return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" || ext == ".gltf" || ext == ".glb" ||
+           ext == ".scene";
 }
 
 hsr::host::ModelCatalog::ModelCatalog(std::vector<fs::path> folders, const fs::path& upload_parent)
@@ -158,9 +159,9 @@ std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, co
                                                         "(letters, digits, '.', '-', '_', spaces)", hsr::printable(file_name)));
     const std::string ext = lowercase(fs::path(name).extension().string());
     if (ext == ".scene")
-        throw ViewError(400, "X-File-Name", "upload: a .scene file names other files; upload one mesh file (.obj, .off, .ply or .stl)");
+        throw ViewError(400, "X-File-Name", "upload: a .scene file names other files; upload one mesh file (.obj, .off, .ply, .stl or .glb)");
     if (!is_model_file_name(name))
-        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a mesh file (.obj, .off, .ply or .stl)", name));
+        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a mesh file (.obj, .off, .ply, .stl, .gltf or .glb)", name));
     std::lock_guard lock(uploads_mutex_);
     const uint64_t n = next_upload_++;
     ModelEntry entry;

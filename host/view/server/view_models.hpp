@@ -43,7 +43,7 @@ public:
 
     const std::vector<std::filesystem::path>& folders() const { return folders_; }
     const std::filesystem::path& upload_folder() const { return upload_dir_; }
-    // Every model file of the folders (found again on each call: .obj .off .ply .stl .scene, at
+    // Every model file of the folders (found again on each call: .obj .off .ply .stl .gltf .glb .scene, at
     // most 3 folders deep, hidden files and folders skipped, links that leave their folder skipped)
     // and the uploads, sorted by id.
     std::vector<ModelEntry> list() const;
@@ -71,7 +71,7 @@ private:
 // exists.
 hsr::ReadPolicy served_read_policy(std::vector<std::filesystem::path> folders);
 
-// The model file extensions hsr view lists: ".obj", ".off", ".ply", ".stl", ".scene".
+// The model file extensions hsr view lists: ".obj", ".off", ".ply", ".stl", ".gltf", ".glb", ".scene".
 bool is_model_file_name(const std::string& name);
 
 }  // namespace hsr::host
