@@ -12,8 +12,9 @@
 // Files a .gltf names are read only from its own folder, as regular files, through the checked
 // reader below (tinygltf's file-system callbacks); image files are never opened.
 //
-// tinygltf's implementation is compiled here and nowhere else, without stb_image. The system
-// headers come first: tiny_gltf.h includes its JSON parser under hidden visibility, which would
+// tinygltf's implementation is compiled here and nowhere else, without stb_image; that is also why
+// this one file holds the whole reader, over 700 lines: its checks all take tinygltf's types, which
+// no header of hsr's should bring into other files. The system headers come first: tiny_gltf.h includes its JSON parser under hidden visibility, which would
 // otherwise apply to their declarations too.
 #include <fcntl.h>
 #include <sys/stat.h>
