@@ -607,6 +607,9 @@ def _arguments() -> argparse.ArgumentParser:
                         "processes (default: one per core)")
     parser.add_argument("--threads", type=int, default=1, metavar="N",
                         help="--threads of each render unless its line says (default 1; 0: all cores)")
+    parser.add_argument("--wait-for", type=int, default=1, metavar="N",
+                        help="with --scheduler: wait until N workers have joined before the batch "
+                             "starts, so that it is split for them all (default 1)")
     parser.add_argument("--timeout", type=float, default=20.0, metavar="SECONDS",
                         help="how long to try to reach the scheduler (default 20)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -628,8 +631,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         else:
             batch = jobs(arguments.model, turntable(arguments.views, arguments.pitch, arguments.yaw),
                          arguments.algorithm, arguments.lighting, width=arguments.width, height=arguments.height)
+        if arguments.wait_for < 1:
+            raise hsr.UsageError(f"--wait-for {arguments.wait_for}: need at least 1")
         client = _connect(arguments.scheduler, arguments.timeout) if arguments.scheduler else None
         try:
+            if client is not None and len(client.nthreads()) < arguments.wait_for:
+                print(f"hsr.dask: waiting for {arguments.wait_for} workers to join {arguments.scheduler}",
+                      file=sys.stderr, flush=True)
+                client.wait_for_workers(arguments.wait_for)
             summary = render_many(batch, client, out=arguments.out, workers=arguments.workers,
                                   threads=arguments.threads, progress=not arguments.quiet)
         finally:
