@@ -19,15 +19,9 @@ bool is_gltf_file(const std::filesystem::path& file);
 // A camera of the file, placed by the first node that names it.
 using GltfCamera = ModelCamera;
 
-struct GltfModel {
-    std::vector<MeshObject> meshes;  // one per glTF mesh that has triangles, in its own coordinates
-    struct Placement {
-        std::size_t mesh;            // into meshes
-        glm::dmat4 transform;        // mesh to world: the node's world transform
-    };
-    std::vector<Placement> placements;
+// One mesh per glTF mesh that has triangles, placed by the nodes' world transforms.
+struct GltfModel : PlacedMeshes {
     std::vector<GltfCamera> cameras;  // every camera a node of the scene places
-    std::vector<std::string> notes;   // what was skipped, one line each
 };
 
 // The default scene of the file (or its first) with the limits (limits.hpp) checked before the work

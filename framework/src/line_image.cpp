@@ -96,34 +96,53 @@ bool is_line_drawing_path(const std::filesystem::path& path) {
     return ext == ".svg" || ext == ".png";
 }
 
-LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, const LineStyle& style) {
-    const std::filesystem::path& path = file.target();
-    const std::string ext = drawing_extension(path);
-    if (drawing.width == 0 || drawing.height == 0) throw Error("{}: the drawing has no size", printable(path.string(), kMaxQuotedPathChars));
+namespace {
+
+// The drawing as SVG or PNG (ext), its bytes handed to `write`; `what` names it in messages.
+LineImageStats encode_line_drawing(cairo_write_func_t write, void* closure, const std::string& ext,
+                                   const std::string& what, const LineDrawing& drawing, const LineStyle& style) {
+    if (drawing.width == 0 || drawing.height == 0) throw Error("{}: the drawing has no size", what);
     std::unique_ptr<cairo_surface_t, SurfaceCloser> surface(
-        ext == ".svg" ? cairo_svg_surface_create_for_stream(write_to_file, file.stdio(), drawing.width, drawing.height)
+        ext == ".svg" ? cairo_svg_surface_create_for_stream(write, closure, drawing.width, drawing.height)
                       : cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(drawing.width), int(drawing.height)));
     if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-        throw Error("{}: cannot write: {}", printable(path.string(), kMaxQuotedPathChars), cairo_status_to_string(cairo_surface_status(surface.get())));
+        throw Error("{}: cannot write: {}", what, cairo_status_to_string(cairo_surface_status(surface.get())));
     if (ext == ".svg") cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_PX);  // 1 unit = 1 pixel
     LineImageStats stats;
     {
         std::unique_ptr<cairo_t, ContextCloser> cr(cairo_create(surface.get()));
         stats = draw(cr.get(), drawing, style, ext == ".svg" ? UINT64_MAX : 4096);
         if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS)
-            throw Error("{}: drawing failed: {}", printable(path.string(), kMaxQuotedPathChars), cairo_status_to_string(cairo_status(cr.get())));
+            throw Error("{}: drawing failed: {}", what, cairo_status_to_string(cairo_status(cr.get())));
     }
     if (ext == ".png") {
-        const cairo_status_t status = cairo_surface_write_to_png_stream(surface.get(), write_to_file, file.stdio());
-        if (status != CAIRO_STATUS_SUCCESS)
-            throw Error("{}: cannot write: {}", printable(path.string(), kMaxQuotedPathChars), cairo_status_to_string(status));
+        const cairo_status_t status = cairo_surface_write_to_png_stream(surface.get(), write, closure);
+        if (status != CAIRO_STATUS_SUCCESS) throw Error("{}: cannot write: {}", what, cairo_status_to_string(status));
     } else {
         cairo_surface_finish(surface.get());
         if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-            throw Error("{}: cannot write: {}", printable(path.string(), kMaxQuotedPathChars),
-                        cairo_status_to_string(cairo_surface_status(surface.get())));
+            throw Error("{}: cannot write: {}", what, cairo_status_to_string(cairo_surface_status(surface.get())));
     }
     return stats;
+}
+
+cairo_status_t append_to_string(void* text, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(text)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+}
+
+}  // namespace
+
+LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, const LineStyle& style) {
+    const std::filesystem::path& path = file.target();
+    return encode_line_drawing(write_to_file, file.stdio(), drawing_extension(path),
+                               printable(path.string(), kMaxQuotedPathChars), drawing, style);
+}
+
+std::string line_drawing_svg(const LineDrawing& drawing, const LineStyle& style) {
+    std::string svg;
+    encode_line_drawing(append_to_string, &svg, ".svg", "the SVG drawing", drawing, style);
+    return svg;
 }
 
 Image draw_line_image(const LineDrawing& drawing, const LineStyle& style) {

@@ -422,6 +422,29 @@ std::vector<Color> file_colors(const ModelContents& contents) {
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// The object of a mesh build_polygon_mesh made, with its faces' colours and what was noticed.
+Object object_from_polygon_mesh(const TriMesh& mesh, const FaceCounts& face_counts, const std::string& what) {
+    uint32_t separated = 0;
+    for (TriMesh::FaceHandle f : mesh.faces())
+        if (mesh.status(f).fixed_nonmanifold()) ++separated;
+    Object object = object_from_mesh(mesh);
+    object.separated_faces = separated;
+    object.source = what;
+    const glm::vec3 object_color = MeshOptions().color;
+    for (const Color& c : face_counts.triangle_colors)
+        object.face_colors.push_back(std::isnan(c[0]) ? object_color : glm::vec3(c[0], c[1], c[2]));
+    if (face_counts.intersecting > 0)
+        object.warnings.push_back(fmt::format("{}: {} face{} crossing {} outline cut into a fan from the first corner",
+                                              object.source, face_counts.intersecting,
+                                              face_counts.intersecting == 1 ? "" : "s",
+                                              face_counts.intersecting == 1 ? "its" : "their"));
+    for (std::size_t v = 0; v < object.positions.size(); ++v)
+        if (!finite(object.positions[v]))
+            throw Error("{}: vertex {} has a coordinate that is not a finite number", what, v);
+    if (object.indices.empty()) throw Error("{}: the model has no faces", what);
+    return object;
+}
+
 }  // namespace
 
 Object read_model_object(const std::filesystem::path& file) {
@@ -473,26 +496,50 @@ Object read_model_object(const std::filesystem::path& file) {
         chatter.find("invalid faces") != std::string::npos)
         throw Error("{}: some faces refer to vertices that do not exist", display(file));
 
-    uint32_t separated = 0;
-    for (TriMesh::FaceHandle f : mesh.faces())
-        if (mesh.status(f).fixed_nonmanifold()) ++separated;
-    Object object = object_from_mesh(mesh);
-    object.separated_faces = separated;
-    object.source = display(file);
-    object.warnings = std::move(warnings);
-    const glm::vec3 object_color = MeshOptions().color;
-    for (const Color& c : face_counts.triangle_colors)
-        object.face_colors.push_back(std::isnan(c[0]) ? object_color : glm::vec3(c[0], c[1], c[2]));
-    if (face_counts.intersecting > 0)
-        object.warnings.push_back(fmt::format("{}: {} face{} crossing {} outline cut into a fan from the first corner",
-                                              object.source, face_counts.intersecting,
-                                              face_counts.intersecting == 1 ? "" : "s",
-                                              face_counts.intersecting == 1 ? "its" : "their"));
-    for (std::size_t v = 0; v < object.positions.size(); ++v)
-        if (!finite(object.positions[v]))
-            throw Error("{}: vertex {} has a coordinate that is not a finite number", display(file), v);
-    if (object.indices.empty()) throw Error("{}: the model has no faces", display(file));
+    Object object = object_from_polygon_mesh(mesh, face_counts, display(file));
+    object.warnings.insert(object.warnings.begin(), warnings.begin(), warnings.end());
     return object;
+}
+
+Object object_from_polygons(std::span<const glm::vec3> positions, std::span<const uint32_t> corners,
+                            std::span<const uint32_t> face_ends, std::span<const glm::vec3> face_colors,
+                            const std::string& what) {
+    if (!face_colors.empty() && face_colors.size() != face_ends.size())
+        throw Error("{}: {} colours for {} faces", what, face_colors.size(), face_ends.size());
+    ModelContents contents;
+    contents.positions.reserve(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        if (!finite(positions[v])) throw Error("{}: vertex {} has a coordinate that is not a finite number", what, v);
+        contents.positions.push_back({positions[v].x, positions[v].y, positions[v].z});
+    }
+    uint32_t begin = 0;
+    for (std::size_t f = 0; f < face_ends.size(); ++f) {
+        if (face_ends[f] > corners.size())
+            throw Error("{}: face {} ends at corner {}, past the {} corners given", what, f, face_ends[f], corners.size());
+        if (face_ends[f] < begin + 3) throw Error("{}: face {} has fewer than 3 corners", what, f);
+        begin = face_ends[f];
+    }
+    contents.corners.reserve(corners.size());
+    for (uint32_t index : corners) {
+        if (index >= positions.size())
+            throw Error("{}: vertex index {} is out of range (there are {} vertices)", what, index, positions.size());
+        contents.corners.push_back(int32_t(index));
+    }
+    contents.face_ends.assign(face_ends.begin(), face_ends.end());
+    std::vector<Color> colors;
+    for (const glm::vec3& c : face_colors) {
+        if (!(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 && c.b >= 0 && c.b <= 1))
+            throw Error("{}: a face colour outside [0, 1] ({}, {}, {})", what, c.r, c.g, c.b);
+        colors.push_back({c.r, c.g, c.b});
+    }
+    TriMesh mesh;
+    mesh.request_face_status();
+    FaceCounts face_counts;
+    {
+        OpenMeshCapture capture;
+        face_counts = build_polygon_mesh(contents, colors, mesh);
+    }
+    return object_from_polygon_mesh(mesh, face_counts, what);
 }
 
 Object object_from_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,

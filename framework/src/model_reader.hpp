@@ -2,6 +2,7 @@
 #pragma once
 
 #include "hsr/mesh_object.hpp"
+#include "hsr/scene_builder.hpp"  // object_from_triangles, object_from_polygons
 
 #include <glm/glm.hpp>
 
@@ -15,10 +16,5 @@ namespace hsr {
 // One model file (OBJ, OFF, PLY, STL) as an object in its own coordinates, options not yet set.
 // Throws hsr::Error naming the file on any problem with it.
 MeshObject read_model_object(const std::filesystem::path& file);
-
-// An indexed triangle list as an object; `what` names it in messages. Triangles with a repeated
-// corner are dropped; one that would make the mesh non-manifold gets vertices of its own.
-MeshObject object_from_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
-                                           const std::string& what);
 
 }  // namespace hsr

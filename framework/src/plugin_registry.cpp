@@ -480,6 +480,12 @@ std::vector<fs::path> default_plugin_dirs(const fs::path& executable_dir, const 
     const fs::path installed = executable_dir.parent_path() / HSR_INSTALL_PLUGIN_DIR;
     std::error_code ec;
     if (fs::is_directory(installed, ec)) dirs.push_back(installed);
+    for (fs::path& d : plugin_path_dirs(extra)) dirs.push_back(std::move(d));
+    return dirs;
+}
+
+std::vector<fs::path> plugin_path_dirs(const std::vector<std::string>& extra) {
+    std::vector<fs::path> dirs;
     for (const std::string& d : split_path_list(std::getenv("HSR_PLUGIN_PATH"))) dirs.emplace_back(d);
     for (const std::string& d : extra) dirs.emplace_back(d);
     return dirs;

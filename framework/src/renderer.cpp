@@ -131,9 +131,10 @@ std::shared_ptr<LoadedScene> LoadedScene::load(const SceneSource& source, const 
     return loaded;
 }
 
-std::shared_ptr<LoadedScene> LoadedScene::of(SceneData scene) {
+std::shared_ptr<LoadedScene> LoadedScene::of(SceneData scene, std::string source_name) {
     auto loaded = std::make_shared<LoadedScene>();
     loaded->scene_ = std::move(scene);
+    loaded->source_name_ = std::move(source_name);
     return loaded;
 }
 

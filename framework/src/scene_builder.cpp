@@ -400,7 +400,7 @@ std::optional<std::pair<glm::mat3, float>> similarity(const glm::dmat4& transfor
 }
 
 // Each stored mesh once, in its own coordinates, and one instance per placement.
-SceneData instanced_scene(const GltfModel& model) {
+SceneData instanced_scene(const PlacedMeshes& model) {
     SceneBuilder builder;
     for (const MeshObject& mesh : model.meshes) {
         MeshObject copy = mesh;
@@ -427,7 +427,7 @@ SceneData instanced_scene(const GltfModel& model) {
         }
     }
     glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-    for (const GltfModel::Placement& placement : model.placements) {
+    for (const PlacedMeshes::Placement& placement : model.placements) {
         const Range& range = ranges[placement.mesh];
         if (range.triangles == 0) continue;  // every triangle dropped as without area
         const auto [rotation, scale] = *similarity(placement.transform);
@@ -446,27 +446,26 @@ SceneData instanced_scene(const GltfModel& model) {
     return scene;
 }
 
+}  // namespace
 
-// A glTF model as a scene: a mesh placed once is transformed; a mesh placed by several nodes is
-// stored once and placed as instances when every placement is a similarity (ABI 1.1), else copied.
-SceneData gltf_scene(GltfModel model, const MeshOptions& options) {
+SceneData placed_meshes_scene(PlacedMeshes model, const MeshOptions& options) {
     std::vector<std::size_t> uses(model.meshes.size(), 0);
-    for (const GltfModel::Placement& placement : model.placements) ++uses[placement.mesh];
+    for (const PlacedMeshes::Placement& placement : model.placements) ++uses[placement.mesh];
     const bool reused = std::any_of(uses.begin(), uses.end(), [](std::size_t n) { return n > 1; });
     const bool similar = std::all_of(model.placements.begin(), model.placements.end(),
-                                     [](const GltfModel::Placement& p) { return similarity(p.transform).has_value(); });
+                                     [](const PlacedMeshes::Placement& p) { return similarity(p.transform).has_value(); });
     SceneData scene;
     if (reused && similar) {
         scene = instanced_scene(model);
     } else {
         // Each placement its own transformed copy.
         uint64_t stored = 0;
-        for (const GltfModel::Placement& placement : model.placements)
+        for (const PlacedMeshes::Placement& placement : model.placements)
             stored += model.meshes[placement.mesh].indices.size() / 3;
         check_limit(&Limits::stored_triangles, stored, model.meshes.front().source + ": the placed meshes");
         SceneBuilder builder;
         for (std::size_t p = 0; p < model.placements.size(); ++p) {
-            const GltfModel::Placement& placement = model.placements[p];
+            const PlacedMeshes::Placement& placement = model.placements[p];
             MeshObject copy = uses[placement.mesh] > 1 || p + 1 < model.placements.size() ? model.meshes[placement.mesh]
                                                                                           : std::move(model.meshes[placement.mesh]);
             copy.options.transform = options.transform * glm::mat4(placement.transform);
@@ -477,8 +476,6 @@ SceneData gltf_scene(GltfModel model, const MeshOptions& options) {
     scene.warnings.insert(scene.warnings.begin(), model.notes.begin(), model.notes.end());
     return scene;
 }
-
-}  // namespace
 
 void SceneBuilder::add_model_file(const std::filesystem::path& file, const MeshOptions& options) {
     Object object = is_gltf_file(file) ? read_gltf_object(file) : read_model_object(file);
@@ -529,7 +526,7 @@ SceneData load_model(const std::filesystem::path& file, const MeshOptions& optio
     if (is_gltf_file(file)) {
         GltfModel model = read_gltf(file, options);
         if (cameras) *cameras = model.cameras;
-        return gltf_scene(std::move(model), options);
+        return placed_meshes_scene(std::move(model), options);
     }
     SceneBuilder builder;
     builder.add_model_file(file, options);

@@ -6,16 +6,14 @@
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <fmt/format.h>
 
+#include <optional>
+#include <utility>
+
 namespace fs = std::filesystem;
 
-hsr::PluginRegistry hsr::host::scan_plugins(const std::vector<std::string>& extra_dirs) {
-    const fs::path executable_dir(boost::dll::program_location().parent_path().string());
-    hsr::PluginRegistry registry;
-    for (const fs::path& dir : hsr::default_plugin_dirs(executable_dir, extra_dirs)) registry.scan_directory(dir);
-    return registry;
-}
-
 namespace {
+
+std::optional<std::vector<fs::path>> builtin_plugin_dirs;
 
 std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
     const hsr_plugin_descriptor& d = p.descriptor;
@@ -28,6 +26,21 @@ std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
 }
 
 }  // namespace
+
+void hsr::host::set_builtin_plugin_dirs(std::vector<fs::path> dirs) { builtin_plugin_dirs = std::move(dirs); }
+
+hsr::PluginRegistry hsr::host::scan_plugins(const std::vector<std::string>& extra_dirs) {
+    std::vector<fs::path> dirs;
+    if (builtin_plugin_dirs) {
+        dirs = *builtin_plugin_dirs;
+        for (fs::path& dir : hsr::plugin_path_dirs(extra_dirs)) dirs.push_back(std::move(dir));
+    } else {
+        dirs = hsr::default_plugin_dirs(fs::path(boost::dll::program_location().parent_path().string()), extra_dirs);
+    }
+    hsr::PluginRegistry registry;
+    for (const fs::path& dir : dirs) registry.scan_directory(dir);
+    return registry;
+}
 
 std::string hsr::host::describe_plugins(const hsr::PluginRegistry& registry, const std::string& indent) {
     std::string out;

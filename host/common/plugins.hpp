@@ -3,6 +3,7 @@
 
 #include "hsr/plugin_registry.hpp"
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,10 @@ namespace hsr::host {
 
 // Every plugin in the default folders (beside the executable, $HSR_PLUGIN_PATH) and extra_dirs.
 hsr::PluginRegistry scan_plugins(const std::vector<std::string>& extra_dirs);
+
+// For a front end that is not the hsr executable (the Python module): the folders scan_plugins
+// searches first instead of those beside the executable. Set once, before any scan.
+void set_builtin_plugin_dirs(std::vector<std::filesystem::path> dirs);
 
 // One block per plugin (kind, name, version, ABI, description, then its parameters), each line
 // prefixed with indent: hidden-surface plugins first, then hidden-line, then lighting; within a kind

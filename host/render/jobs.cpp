@@ -25,6 +25,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -74,14 +75,21 @@ private:
     std::exception_ptr error_;
 };
 
-void report(const RenderJob& job, const std::exception_ptr& error) {
+std::string error_message(const std::exception_ptr& error) {
     try {
         std::rethrow_exception(error);
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "hsr: error: %s: out of memory\n", job.origin.c_str());
+        return "out of memory";
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), message_line(e.what()).c_str());
+        return message_line(e.what());
     }
+}
+
+// A failed job's error: printed with its origin, or kept for the caller when `kept` is given.
+void report(const RenderJob& job, std::size_t index, const std::exception_ptr& error,
+            std::vector<std::optional<std::string>>* kept) {
+    if (kept) (*kept)[index] = error_message(error);
+    else std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), error_message(error).c_str());
 }
 
 // A file descriptor, closed when it goes.
@@ -192,7 +200,7 @@ std::vector<std::string> split_job_line(std::string_view line) {
     return words;
 }
 
-int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
+int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures, std::vector<std::optional<std::string>>* kept) {
     std::vector<std::string> keys;
     std::map<std::string, SharedScene> scenes;
     for (const RenderJob& job : jobs) {
@@ -205,7 +213,7 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
     const auto check = [&](std::pair<std::size_t, std::exception_ptr> written) {
         if (!written.second) return;
         if (failures == JobFailures::kStop) std::rethrow_exception(written.second);
-        if (!failed[written.first]) report(jobs[written.first], written.second);
+        if (!failed[written.first]) report(jobs[written.first], written.first, written.second, kept);
         failed[written.first] = true;
     };
     for (std::size_t j = 0; j < jobs.size(); ++j) {
@@ -230,7 +238,7 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
                 if (job.options.stats)
                     std::fprintf(stderr, "load time: scene %.2f ms (read, checked, normals and adjacency)\n",
                                  took.count());
-                if (failures == JobFailures::kReportAndGoOn)
+                if (failures == JobFailures::kReportAndGoOn && !kept)
                     std::fprintf(stderr, "loaded %s once for %zu job%s (%llu triangles, %.1f ms)\n",
                                  hsr::printable(model_path(job.options).string(), std::string::npos).c_str(), shared.jobs_left,
                                  shared.jobs_left == 1 ? "" : "s",
@@ -256,14 +264,14 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures) {
             if (failures == JobFailures::kStop) throw;
             const std::exception_ptr error = std::current_exception();
             check(writer.wait());
-            report(job, error);
+            report(job, j, error, kept);
             failed[j] = true;
         }
         if (--shared.jobs_left == 0) shared.renderer.reset();  // the writer may keep it a little longer
     }
     check(writer.wait());
     const std::size_t failures_count = std::size_t(std::count(failed.begin(), failed.end(), true));
-    if (failures_count > 0)
+    if (failures_count > 0 && !kept)
         throw hsr::Error("{} of {} jobs failed (the errors above)", failures_count, jobs.size());
     return 0;
 }
@@ -307,6 +315,12 @@ int run_job_file(const fs::path& file) {
     if (jobs.empty())
         throw UsageError("--jobs '{}': no jobs in the file (each line holds the options of one render)", shown);
     return run_jobs(jobs, JobFailures::kReportAndGoOn);
+}
+
+std::vector<std::optional<std::string>> run_jobs_keeping_errors(std::vector<RenderJob>& jobs) {
+    std::vector<std::optional<std::string>> errors(jobs.size());
+    run_jobs(jobs, JobFailures::kReportAndGoOn, &errors);
+    return errors;
 }
 
 }  // namespace hsr::host

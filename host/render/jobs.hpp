@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,8 +19,13 @@ namespace hsr::host {
 // or be reported with its FILE:LINE and let them run (a --jobs file: an hsr::Error at the end).
 enum class JobFailures { kStop, kReportAndGoOn };
 
-// Runs the jobs in order; returns the exit status (0).
-int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures);
+// Runs the jobs in order; returns the exit status (0). With `kept`, sized as jobs, a failing job's
+// message goes there instead of to standard error, and no error is thrown at the end.
+int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures,
+             std::vector<std::optional<std::string>>* kept = nullptr);
+
+// The jobs run going on past failures, as a --jobs file's are: each job's error message, or none.
+std::vector<std::optional<std::string>> run_jobs_keeping_errors(std::vector<RenderJob>& jobs);
 
 // The longest line a --jobs file may hold, in bytes: a line is read whole before it is split, and the
 // options of one render, paths included, fit in a small part of it.

@@ -33,9 +33,9 @@ using hsr::host::RenderOptions;
 using hsr::host::UsageError;
 using hsr::host::kMaxThreads;
 
-// What can be checked without plugins or files: one source of the scene, the options that go with
-// another, numbers in range, the background colour.
-void check_render_options(const RenderOptions& o) {
+}  // namespace
+
+void hsr::host::check_render_options(const RenderOptions& o) {
     const int sources = int(!o.model.empty()) + int(!o.surface.empty()) + int(!o.heightmap.empty()) +
                         int(o.was_given("random-triangles"));
     if (sources == 0)
@@ -104,6 +104,8 @@ void check_render_options(const RenderOptions& o) {
         for (const char* option : {"repeat-gap", "repeat-jitter"})
             if (o.was_given(option)) throw UsageError("--{} goes with --repeat", option);
 }
+
+namespace {
 
 // Exactly one of the two is set: --algorithm names a hidden-line plugin (a line drawing) or a
 // hidden-surface one (a shaded picture).
@@ -261,29 +263,35 @@ hsr::host::RenderOptions hsr::host::RenderJob::frame_options(std::size_t k) cons
     return o;
 }
 
+hsr::host::RenderJob hsr::host::prepare_render_plugins(RenderOptions options, const hsr::PluginRegistry& registry) {
+    RenderJob job;
+    job.options = std::move(options);
+    if (job.options.help) throw UsageError("--help goes on a command line of its own");
+    if (!job.options.jobs.empty()) throw UsageError("--jobs: a job cannot run another jobs file");
+    job.frames = plan_frames(job.options);
+    check_render_options(job.options);
+    RenderPlugins plugins = make_render_plugins(job.options, registry);
+    job.line_drawing = std::move(plugins.line_drawing);
+    job.picture = std::move(plugins.picture);
+    return job;
+}
+
 hsr::host::RenderJob hsr::host::prepare_render_job(const std::vector<std::string>& args, PluginRegistries& registries,
                                                    std::vector<fs::path>& files) {
-    RenderJob job;
-    job.options = parse_render_options(args);
-    RenderOptions& options = job.options;
-    if (options.help) throw UsageError("--help goes on a command line of its own");
-    if (!options.jobs.empty()) throw UsageError("--jobs: a job cannot run another jobs file");
+    RenderOptions options = parse_render_options(args);
+    hsr::Limits limits;
     try {
-        job.limits = hsr::limits_from_settings(options.limits);
+        limits = hsr::limits_from_settings(options.limits);
     } catch (const hsr::Error& e) {
         throw UsageError("{}", e.what());
     }
-    hsr::set_limits(job.limits);
-    job.frames = plan_frames(options);
-    check_render_options(options);
+    hsr::set_limits(limits);
     auto registry = registries.find(options.plugin_dirs);
     if (registry == registries.end())
         registry = registries.emplace(options.plugin_dirs, scan_plugins(options.plugin_dirs)).first;
-    RenderPlugins plugins = make_render_plugins(options, registry->second);
-    job.line_drawing = std::move(plugins.line_drawing);
-    job.picture = std::move(plugins.picture);
+    RenderJob job = prepare_render_plugins(std::move(options), registry->second);
+    job.limits = limits;
     set_output_templates(job, job.line_drawing.has_value());
     files = check_render_outputs(job, job.line_drawing.has_value());
     return job;
 }
-

@@ -48,6 +48,10 @@ struct PicturePlugins {
     std::unique_ptr<hsr::LightingModel> lighting;
 };
 
+// What can be checked of the options without plugins or files: one source of the scene, the options
+// that go with another, numbers in range, colours. A mistake is a UsageError.
+void check_render_options(const RenderOptions& options);
+
 // What --depth-out, --id-out and --normal-out may end with (docs/formats.md, "Outputs").
 inline const std::vector<std::string> depth_out_extensions{".png", ".npy", ".pfm", ".exr"};
 inline const std::vector<std::string> id_out_extensions{".npy", ".png"};
@@ -58,6 +62,8 @@ inline const std::vector<std::string> normal_out_extensions{".npy", ".pfm", ".ex
 // with more than 1.
 uint32_t picture_samples(const RenderOptions& options, const hsr::LoadedScene* scene);
 
+// The renderer's request for the options' picture of the scene.
+hsr::PictureRequest picture_request(const RenderOptions& options, const hsr::LoadedScene& scene);
 // Renders the picture, and the depth complexity when the options ask for it.
 hsr::Picture render_picture(const RenderOptions& options, hsr::Renderer& renderer, PicturePlugins& plugins);
 // Writes the picture to output, with the depth and heat maps the options ask for, and prints what
@@ -105,5 +111,11 @@ using PluginRegistries = std::map<std::vector<std::string>, hsr::PluginRegistry>
 // boost::program_options errors), anything else hsr::Error.
 RenderJob prepare_render_job(const std::vector<std::string>& args, PluginRegistries& registries,
                              std::vector<std::filesystem::path>& files);
+
+// The job of the options without its files: the options checked, the frames planned and the plugins
+// made from the registry, as prepare_render_job does before it names and checks the files. For a
+// front end that keeps what it renders (the Python module); it neither reads nor sets the job's
+// --limit options.
+RenderJob prepare_render_plugins(RenderOptions options, const hsr::PluginRegistry& registry);
 
 }  // namespace hsr::host

@@ -180,7 +180,7 @@ uint32_t hsr::host::picture_samples(const RenderOptions& o, const hsr::LoadedSce
     return samples;
 }
 
-hsr::Picture hsr::host::render_picture(const RenderOptions& o, hsr::Renderer& renderer, PicturePlugins& plugins) {
+hsr::PictureRequest hsr::host::picture_request(const RenderOptions& o, const hsr::LoadedScene& scene) {
     hsr::PictureRequest request;
     request.view = view_request(o);
     for (const std::string& text : o.lights) request.lights.push_back(hsr::parse_light_spec(text));
@@ -188,11 +188,16 @@ hsr::Picture hsr::host::render_picture(const RenderOptions& o, hsr::Renderer& re
         request.transparent_background = true;
     else if (o.was_given("background"))
         request.background = parse_color_option(o.background, "background");
-    request.samples = picture_samples(o, &renderer.loaded());
+    request.samples = picture_samples(o, &scene);
     request.threads = unsigned(o.threads);
     request.count_depth_tests = !o.depth_tests_out.empty();
     request.depth_complexity = o.stats || !o.overdraw_out.empty() || !o.depth_tests_out.empty();
     if (o.was_given("step")) request.step = uint64_t(o.step);
+    return request;
+}
+
+hsr::Picture hsr::host::render_picture(const RenderOptions& o, hsr::Renderer& renderer, PicturePlugins& plugins) {
+    const hsr::PictureRequest request = picture_request(o, renderer.loaded());
     const ThreadBound thread_bound(o.threads);
     return renderer.picture(request, *plugins.remover, *plugins.lighting);
 }

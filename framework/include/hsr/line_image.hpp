@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace hsr {
@@ -53,6 +54,9 @@ class AtomicFile;
 LineImageStats write_line_drawing(AtomicFile& file, const LineDrawing& drawing, const LineStyle& style);
 LineImageStats write_line_drawing(const std::filesystem::path& path, const LineDrawing& drawing,
                                   const LineStyle& style);
+
+// The SVG file write_line_drawing writes, as text.
+std::string line_drawing_svg(const LineDrawing& drawing, const LineStyle& style);
 
 // The drawing as write_line_drawing draws a PNG, as 8-bit RGB pixels (for encode_png, image.hpp).
 Image draw_line_image(const LineDrawing& drawing, const LineStyle& style);

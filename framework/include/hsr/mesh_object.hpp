@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,6 +35,18 @@ struct MeshObject {  // one object in its own coordinates, adjacency already kno
     std::string source;             // for messages: the file, or the object's name
     uint32_t separated_faces = 0;   // non-manifold faces given their own vertices
     std::vector<std::string> warnings;  // what the reader noticed, one line each, the file named
+};
+
+// Meshes in their own coordinates and where each is placed, before they become one scene
+// (placed_meshes_scene, scene_builder.hpp).
+struct PlacedMeshes {
+    std::vector<MeshObject> meshes;
+    struct Placement {
+        std::size_t mesh;            // into meshes
+        glm::dmat4 transform;        // mesh to world
+    };
+    std::vector<Placement> placements;
+    std::vector<std::string> notes;  // what was skipped, one line each
 };
 
 }  // namespace hsr

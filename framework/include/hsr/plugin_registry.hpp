@@ -87,6 +87,8 @@ private:
 // executable, then each entry of $HSR_PLUGIN_PATH (':'-separated), then the extra ones given.
 std::vector<std::filesystem::path> default_plugin_dirs(const std::filesystem::path& executable_dir,
                                                        const std::vector<std::string>& extra);
+// The folders searched after the host's own: each entry of $HSR_PLUGIN_PATH, then the extra ones.
+std::vector<std::filesystem::path> plugin_path_dirs(const std::vector<std::string>& extra);
 
 // Instances: RAII over the C create/destroy pair. Every call turns a non-OK status into
 // hsr::PluginError carrying the status and the plugin's message, and is marked with a

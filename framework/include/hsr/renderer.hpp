@@ -72,8 +72,9 @@ public:
     // Reads and builds the scene; only files the policy allows are read. Throws hsr::Error (a
     // UsageError for options that do not go together), with the reader's file and line.
     static std::shared_ptr<LoadedScene> load(const SceneSource& source, const ReadPolicy& policy = {});
-    // A scene built elsewhere (hsr bench's subdivided and deep scenes), with no .scene file.
-    static std::shared_ptr<LoadedScene> of(SceneData scene);
+    // A scene built elsewhere (hsr bench's subdivided and deep scenes, Python's arrays), with no
+    // .scene file; source_name names it in messages.
+    static std::shared_ptr<LoadedScene> of(SceneData scene, std::string source_name = {});
 
     const SceneData& scene() const { return scene_; }
     // A .scene file's lights, camera, size... (its scene moved into scene()); unset for other sources.
