@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import dataclasses
+import inspect
 import itertools
 import logging
 import math
@@ -35,6 +36,7 @@ import uuid
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import hsr
+from hsr import _options
 
 try:
     import distributed
@@ -61,8 +63,8 @@ class Job:
     """One render of a batch.
 
     Either a line of an `hsr render --jobs` file (`words`: its options as hsr render takes them,
-    paths taken from the current folder), or a model with the keywords of hsr.render and the file
-    name of its picture (`model`, `keywords`, `name`: made by jobs()). `origin` names the job in the
+    paths taken from the current folder), or a model with keywords of hsr.load and hsr.render and
+    the file name of its picture (`model`, `keywords`, `name`: made by jobs()). `origin` names the job in the
     summary: "FILE:LINE" for a line, the picture's name for the others.
     """
 
@@ -76,7 +78,7 @@ class Job:
         """The options of the `hsr render` this job is; its picture goes into folder `out`."""
         if self.model is None:
             return list(self.words)
-        words = [self.model, *_option_words(self.keywords)]
+        words = [_options.model_path(self.model), *_option_words(self.keywords)]
         if out is not None:
             words += ["-o", os.path.join(out, self.name)]
         return words
@@ -151,12 +153,18 @@ def jobs(models: Iterable[str | os.PathLike], cameras: Sequence[Mapping[str, Any
     """The jobs of models × cameras × algorithms × lightings, each a width × height picture.
 
     A camera is a dict of hsr.render's camera keywords: {"yaw": 30, "pitch": 20}, or
-    {"eye": "40,40,40", "target": "0,0,0"}; turntable(N) makes N of them. `keywords` are further
-    options of hsr.render for every job (zoom=1.5, samples=4, background="#ffffff"). Each picture is
+    {"eye": (40, 40, 40), "target": (0, 0, 0)}; turntable(N) makes N of them. `keywords` are
+    further keywords of hsr.render or hsr.load for every job (zoom=1.5, samples=4, color="#ff8000",
+    params={"cull-backfaces": True}); an unknown one is an hsr.UsageError. Each picture is
     named <model name>-<camera number>-<algorithm>-<lighting>.png, e.g. bunny-03-zbuffer-lambert.png
     (characters other than letters, digits, '.', '+' and '-' become '_').
     """
     cameras = list(cameras) or [{}]
+    known = _keyword_names(hsr.load) | _keyword_names(hsr.render)
+    for options in [*cameras, keywords]:
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise hsr.UsageError(f"jobs: {unknown[0]!r} is not a keyword of hsr.render or hsr.load")
     digits = max(2, len(str(len(cameras) - 1)))
     made, names = [], {}
     for model, (index, camera), algorithm, lighting in itertools.product(
@@ -300,10 +308,26 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
 
 
 def local_client(workers: int | None = None) -> distributed.Client:
-    """A client of `workers` local worker processes (default: one per core), one thread each."""
+    """A client of `workers` local worker processes (default: one per core), one thread each, whose
+    renders print nothing (the summary has the failures)."""
     cluster = distributed.LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
                                        processes=True, dashboard_address=":0", silence_logs=logging.ERROR)
-    return distributed.Client(cluster)
+    client = distributed.Client(cluster)
+    client.register_worker_plugin(_QuietStandardError())
+    return client
+
+
+class _QuietStandardError(distributed.WorkerPlugin):
+    """Points a local worker process's standard error at /dev/null, also in a worker started again
+    after one died: hsr prints a line there for each file it writes, which would run over the
+    client's progress bar in the same terminal."""
+
+    name = "hsr-quiet-standard-error"
+
+    def setup(self, worker):
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, 2)
+        os.close(null)
 
 
 # --- On the workers ------------------------------------------------------------------------------
@@ -347,13 +371,13 @@ def _render_files(folder: str, commands: list[list[str]]) -> list[str | None]:
 
 
 def _render_arrays(folder: str, model: str, keywords: list[dict]) -> list[tuple[FrameArrays | None, str | None]]:
-    """A task: the model loaded once, then a frame for each dict of hsr.render's keywords; per frame,
-    its arrays (copies, to be sent back) or the error message."""
+    """A task: the model loaded once, then a frame for each job's keywords; per frame, its arrays
+    (copies, to be sent back) or the error message. The jobs share their keywords of hsr.load."""
     import numpy
 
     try:
         with _working_folder(folder):
-            scene = hsr.load(model)
+            scene = hsr.load(model, **_split_keywords(keywords[0])[0])
     except OSError as error:
         return [(None, _worker_error(folder, error))] * len(keywords)
     except Exception as error:
@@ -361,7 +385,7 @@ def _render_arrays(folder: str, model: str, keywords: list[dict]) -> list[tuple[
     results = []
     for options in keywords:
         try:
-            frame = hsr.render(scene, **options)
+            frame = hsr.render(scene, **_split_keywords(options)[1])
             results.append((FrameArrays(color=numpy.array(frame.color), depth=numpy.array(frame.depth),
                                         face_id=numpy.array(frame.face_id), stats=dict(frame.stats)), None))
         except Exception as error:
@@ -403,30 +427,34 @@ def _file_name(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9.+-]", "_", text)
 
 
-def _number(value: Any) -> str:
-    if isinstance(value, float):
-        return str(int(value)) if value.is_integer() and abs(value) < 1e15 else repr(value)
-    return str(value)
+# hsr.render's keywords whose `hsr render` option has another name.
+_RENAMED = {"orthographic": "ortho", "clip_planes": "clip_plane", "sections": "section", "lights": "light"}
+
+
+def _keyword_names(function: Callable) -> set[str]:
+    return {name for name, parameter in inspect.signature(function).parameters.items()
+            if parameter.kind == parameter.KEYWORD_ONLY or name in ("algorithm", "lighting")}
+
+
+def _split_keywords(keywords: Mapping[str, Any]) -> tuple[dict, dict]:
+    """Job keywords as those of hsr.load and those of hsr.render (threads goes to both)."""
+    load = {k: v for k, v in keywords.items() if k in _keyword_names(hsr.load)}
+    render = {k: v for k, v in keywords.items() if k not in load or k == "threads"}
+    return load, render
 
 
 def _option_words(keywords: Mapping[str, Any]) -> list[str]:
-    """hsr.render's keywords as `hsr render` options: yaw=30 is --yaw 30, ortho=True is --ortho,
-    eye=(40, 40, 40) is --eye 40,40,40, light=["dir:0,0,1", "point:1,1,1"] is --light twice."""
-    words = []
-    for key, value in keywords.items():
-        option = "--" + key.replace("_", "-")
-        if value is None or value is False:
-            continue
-        if value is True:
-            words.append(option)
-        elif isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
-            for v in value:
-                words += [option, v]
-        elif isinstance(value, (list, tuple)):
-            words += [option, ",".join(_number(v) for v in value)]
-        else:
-            words += [option, _number(value)]
-    return words
+    """Keywords of hsr.load and hsr.render as the `hsr render` options they stand for, formatted as
+    the package formats them for the core, so that the command renders what the call renders."""
+    options = dict(keywords)
+    words = ["--algorithm", _options.plugin_spec("algorithm", options.pop("algorithm", "zbuffer"),
+                                                 options.pop("params", None)),
+             "--lighting", _options.plugin_spec("lighting", options.pop("lighting", "blinn-phong"),
+                                                options.pop("lighting_params", None))]
+    for listed in ("lights", "plugin_path"):
+        if isinstance(options.get(listed), (str, os.PathLike)):
+            options[listed] = [options[listed]]
+    return words + _options.words(**{_RENAMED.get(k, k): v for k, v in options.items()})
 
 
 def _parse_words(words: Sequence[str]) -> tuple[list[str], list[tuple[str, str]]]:
