@@ -21,10 +21,12 @@ from __future__ import annotations
 import argparse
 import contextlib
 import dataclasses
+import functools
 import inspect
 import itertools
 import logging
 import math
+import multiprocessing
 import os
 import re
 import socket
@@ -44,6 +46,12 @@ except ImportError as missing:
     raise ImportError("hsr.dask needs Dask's distributed package (Debian: python3-distributed)") from missing
 
 __all__ = ["Job", "FrameArrays", "Summary", "jobs", "turntable", "read_jobs_file", "render_many", "main"]
+
+# How long local worker processes may take to start, on a busy machine.
+_WORKERS_START_SECONDS = 60
+
+_UNGUARDED_SCRIPT = ("local worker processes start by importing the script that started them: in a script, "
+                     "run the batch under `if __name__ == \"__main__\":`")
 
 # The limits of an `hsr render --jobs` file (docs/many-frames.md).
 _MAX_JOB_FILE_BYTES = 64 << 20
@@ -252,7 +260,7 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
         if any(job.model is not None for job in jobs):
             os.makedirs(out_folder, exist_ok=True)
     commands = [_with_threads(job.command(out_folder), threads) for job in jobs]
-    outputs = [] if arrays else _check_outputs(jobs, commands, folder)
+    outputs = {} if arrays else _check_outputs(jobs, commands, folder)
 
     owned = None
     if client is None:
@@ -310,9 +318,19 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
 def local_client(workers: int | None = None) -> distributed.Client:
     """A client of `workers` local worker processes (default: one per core), one thread each, whose
     renders print nothing (the summary has the failures)."""
-    cluster = distributed.LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                                       processes=True, dashboard_address=":0", silence_logs=logging.ERROR)
+    count = workers or os.cpu_count() or 1
+    if multiprocessing.parent_process() is not None:  # a script without the guard, run again in a worker
+        raise hsr.Error(_UNGUARDED_SCRIPT)
+    cluster = distributed.LocalCluster(n_workers=count, threads_per_worker=1, processes=True,
+                                       dashboard_address=":0", silence_logs=logging.ERROR)
     client = distributed.Client(cluster)
+    try:
+        client.wait_for_workers(count, timeout=_WORKERS_START_SECONDS)
+    except (TimeoutError, distributed.TimeoutError):
+        client.close()
+        cluster.close()
+        raise hsr.Error(f"the {count} local worker processes did not start within {_WORKERS_START_SECONDS} s"
+                        f" ({_UNGUARDED_SCRIPT})") from None
     client.register_worker_plugin(_QuietStandardError())
     return client
 
@@ -482,15 +500,23 @@ def _model_word(words: Sequence[str]) -> str | None:
 
 
 def _with_threads(command, threads: int | None):
-    """A command (list of words) or hsr.render keywords (dict) with --threads set, unless it has it."""
+    """A command (list of words) or job keywords (dict) with --threads set, unless it has it or its
+    algorithm is not a hidden-surface plugin (hidden-line plugins take no --threads)."""
     if threads is None:
         return command
     if isinstance(command, dict):
         command.setdefault("threads", threads)
         return command
-    if any(name == "--threads" for name, _ in _parse_words(command)[1]):
+    options = _parse_words(command)[1]
+    algorithm = next((value for name, value in reversed(options) if name == "--algorithm"), "zbuffer")
+    if any(name == "--threads" for name, _ in options) or algorithm.split(":")[0] not in _hidden_surface_plugins():
         return command
     return [*command, "--threads", str(threads)]
+
+
+@functools.cache
+def _hidden_surface_plugins() -> frozenset[str]:
+    return frozenset(plugin["name"] for plugin in hsr.plugins() if plugin["kind"] == "hidden-surface")
 
 
 def _output_paths(words: Sequence[str], folder: str) -> tuple[list[str], list[tuple[str, str]]]:
