@@ -38,7 +38,7 @@ def client():
 
 def good_lines():
     """Lines of a jobs file that all render: four models, three yaws, two algorithms, a turntable
-    with its depth, and a picture in a subfolder."""
+    with its depth, a picture in a subfolder and a line drawing."""
     lines = []
     for model in ["cube.obj", "octahedron.ply", "pyramid.stl", "boxes.scene"]:
         stem = model.split(".")[0]
@@ -47,6 +47,7 @@ def good_lines():
                 lines.append(f"{MODELS / model} --yaw {yaw} --pitch 20 -a {algorithm} {SIZE} -o {stem}-{yaw}-{algorithm}.png")
     lines.append(f"{MODELS / 'tetrahedron.off'} --views 4 {SIZE} -o turn-%02d.png --depth-out turn-depth-%02d.npy")
     lines.append(f"'{MODELS / 'three-polygons.scene'}' -l facecolor {SIZE} -o 'sub folder/three polygons.png'")
+    lines.append(f"{MODELS / 'boxes.scene'} -a roberts --edges all --hidden dashed {SIZE} -o boxes-lines.svg")
     return lines
 
 
