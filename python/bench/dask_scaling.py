@@ -15,7 +15,6 @@ quotes its results.
 """
 
 import argparse
-import logging
 import os
 import pathlib
 import platform
@@ -77,9 +76,7 @@ def main() -> int:
         clusters = {}
         try:
             for workers in arguments.workers:
-                cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                                   dashboard_address=":0", silence_logs=logging.ERROR)
-                clusters[workers] = distributed.Client(cluster)
+                clusters[workers] = hsr.dask.local_client(workers)
                 warm(clusters[workers], workers)
             seconds = {workers: [] for workers in arguments.workers}
             for repeat in range(arguments.repeats):
