@@ -41,11 +41,15 @@ import hsr
 from hsr import _options
 
 try:
+    import dask
     import distributed
 except ImportError as missing:
     raise ImportError("hsr.dask needs Dask's distributed package (Debian: python3-distributed)") from missing
 
 __all__ = ["Job", "FrameArrays", "Summary", "jobs", "turntable", "read_jobs_file", "render_many", "main"]
+
+# The temporary file of an atomic write by hsr: ".<name>.tmp-<pid>-<random>", the name cut at 200 bytes.
+_TEMPORARY_NAME = re.compile(r"\.(.+)\.tmp-[0-9]+-[0-9a-f]{16}", re.DOTALL)
 
 # How long local worker processes may take to start, on a busy machine.
 _WORKERS_START_SECONDS = 60
@@ -259,7 +263,11 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
         out_folder = os.path.abspath(out)
         if any(job.model is not None for job in jobs):
             os.makedirs(out_folder, exist_ok=True)
-    commands = [_with_threads(job.command(out_folder), threads) for job in jobs]
+    for j, job in enumerate(jobs):
+        if job.model is not None and threads is not None and "threads" not in job.keywords:
+            jobs[j] = dataclasses.replace(job, keywords={**job.keywords, "threads": threads})
+    commands = [job.command(out_folder) if job.model is not None else _with_threads(job.command(), threads)
+                for job in jobs]
     outputs = {} if arrays else _check_outputs(jobs, commands, folder)
 
     owned = None
@@ -270,37 +278,42 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
         client = owned
     try:
         slots = max(1, sum(client.nthreads().values()))
-        tasks = _split_groups(_group_by_scene(commands), slots)
+        tasks = _split_groups(_group_by_scene(jobs, commands), slots)
         errors: list[str | None] = [None] * len(jobs)
         frames: list[FrameArrays | None] | None = [None] * len(jobs) if arrays else None
         start = time.monotonic()
         report = _progress_reporter(progress, len(jobs))
-        futures = {}
         batch = uuid.uuid4().hex[:8]
-        for number, task in enumerate(tasks):
-            key = f"hsr-{_file_name(_model_word(commands[task[0]]) or 'render')}-{batch}-{number}"
-            if arrays:
-                future = client.submit(_render_arrays, folder, jobs[task[0]].model,
-                                       [_with_threads(dict(jobs[j].keywords), threads) for j in task], key=key)
-            else:
-                future = client.submit(_render_files, folder, [commands[j] for j in task], key=key)
-            futures[future] = task
+        keys = [f"hsr-{_file_name(_model_word(commands[task[0]]) or 'render')}-{batch}-{number}"
+                for number, task in enumerate(tasks)]
+        # One map for all the tasks: a submit each would cost a round trip to the scheduler.
+        if arrays:
+            submitted = client.map(_render_arrays, [folder] * len(tasks), [jobs[task[0]].model for task in tasks],
+                                   [[dict(jobs[j].keywords) for j in task] for task in tasks],
+                                   key=keys)
+        else:
+            submitted = client.map(_render_files, [folder] * len(tasks), [[commands[j] for j in task] for task in tasks],
+                                   key=keys)
+        futures = dict(zip(submitted, tasks))
         done = failed = 0
         try:
-            for future in distributed.as_completed(futures):
-                task = futures[future]
-                try:
-                    results = future.result()
-                except Exception as error:  # the task itself failed: its worker died too often, hsr is missing, ...
-                    message = _one_line(f"the task failed on its worker ({type(error).__name__}: {error})")
-                    results = [message] * len(task) if not arrays else [(None, message)] * len(task)
-                for j, result in zip(task, results):
-                    if arrays:
-                        frames[j], errors[j] = result
-                    else:
-                        errors[j] = result
-                    done += errors[j] is None
-                    failed += errors[j] is not None
+            # The results of the tasks that finished meanwhile, fetched together: one round trip.
+            for finished in distributed.as_completed(futures).batches():
+                succeeded = [future for future in finished if future.status == "finished"]
+                results = dict(zip(succeeded, client.gather(succeeded)))
+                for future in finished:
+                    task = futures[future]
+                    if future not in results:  # the task failed: its workers died, hsr is missing, ...
+                        error = future.exception()
+                        message = _one_line(f"the task failed on its worker ({type(error).__name__}: {error})")
+                        results[future] = [message] * len(task) if not arrays else [(None, message)] * len(task)
+                    for j, result in zip(task, results[future]):
+                        if arrays:
+                            frames[j], errors[j] = result
+                        else:
+                            errors[j] = result
+                        done += errors[j] is None
+                        failed += errors[j] is not None
                 report(done, failed)
         except BaseException:
             client.cancel(list(futures))
@@ -321,8 +334,14 @@ def local_client(workers: int | None = None) -> distributed.Client:
     count = workers or os.cpu_count() or 1
     if multiprocessing.parent_process() is not None:  # a script without the guard, run again in a worker
         raise hsr.Error(_UNGUARDED_SCRIPT)
-    cluster = distributed.LocalCluster(n_workers=count, threads_per_worker=1, processes=True,
-                                       dashboard_address=":0", silence_logs=logging.ERROR)
+    # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which makes glibc hand each picture's
+    # buffers back to the system and fault them in again: three times the page faults, and about
+    # 10 % more time for a batch of small pictures (docs/distributed.md#scaling).
+    environment = {name: value for name, value in dask.config.get("distributed.nanny.pre-spawn-environ").items()
+                   if name != "MALLOC_TRIM_THRESHOLD_"}
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": environment}):
+        cluster = distributed.LocalCluster(n_workers=count, threads_per_worker=1, processes=True,
+                                           dashboard_address=":0", silence_logs=logging.ERROR)
     client = distributed.Client(cluster)
     try:
         client.wait_for_workers(count, timeout=_WORKERS_START_SECONDS)
@@ -411,19 +430,24 @@ def _render_arrays(folder: str, model: str, keywords: list[dict]) -> list[tuple[
     return results
 
 
-def _remove_temporaries(patterns: dict[str, list[str]]) -> int:
-    """Removes, in each folder, the temporary files whose names match one of its patterns."""
+def _remove_temporaries(outputs: dict[str, tuple[set[str], list[str]]]) -> int:
+    """Removes, in each folder, the temporary files of its outputs: those named ".<output>.tmp-<pid>-
+    <random>", where <output> is one of its file names or matches one of its name templates."""
     removed = 0
-    for folder, expressions in patterns.items():
-        matcher = re.compile("|".join(f"(?:{e})" for e in expressions))
+    for folder, (names, templates) in outputs.items():
+        matcher = re.compile("|".join(f"(?:{t})" for t in templates)) if templates else None
         try:
-            names = os.listdir(folder)
+            entries = os.listdir(folder)
         except OSError:
             continue
-        for name in names:
-            if name.startswith(".") and matcher.fullmatch(name):
+        for entry in entries:
+            temporary = _TEMPORARY_NAME.fullmatch(entry)
+            if not temporary:
+                continue
+            target = temporary.group(1)
+            if target in names or (matcher and matcher.fullmatch(target)):
                 with contextlib.suppress(FileNotFoundError):
-                    os.remove(os.path.join(folder, name))
+                    os.remove(os.path.join(folder, entry))
                     removed += 1
     return removed
 
@@ -449,9 +473,10 @@ def _file_name(text: str) -> str:
 _RENAMED = {"orthographic": "ortho", "clip_planes": "clip_plane", "sections": "section", "lights": "light"}
 
 
-def _keyword_names(function: Callable) -> set[str]:
-    return {name for name, parameter in inspect.signature(function).parameters.items()
-            if parameter.kind == parameter.KEYWORD_ONLY or name in ("algorithm", "lighting")}
+@functools.cache
+def _keyword_names(function: Callable) -> frozenset[str]:
+    return frozenset(name for name, parameter in inspect.signature(function).parameters.items()
+                     if parameter.kind == parameter.KEYWORD_ONLY or name in ("algorithm", "lighting"))
 
 
 def _split_keywords(keywords: Mapping[str, Any]) -> tuple[dict, dict]:
@@ -499,13 +524,10 @@ def _model_word(words: Sequence[str]) -> str | None:
     return os.path.splitext(os.path.basename(positional[0]))[0] if positional else None
 
 
-def _with_threads(command, threads: int | None):
-    """A command (list of words) or job keywords (dict) with --threads set, unless it has it or its
-    algorithm is not a hidden-surface plugin (hidden-line plugins take no --threads)."""
+def _with_threads(command: list[str], threads: int | None) -> list[str]:
+    """A command with --threads set, unless it has it or its algorithm is not a hidden-surface
+    plugin (hidden-line plugins take no --threads)."""
     if threads is None:
-        return command
-    if isinstance(command, dict):
-        command.setdefault("threads", threads)
         return command
     options = _parse_words(command)[1]
     algorithm = next((value for name, value in reversed(options) if name == "--algorithm"), "zbuffer")
@@ -520,66 +542,80 @@ def _hidden_surface_plugins() -> frozenset[str]:
 
 
 def _output_paths(words: Sequence[str], folder: str) -> tuple[list[str], list[tuple[str, str]]]:
-    """The files one `hsr render` names as outputs (absolute), and (folder, regular expression) of
-    the names its temporary files may have: ".<name>.tmp-<pid>-<random>" (hsr's atomic writes)."""
+    """The files one `hsr render` names as outputs (absolute, perhaps with a frame number: %03d),
+    and those it writes without naming them, as (folder, regular expression of the file name)."""
     positional, options = _parse_words(words)
-    named = [os.path.join(folder, value) for name, value in options if name in _OUTPUT_OPTIONS and value]
-    patterns = [(os.path.dirname(path), _template_expression(os.path.basename(path))) for path in named]
+    named = [os.path.normpath(os.path.join(folder, value)) for name, value in options
+             if name in _OUTPUT_OPTIONS and value]
+    unnamed = []
     has_output = any(name == "--output" for name, _ in options)
     has_model = positional and not any(name in _MODEL_SOURCES for name, _ in options)
-    if not has_output and has_model:  # the default <model name>.png or <model name>-NNN.png, here
+    if not has_output and has_model:  # <model name>.png, <model name>-NNN.png (or .svg), here
         stem = os.path.splitext(os.path.basename(positional[0]))[0]
-        patterns.append((folder, re.escape(stem) + r"(?:-[0-9]+)?\.(?:png|svg)"))
-    suffix = r"\.tmp-[0-9]+-[0-9a-f]{16}"
-    return named, [(where, r"\." + expression + suffix) for where, expression in patterns]
+        unnamed.append((folder, re.escape(stem) + r"(?:-[0-9]+)?\.(?:png|svg)"))
+    return named, unnamed
 
 
-def _template_expression(name: str) -> str:
-    """A regular expression for the names a file name with a frame number (%d, %03d) may expand to."""
+def _template_expression(name: str) -> str | None:
+    """A regular expression for the names a file name with a frame number (%d, %03d) may expand to;
+    None for a name without one."""
     parts, at = [], 0
     for match in re.finditer(r"%%|%[0-9]*d", name):
         parts.append(re.escape(name[at:match.start()]))
         parts.append("%" if match.group() == "%%" else "[ 0-9-]+")
         at = match.end()
+    if not parts:
+        return None
     parts.append(re.escape(name[at:]))
     return "".join(parts)
 
 
-def _check_outputs(jobs: list[Job], commands: list[list[str]], folder: str) -> dict[str, list[str]]:
-    """Refuses two jobs that name one output file; returns the temporary-name patterns by folder."""
+def _check_outputs(jobs: list[Job], commands: list[list[str]],
+                   folder: str) -> dict[str, tuple[set[str], list[str]]]:
+    """Refuses two jobs that name one output file. Returns, by folder, the names of the outputs
+    written there and the regular expressions of those with a frame number."""
     writers: dict[str, str] = {}
-    patterns: dict[str, list[str]] = {}
+    outputs: dict[str, tuple[set[str], list[str]]] = {}
     for job, command in zip(jobs, commands):
-        named, expressions = _output_paths(command, folder)
+        # A job made by jobs() names one file, its last word.
+        named, unnamed = ([command[-1]], []) if job.model is not None else _output_paths(command, folder)
         for path in named:
-            path = os.path.normpath(path)
             if path in writers and writers[path] != job.origin:
                 raise hsr.UsageError(f"{job.origin}: '{path}' is written by {writers[path]} too")
             writers[path] = job.origin
-        for where, expression in expressions:
-            known = patterns.setdefault(os.path.normpath(where), [])
-            if expression not in known:
-                known.append(expression)
-    return patterns
+            names, templates = outputs.setdefault(os.path.dirname(path), (set(), []))
+            template = _template_expression(os.path.basename(path))
+            if template is None:
+                names.add(os.path.basename(path)[:200])
+            elif template not in templates:
+                templates.append(template)
+        for where, expression in unnamed:
+            templates = outputs.setdefault(os.path.normpath(where), (set(), []))[1]
+            if expression not in templates:
+                templates.append(expression)
+    return outputs
 
 
-def _remove_temporaries_everywhere(client: distributed.Client, patterns: dict[str, list[str]]) -> int:
+def _remove_temporaries_everywhere(client: distributed.Client, outputs: dict[str, tuple[set[str], list[str]]]) -> int:
     """Removes the temporary files of the batch's outputs that a stopped worker left, as seen from
     the client and from every worker (whose disks may differ)."""
-    removed = _remove_temporaries(patterns)
+    removed = _remove_temporaries(outputs)
     with contextlib.suppress(Exception):
-        counts = client.run(_remove_temporaries, patterns, on_error="ignore")
+        counts = client.run(_remove_temporaries, outputs, on_error="ignore")
         removed += sum(n for n in counts.values() if isinstance(n, int))
     return removed
 
 
-def _group_by_scene(commands: list[list[str]]) -> list[list[int]]:
+def _group_by_scene(jobs: list[Job], commands: list[list[str]]) -> list[list[int]]:
     """The job numbers of each scene load, in the order of each scene's first job. A command that
     hsr cannot key (its options are wrong) is a group of its own, to fail on its worker."""
     groups: dict[str, list[int]] = {}
-    for j, command in enumerate(commands):
+    keys: dict[tuple[str, ...], str] = {}  # jobs made by jobs() share a model and its load options
+    for j, (job, command) in enumerate(zip(jobs, commands)):
+        if job.model is not None:
+            command = [_options.model_path(job.model), *_options.words(**_split_keywords(job.keywords)[0])]
         try:
-            key = hsr.scene_key(command)
+            key = keys.get(tuple(command)) or keys.setdefault(tuple(command), hsr.scene_key(command))
         except Exception:
             key = f"\0job {j}"
         groups.setdefault(key, []).append(j)
