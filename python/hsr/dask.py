@@ -51,6 +51,10 @@ __all__ = ["Job", "FrameArrays", "Summary", "jobs", "turntable", "read_jobs_file
 # The temporary file of an atomic write by hsr: ".<name>.tmp-<pid>-<random>", the name cut at 200 bytes.
 _TEMPORARY_NAME = re.compile(r"\.(.+)\.tmp-[0-9]+-[0-9a-f]{16}", re.DOTALL)
 
+# Tasks a worker thread gets, at most, when a batch has many models: enough that the threads end
+# together, few enough that the scheduler's cost per task does not count.
+_TASKS_PER_THREAD = 8
+
 # How long local worker processes may take to start, on a busy machine.
 _WORKERS_START_SECONDS = 60
 
@@ -278,7 +282,8 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
         client = owned
     try:
         slots = max(1, sum(client.nthreads().values()))
-        tasks = _split_groups(_group_by_scene(jobs, commands), slots)
+        planned = _plan_tasks(_group_by_scene(jobs, commands), slots)
+        tasks = [[j for piece in task for j in piece] for task in planned]
         errors: list[str | None] = [None] * len(jobs)
         frames: list[FrameArrays | None] | None = [None] * len(jobs) if arrays else None
         start = time.monotonic()
@@ -288,9 +293,9 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
                 for number, task in enumerate(tasks)]
         # One map for all the tasks: a submit each would cost a round trip to the scheduler.
         if arrays:
-            submitted = client.map(_render_arrays, [folder] * len(tasks), [jobs[task[0]].model for task in tasks],
-                                   [[dict(jobs[j].keywords) for j in task] for task in tasks],
-                                   key=keys)
+            submitted = client.map(_render_arrays, [folder] * len(tasks),
+                                   [[(jobs[piece[0]].model, [dict(jobs[j].keywords) for j in piece]) for piece in task]
+                                    for task in planned], key=keys)
         else:
             submitted = client.map(_render_files, [folder] * len(tasks), [[commands[j] for j in task] for task in tasks],
                                    key=keys)
@@ -407,9 +412,14 @@ def _render_files(folder: str, commands: list[list[str]]) -> list[str | None]:
         return [_worker_error(folder, error)] * len(commands)
 
 
-def _render_arrays(folder: str, model: str, keywords: list[dict]) -> list[tuple[FrameArrays | None, str | None]]:
-    """A task: the model loaded once, then a frame for each job's keywords; per frame, its arrays
-    (copies, to be sent back) or the error message. The jobs share their keywords of hsr.load."""
+def _render_arrays(folder: str, groups: list[tuple[str, list[dict]]]) -> list[tuple[FrameArrays | None, str | None]]:
+    """A task: for each group of jobs, its model loaded once, then a frame for each job's keywords
+    (the jobs of a group share their keywords of hsr.load). Per frame, its arrays (copies, to be
+    sent back) or the error message."""
+    return [result for model, keywords in groups for result in _render_model_arrays(folder, model, keywords)]
+
+
+def _render_model_arrays(folder: str, model: str, keywords: list[dict]) -> list[tuple[FrameArrays | None, str | None]]:
     import numpy
 
     try:
@@ -622,16 +632,29 @@ def _group_by_scene(jobs: list[Job], commands: list[list[str]]) -> list[list[int
     return list(groups.values())
 
 
-def _split_groups(groups: list[list[int]], slots: int) -> list[list[int]]:
-    """Tasks: a group each, or, when there are fewer groups than worker threads, each group in a few
-    pieces so that every thread has work. Largest first, so that the last task to start is short."""
+def _plan_tasks(groups: list[list[int]], slots: int) -> list[list[list[int]]]:
+    """Tasks, each a list of groups of jobs that share a scene load. When there are fewer groups than
+    worker threads, each group is split in a few pieces so that every thread has work; when there
+    are many more, they are packed into _TASKS_PER_THREAD tasks a thread, of about the same number
+    of jobs, so that the scheduler's cost per task stays small beside the renders. Largest first,
+    so that the last task to start is short."""
     pieces = max(1, math.ceil(slots / len(groups)))
-    tasks = []
+    split = []
     for group in groups:
         count = min(pieces, len(group))
         size = math.ceil(len(group) / count)
-        tasks += [group[at:at + size] for at in range(0, len(group), size)]
-    return sorted(tasks, key=len, reverse=True)
+        split += [group[at:at + size] for at in range(0, len(group), size)]
+    split.sort(key=len, reverse=True)
+    bins = slots * _TASKS_PER_THREAD
+    if len(split) <= bins:
+        return [[piece] for piece in split]
+    tasks: list[list[list[int]]] = [[] for _ in range(bins)]
+    sizes = [0] * bins
+    for piece in split:  # each to the task with the fewest jobs so far
+        smallest = sizes.index(min(sizes))
+        tasks[smallest].append(piece)
+        sizes[smallest] += len(piece)
+    return sorted(tasks, key=lambda task: -sum(map(len, task)))
 
 
 def _progress_reporter(progress: bool | Callable[[int, int, int], None], total: int) -> Callable[[int, int], None]:
