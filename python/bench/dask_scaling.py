@@ -105,6 +105,10 @@ def main() -> int:
     for workers, times in seconds.items():
         median = statistics.median(times)
         print(f"| {workers} | {median:.2f} | {len(batch) / median:.0f} | {baseline / median:.2f}x |")
+    for workers in arguments.workers[1:]:
+        rounds = [one / other for one, other in zip(seconds[first], seconds[workers])]
+        print(f"\n{first} against {workers} in each round: {', '.join(f'{r:.2f}x' for r in rounds)} "
+              f"(median {statistics.median(rounds):.2f}x)")
     return 0
 
 
