@@ -49,6 +49,22 @@ py::dict step_record_dict(const StepRecord& step) {
     return out;
 }
 
+std::unique_ptr<host::RenderJob> Scene::take_job(const std::string& words) {
+    const std::lock_guard lock(jobs_mutex_);
+    const auto found = idle_jobs_.find(words);
+    if (found == idle_jobs_.end() || found->second.empty()) return nullptr;
+    std::unique_ptr<host::RenderJob> job = std::move(found->second.back());
+    found->second.pop_back();
+    return job;
+}
+
+void Scene::give_back(const std::string& words, std::unique_ptr<host::RenderJob> job) {
+    const std::lock_guard lock(jobs_mutex_);
+    if (idle_jobs_.size() >= kMaxKeptOptions && !idle_jobs_.count(words)) idle_jobs_.clear();
+    std::vector<std::unique_ptr<host::RenderJob>>& idle = idle_jobs_[words];
+    if (idle.size() < kMaxKeptPerOptions) idle.push_back(std::move(job));
+}
+
 Frame::Frame(std::shared_ptr<Renderer> renderer, Picture picture, std::string algorithm, std::string lighting)
     : renderer_(std::move(renderer)), picture_(std::move(picture)), algorithm_(std::move(algorithm)),
       lighting_(std::move(lighting)) {}
