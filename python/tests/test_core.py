@@ -4,8 +4,11 @@ built two ways, hand-counted meshes, and the numpy arrays' own bookkeeping."""
 import ast
 import gc
 import inspect
+import os
 import pathlib
 import re
+import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -381,3 +384,34 @@ def test_type_stubs_name_what_the_package_has():
     for name in ("render", "lines", "steps", "load"):
         stub_args = [a.arg for a in functions[name].args.args + functions[name].args.kwonlyargs]
         assert stub_args == list(inspect.signature(getattr(hsr, name)).parameters), name
+
+
+# --- the README's example and an installed copy ---------------------------------------------------
+
+def test_readme_example_prints_the_bunnys_depth_range(models, hsr_cli, tmp_path):
+    source = pathlib.Path(os.environ.get("HSR_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
+    run = subprocess.run([sys.executable, str(source / "docs/examples/bunny_depth.py")], cwd=models.parent,
+                         capture_output=True, text=True, check=True)
+    match = re.fullmatch(r"the bunny is ([0-9.]+) to ([0-9.]+) away along the view axis\n", run.stdout)
+    assert match, run.stdout
+    hsr_cli("render", models / "bunny.obj", "--width", "512", "--height", "512", "-o", tmp_path / "b.png",
+            "--depth-out", tmp_path / "depth.npy")
+    depth = np.load(tmp_path / "depth.npy")
+    finite = depth[np.isfinite(depth)]
+    assert (match[1], match[2]) == (f"{finite.min():.3f}", f"{finite.max():.3f}")
+
+
+def test_installed_package_finds_the_installed_plugins(tmp_path):
+    build, site = os.environ.get("HSR_BUILD_DIR"), os.environ.get("HSR_PYTHON_INSTALL_DIR")
+    if not build or not site:
+        pytest.skip("HSR_BUILD_DIR and HSR_PYTHON_INSTALL_DIR are set by CTest")
+    prefix = tmp_path / "prefix"
+    subprocess.run(["cmake", "--install", build, "--prefix", str(prefix)], check=True, capture_output=True)
+    script = "import hsr, os; print(hsr.__file__); print(sorted({os.path.dirname(p['path']) for p in hsr.plugins()}))"
+    env = {k: v for k, v in os.environ.items() if k not in {"PYTHONPATH", "HSR_PLUGIN_PATH"}}
+    env["PYTHONPATH"] = str(prefix / site)
+    run = subprocess.run([sys.executable, "-c", script], env=env, cwd=tmp_path, capture_output=True, text=True,
+                         check=True)
+    module, folders = run.stdout.splitlines()
+    assert module.startswith(str(prefix / site))
+    assert ast.literal_eval(folders) == [str(prefix / "lib/hsr/plugins")]
