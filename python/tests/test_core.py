@@ -388,17 +388,34 @@ def test_type_stubs_name_what_the_package_has():
 
 # --- the README's example and an installed copy ---------------------------------------------------
 
-def test_readme_example_prints_the_bunnys_depth_range(models, hsr_cli, tmp_path):
+def run_example(name, models, tmp_path):
+    """docs/examples/NAME run as the docs show it, from a folder that has the models."""
     source = pathlib.Path(os.environ.get("HSR_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
-    run = subprocess.run([sys.executable, str(source / "docs/examples/bunny_depth.py")], cwd=models.parent,
-                         capture_output=True, text=True, check=True)
-    match = re.fullmatch(r"the bunny is ([0-9.]+) to ([0-9.]+) away along the view axis\n", run.stdout)
-    assert match, run.stdout
+    (tmp_path / "models").symlink_to(models)
+    return subprocess.run([sys.executable, str(source / "docs/examples" / name)], cwd=tmp_path,
+                          capture_output=True, text=True, check=True).stdout
+
+
+def test_readme_example_prints_the_bunnys_depth_range(models, hsr_cli, tmp_path):
+    output = run_example("bunny_depth.py", models, tmp_path)
+    match = re.fullmatch(r"the bunny is ([0-9.]+) to ([0-9.]+) away along the view axis\n", output)
+    assert match, output
     hsr_cli("render", models / "bunny.obj", "--width", "512", "--height", "512", "-o", tmp_path / "b.png",
             "--depth-out", tmp_path / "depth.npy")
     depth = np.load(tmp_path / "depth.npy")
     finite = depth[np.isfinite(depth)]
     assert (match[1], match[2]) == (f"{finite.min():.3f}", f"{finite.max():.3f}")
+
+
+def test_python_md_examples_run(models, hsr_cli, tmp_path):
+    run_example("python_frame.py", models, tmp_path)
+    hsr_cli("render", models / "bunny.obj", "--width", "512", "--height", "512", "-o", tmp_path / "cli.png")
+    assert (tmp_path / "bunny.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    folder = tmp_path / "steps"
+    folder.mkdir()
+    lines = run_example("cube_steps.py", models, folder)
+    assert [line.split(" ", 1)[0] for line in lines.splitlines()] == [str(k) for k in range(1, 13)]
+    assert all(" triangle " in line and "pixels written" in line for line in lines.splitlines())
 
 
 def test_installed_package_finds_the_installed_plugins(tmp_path):
