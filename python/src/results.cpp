@@ -34,6 +34,14 @@ std::string lower_extension(const std::filesystem::path& path) {
     return extension;
 }
 
+// One field of every segment of a drawing, viewed in place.
+template <typename T>
+py::array segment_field(py::object self, const T LineSegment::*field) {
+    const std::vector<LineSegment>& segments = self.cast<Lines&>().picture.drawing.segments;
+    return view_of(segments.empty() ? nullptr : &(segments[0].*field), {py::ssize_t(segments.size())}, self,
+                   {py::ssize_t(sizeof(LineSegment))});
+}
+
 }  // namespace
 
 py::dict step_record_dict(const StepRecord& step) {
@@ -201,27 +209,9 @@ void bind_results(py::module_& m) {
                                                   {py::ssize_t(segments.size()), 4}, self,
                                                   {py::ssize_t(sizeof(LineSegment)), py::ssize_t(sizeof(float))});
                                })
-        .def_property_readonly("qi",
-                               [](py::object self) {
-                                   const auto& segments = self.cast<Lines&>().picture.drawing.segments;
-                                   return view_of(segments.empty() ? nullptr : &segments[0].qi,
-                                                  {py::ssize_t(segments.size())}, self,
-                                                  {py::ssize_t(sizeof(LineSegment))});
-                               })
-        .def_property_readonly("edge",
-                               [](py::object self) {
-                                   const auto& segments = self.cast<Lines&>().picture.drawing.segments;
-                                   return view_of(segments.empty() ? nullptr : &segments[0].edge,
-                                                  {py::ssize_t(segments.size())}, self,
-                                                  {py::ssize_t(sizeof(LineSegment))});
-                               })
-        .def_property_readonly("flags",
-                               [](py::object self) {
-                                   const auto& segments = self.cast<Lines&>().picture.drawing.segments;
-                                   return view_of(segments.empty() ? nullptr : &segments[0].flags,
-                                                  {py::ssize_t(segments.size())}, self,
-                                                  {py::ssize_t(sizeof(LineSegment))});
-                               })
+        .def_property_readonly("qi", [](py::object self) { return segment_field(self, &LineSegment::qi); })
+        .def_property_readonly("edge", [](py::object self) { return segment_field(self, &LineSegment::edge); })
+        .def_property_readonly("flags", [](py::object self) { return segment_field(self, &LineSegment::flags); })
         .def_property_readonly("stats", &Lines::stats)
         .def("svg",
              [](const Lines& l) {
