@@ -11,7 +11,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")"
 packages=(g++ cmake make pkg-config libboost-dev libboost-program-options-dev libboost-filesystem-dev
           libopenmesh-dev libglm-dev libfmt-dev catch2 libpng-dev libcairo2-dev libmuparser-dev valgrind time
           clang libclang-rt-14-dev libcpp-httplib-dev nlohmann-json3-dev libcmark-dev chromium libembree-dev
-          libtbb-dev libhwy-dev libtinygltf-dev libopenexr-dev python3-numpy assimp-utils ffmpeg)
+          libtbb-dev libhwy-dev libtinygltf-dev libopenexr-dev python3-numpy assimp-utils ffmpeg
+          python3-dev pybind11-dev python3-pytest python3-distributed)
 
 install_missing() {
     local missing=()

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The layers of the code, checked from its #include lines (docs/architecture.md, "Layers"):
-#   sdk/  <  framework/  <  host/common/  <  host/render/, host/bench/, host/view/server/  <  host/cli/
+#   sdk/  <  framework/  <  host/common/  <  host/render/, host/bench/, host/view/server/  <  host/cli/, python/src/
 # A file includes only its own layer and the ones below it; the three rooms of commands do not include
 # one another; a plugin includes only the SDK and its own folder; and the modules of the framework
 # (a header with its source, named by the file's stem) and of each host room include one another in
@@ -83,6 +83,15 @@ for file in $(sources host); do
     done
 done
 
+# The Python module (python/src) is a front end like host/cli: it includes every room of the host,
+# the framework, the SDK and its own folder.
+for file in $(sources python/src); do
+    for inc in $(includes "$file"); do
+        [ -f "host/$inc" ] || [ -f "framework/include/$inc" ] || [ -f "sdk/include/$inc" ] || [ -f "$(dirname "$file")/$inc" ] ||
+            breach "$file includes \"$inc\": not in host/, the framework, the SDK or python/src"
+    done
+done
+
 # No loops: tsort names the modules of one when there is.
 for edges in "$framework_edges" "$host_edges"; do
     if ! loops=$(awk '$1 != $2' "$edges" | tsort 2>&1 >/dev/null); then
@@ -90,5 +99,5 @@ for edges in "$framework_edges" "$host_edges"; do
     fi
 done
 
-[ "$status" -eq 0 ] && echo "include_layers: sdk < framework < host/common < host/{render,bench,view/server} < host/cli, no loops"
+[ "$status" -eq 0 ] && echo "include_layers: sdk < framework < host/common < host/{render,bench,view/server} < host/cli and python/src, no loops"
 exit "$status"

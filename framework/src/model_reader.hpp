@@ -2,7 +2,6 @@
 #pragma once
 
 #include "hsr/mesh_object.hpp"
-#include "hsr/scene_builder.hpp"  // object_from_triangles, object_from_polygons
 
 #include <glm/glm.hpp>
 

@@ -21,7 +21,7 @@ from ._hsr import Error, Frame, LimitError, Lines, PluginError, Scene, UsageErro
 from ._paths import plugin_dir as _plugin_dir
 
 __all__ = [
-    "Error", "UsageError", "LimitError", "PluginError", "Scene", "Frame", "Lines", "Step", "Steps",
+    "Error", "UsageError", "LimitError", "PluginError", "Scene", "Mesh", "Frame", "Lines", "Step", "Steps",
     "plugins", "load", "render", "lines", "steps", "limits", "set_limits", "split_job_line", "scene_key",
     "render_commands",
 ]
@@ -87,7 +87,7 @@ def render(scene, algorithm="zbuffer", lighting="blinn-phong", *, params=None, l
     near             view-space distance of the near plane
     clip_planes      planes (a, b, c, d): what lies where a*x + b*y + c*z + d < 0 is cut away
     sections         heights z: the model cut at z (what lies above is removed)
-    lights           lights as hsr render --light takes them, e.g. ["dir:1,1,1", "point:0,2,0:0.5"];
+    lights           lights as hsr render --light takes them, e.g. ["dir:1,1,1", "point:0,2,0,intensity=0.5"];
                      default: the .scene file's, else one light over the viewer's shoulder
     background       "r/g/b", "#rrggbb" or three numbers in [0, 1]; "none" for a transparent
                      background (frame.color then has an alpha channel)
@@ -114,9 +114,12 @@ def lines(scene, algorithm="appel", *, params=None, width=None, height=None, yaw
           fov=None, orthographic=None, eye=None, target=None, up=None, camera=None, near=None, clip_planes=None,
           sections=None, edges=None, crease_angle=None, hidden=None, line_color=None, line_width=None,
           background=None, plugin_path=None):
-    """Draw the scene's visible edges with a hidden-line plugin (appel, roberts, ...).
+    """Draw the scene's visible edges with a hidden-line plugin.
 
-    The view keywords are render()'s. Besides them:
+    algorithm    the hidden-line plugin: "appel", "roberts", "floating-horizon", optionally with its
+                 parameters as hsr render writes them; params its parameters as a dict
+    width, height, yaw, pitch, zoom, fov, orthographic, eye, target, up, camera, near, clip_planes,
+    sections and plugin_path as render() takes them. Besides them:
     edges        "features" (silhouettes, creases and boundaries; default) or "all"
     crease_angle degrees: an edge between faces turned further than this is a crease (default 40)
     hidden       "hidden" (left out; default) or "dashed" (drawn dashed, and returned)
@@ -202,7 +205,12 @@ def steps(scene, algorithm="zbuffer", lighting="blinn-phong", *, params=None, li
           up=None, camera=None, near=None, clip_planes=None, sections=None, lights=None, background=None,
           threads=None, plugin_path=None):
     """The steps of a hidden-surface algorithm one by one, as hsr view shows them: an hsr.Steps
-    sequence of hsr.Step (index, text, the picture after it, ...). Keywords as render()'s."""
+    sequence of hsr.Step (index, text, the picture after it, ...).
+
+    algorithm, lighting, params, lighting_params, width, height, yaw, pitch, zoom, fov, orthographic,
+    eye, target, up, camera, near, clip_planes, sections, lights, background, threads and plugin_path
+    as render() takes them. The algorithm must show its steps (hsr.plugins(); ABI 1.3).
+    """
     words = _view_words(algorithm, params, width, height, yaw, pitch, zoom, fov, orthographic, eye, target, up,
                         camera, near, clip_planes, sections, plugin_path)
     words += ["--lighting", _options.plugin_spec("lighting", lighting, lighting_params)]

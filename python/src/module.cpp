@@ -24,6 +24,7 @@
 
 #include <Python.h>
 
+#include <chrono>
 #include <exception>
 #include <filesystem>
 #include <mutex>
@@ -143,17 +144,30 @@ std::shared_ptr<Scene> load(const std::vector<std::string>& args) {
     return scene;
 }
 
-std::shared_ptr<Frame> render(const Scene& scene, const std::vector<std::string>& args) {
-    host::RenderJob job = prepare_frame(args);
-    if (!job.picture)
-        throw UsageError("'{}' draws lines: hsr.lines() gives its drawing", parse_plugin_spec(job.options.algorithm).name);
+// The words as one key: the same words mean the same job.
+std::string words_key(const std::vector<std::string>& args) {
+    std::string key;
+    for (const std::string& word : args) (key += word) += '\0';
+    return key;
+}
+
+std::shared_ptr<Frame> render(Scene& scene, const std::vector<std::string>& args) {
+    const std::string key = words_key(args);
+    std::unique_ptr<host::RenderJob> job = scene.take_job(key);
+    if (!job) {
+        job = std::make_unique<host::RenderJob>(prepare_frame(args));
+        if (!job->picture)
+            throw UsageError("'{}' draws lines: hsr.lines() gives its drawing", parse_plugin_spec(job->options.algorithm).name);
+    }
     std::optional<Picture> picture;
     {
         py::gil_scoped_release unlocked;
-        picture = host::render_picture(job.options, *scene.renderer, *job.picture);
+        picture = host::render_picture(job->options, *scene.renderer, *job->picture);
     }
-    return std::make_shared<Frame>(scene.renderer, std::move(*picture), plugin_name(job.picture->remover->plugin()),
-                                   plugin_name(job.picture->lighting->plugin()));
+    auto frame = std::make_shared<Frame>(scene.renderer, std::move(*picture), plugin_name(job->picture->remover->plugin()),
+                                         plugin_name(job->picture->lighting->plugin()));
+    scene.give_back(key, std::move(job));
+    return frame;
 }
 
 std::shared_ptr<Lines> lines(const Scene& scene, const std::vector<std::string>& args) {
@@ -271,6 +285,41 @@ std::vector<std::optional<std::string>> render_commands(const std::vector<std::v
     return errors;
 }
 
+// The options rendered again and again as hsr bench renders them (a FrameLoop: one camera, the
+// plugins made once, the buffers reused), each frame's wall time measured, for
+// python/bench/python_overhead.py to set against hsr.render() in the same process.
+class FrameLoopTimer {
+public:
+    FrameLoopTimer(std::shared_ptr<Scene> scene, const std::vector<std::string>& args)
+        : scene_(std::move(scene)), job_(prepare_frame(args)) {
+        if (!job_.picture) throw UsageError("a hidden-surface plugin expected");
+        const Renderer& renderer = *scene_->renderer;
+        camera_ = renderer.camera(host::view_request(job_.options));
+        const PictureRequest request = host::picture_request(job_.options, renderer.loaded());
+        lights_ = renderer.lights(request.lights, camera_);
+        FrameSettings settings;
+        settings.background = request.background ? *request.background : default_background_color();
+        view_ = renderer.loaded().scene().view();
+        loop_.emplace(view_, camera_, make_shading_context(camera_, lights_), settings, *job_.picture->remover,
+                      *job_.picture->lighting);
+    }
+
+    double frame_ms() {
+        py::gil_scoped_release unlocked;
+        const auto start = std::chrono::steady_clock::now();
+        loop_->render();
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+
+private:
+    std::shared_ptr<Scene> scene_;
+    host::RenderJob job_;
+    hsr_camera camera_{};
+    std::vector<hsr_light> lights_;
+    hsr_scene view_{};
+    std::optional<FrameLoop> loop_;
+};
+
 py::dict limits_dict() {
     py::dict out;
     for (const LimitInfo& info : limit_table()) out[py::str(info.name)] = limits().*info.value;
@@ -344,4 +393,7 @@ PYBIND11_MODULE(_hsr, m) {
     m.def("split_job_line", [](const std::string& line) { return hsr::host::split_job_line(line); });
     m.def("scene_key", &scene_key);
     m.def("render_commands", &render_commands);
+    py::class_<FrameLoopTimer>(m, "_FrameLoopTimer")
+        .def(py::init<std::shared_ptr<Scene>, const std::vector<std::string>&>())
+        .def("frame_ms", &FrameLoopTimer::frame_ms);
 }

@@ -34,6 +34,14 @@ std::string lower_extension(const std::filesystem::path& path) {
     return extension;
 }
 
+// One field of every segment of a drawing, viewed in place.
+template <typename T>
+py::array segment_field(py::object self, const T LineSegment::*field) {
+    const std::vector<LineSegment>& segments = self.cast<Lines&>().picture.drawing.segments;
+    return view_of(segments.empty() ? nullptr : &(segments[0].*field), {py::ssize_t(segments.size())}, self,
+                   {py::ssize_t(sizeof(LineSegment))});
+}
+
 }  // namespace
 
 py::dict step_record_dict(const StepRecord& step) {
@@ -47,6 +55,22 @@ py::dict step_record_dict(const StepRecord& step) {
     out["pixels_written"] = step.pixels_written;
     out["pixels_rejected"] = step.pixels_rejected;
     return out;
+}
+
+std::unique_ptr<host::RenderJob> Scene::take_job(const std::string& words) {
+    const std::lock_guard lock(jobs_mutex_);
+    const auto found = idle_jobs_.find(words);
+    if (found == idle_jobs_.end() || found->second.empty()) return nullptr;
+    std::unique_ptr<host::RenderJob> job = std::move(found->second.back());
+    found->second.pop_back();
+    return job;
+}
+
+void Scene::give_back(const std::string& words, std::unique_ptr<host::RenderJob> job) {
+    const std::lock_guard lock(jobs_mutex_);
+    if (idle_jobs_.size() >= kMaxKeptOptions && !idle_jobs_.count(words)) idle_jobs_.clear();
+    std::vector<std::unique_ptr<host::RenderJob>>& idle = idle_jobs_[words];
+    if (idle.size() < kMaxKeptPerOptions) idle.push_back(std::move(job));
 }
 
 Frame::Frame(std::shared_ptr<Renderer> renderer, Picture picture, std::string algorithm, std::string lighting)
@@ -185,27 +209,9 @@ void bind_results(py::module_& m) {
                                                   {py::ssize_t(segments.size()), 4}, self,
                                                   {py::ssize_t(sizeof(LineSegment)), py::ssize_t(sizeof(float))});
                                })
-        .def_property_readonly("qi",
-                               [](py::object self) {
-                                   const auto& segments = self.cast<Lines&>().picture.drawing.segments;
-                                   return view_of(segments.empty() ? nullptr : &segments[0].qi,
-                                                  {py::ssize_t(segments.size())}, self,
-                                                  {py::ssize_t(sizeof(LineSegment))});
-                               })
-        .def_property_readonly("edge",
-                               [](py::object self) {
-                                   const auto& segments = self.cast<Lines&>().picture.drawing.segments;
-                                   return view_of(segments.empty() ? nullptr : &segments[0].edge,
-                                                  {py::ssize_t(segments.size())}, self,
-                                                  {py::ssize_t(sizeof(LineSegment))});
-                               })
-        .def_property_readonly("flags",
-                               [](py::object self) {
-                                   const auto& segments = self.cast<Lines&>().picture.drawing.segments;
-                                   return view_of(segments.empty() ? nullptr : &segments[0].flags,
-                                                  {py::ssize_t(segments.size())}, self,
-                                                  {py::ssize_t(sizeof(LineSegment))});
-                               })
+        .def_property_readonly("qi", [](py::object self) { return segment_field(self, &LineSegment::qi); })
+        .def_property_readonly("edge", [](py::object self) { return segment_field(self, &LineSegment::edge); })
+        .def_property_readonly("flags", [](py::object self) { return segment_field(self, &LineSegment::flags); })
         .def_property_readonly("stats", &Lines::stats)
         .def("svg",
              [](const Lines& l) {

@@ -11,7 +11,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,11 +22,24 @@ namespace hsr::python {
 
 namespace py = pybind11;
 
-// A loaded scene and the renderer that renders it, shared by every frame made from it.
+// A loaded scene and the renderer that renders it, shared by every frame made from it; and the
+// plugins of its last renders, made once for the same options and used again as hsr bench uses
+// them (their buffers kept), one render at a time each. They live as long as the scene, so that a
+// plugin's structures built for this scene never meet another.
 struct Scene {
     std::shared_ptr<Renderer> renderer;
 
     const LoadedScene& loaded() const { return renderer->loaded(); }
+
+    // A job prepared for these words before and now idle, or none.
+    std::unique_ptr<host::RenderJob> take_job(const std::string& words);
+    // The job back, for the next render with the same words.
+    void give_back(const std::string& words, std::unique_ptr<host::RenderJob> job);
+
+private:
+    static constexpr std::size_t kMaxKeptOptions = 16, kMaxKeptPerOptions = 4;
+    std::mutex jobs_mutex_;
+    std::map<std::string, std::vector<std::unique_ptr<host::RenderJob>>> idle_jobs_;
 };
 
 // One shaded picture. Its arrays are views of the picture's buffers, and keep the frame alive; the

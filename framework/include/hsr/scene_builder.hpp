@@ -50,20 +50,6 @@ private:
     std::vector<Object> objects_;
 };
 
-// An indexed triangle list as an object; `what` names it in messages. Triangles with a repeated
-// corner are dropped; one that would make the mesh non-manifold gets vertices of its own.
-MeshObject object_from_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
-                                 const std::string& what);
-
-// A polygon mesh given as arrays as an object, its faces cut into triangles as a model file's are:
-// `corners` lists each face's vertices, face after face, and `face_ends` where each face's corners
-// end; `face_colors` is empty or one colour (each channel in [0, 1]) per face. Throws hsr::Error,
-// starting with `what`, for a face of fewer than 3 corners, an index out of range, a coordinate that
-// is not finite or a mesh without a face left.
-MeshObject object_from_polygons(std::span<const glm::vec3> positions, std::span<const uint32_t> corners,
-                                std::span<const uint32_t> face_ends, std::span<const glm::vec3> face_colors,
-                                const std::string& what);
-
 // Meshes placed by transforms (a glTF file's nodes, the Python module's meshes and instances) as
 // one scene: a mesh placed once is transformed; a mesh placed several times is stored once and
 // placed as instances when every placement is a similarity (ABI 1.1), else copied. `options`'
