@@ -2,7 +2,7 @@
 `hsr render --jobs` with a worker killed in the middle of the batch, failures in the summary, arrays
 equal to hsr.render's, and `python3 -m hsr.dask`.
 
-The hsr command for the reference renders is $HSR, else build/hsr of the source folder.
+The hsr command for the reference renders is $HSR_EXECUTABLE, else build/hsr of the source folder.
 """
 
 import logging
@@ -22,7 +22,7 @@ import hsr.dask  # noqa: E402
 
 SOURCE = pathlib.Path(__file__).resolve().parents[2]
 MODELS = SOURCE / "models"
-HSR = os.environ.get("HSR", str(SOURCE / "build" / "hsr"))
+HSR = os.environ.get("HSR_EXECUTABLE") or str(SOURCE / "build" / "hsr")
 SIZE = "--width 96 --height 96"
 
 
