@@ -340,7 +340,7 @@ def local_client(workers: int | None = None) -> distributed.Client:
     if multiprocessing.parent_process() is not None:  # a script without the guard, run again in a worker
         raise hsr.Error(_UNGUARDED_SCRIPT)
     # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which makes glibc hand each picture's
-    # buffers back to the system and fault them in again: three times the page faults, and about
+    # buffers back to the system and fault them in again: three to five times the page faults, and about
     # 10 % more time for a batch of small pictures (docs/distributed.md#scaling).
     environment = {name: value for name, value in dask.config.get("distributed.nanny.pre-spawn-environ").items()
                    if name != "MALLOC_TRIM_THRESHOLD_"}
