@@ -297,8 +297,8 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
                                    [[(jobs[piece[0]].model, [dict(jobs[j].keywords) for j in piece]) for piece in task]
                                     for task in planned], key=keys)
         else:
-            submitted = client.map(_render_files, [folder] * len(tasks), [[commands[j] for j in task] for task in tasks],
-                                   key=keys)
+            submitted = client.map(_render_files, [folder] * len(tasks),
+                                   [[commands[j] for j in task] for task in tasks], key=keys)
         futures = dict(zip(submitted, tasks))
         done = failed = 0
         try:
@@ -700,7 +700,8 @@ def _arguments() -> argparse.ArgumentParser:
                     "file, or models x cameras x algorithms x lightings. Progress on stderr, the summary "
                     "on stdout; exit status 0 when every job was done, 1 when one failed, 2 for a "
                     "mistake in the command line (docs/distributed.md).")
-    parser.add_argument("jobs", nargs="?", metavar="JOBS", help="a file of `hsr render` lines, as for hsr render --jobs")
+    parser.add_argument("jobs", nargs="?", metavar="JOBS",
+                        help="a file of `hsr render` lines, as for hsr render --jobs")
     parser.add_argument("--model", nargs="+", default=[], metavar="MODEL", help="instead of JOBS: models to render")
     parser.add_argument("--views", type=int, default=1, help="with --model: a turntable of N views (default 1)")
     parser.add_argument("--yaw", type=float, default=0.0, help="with --model: the first view's yaw, degrees")
@@ -774,7 +775,8 @@ def _connect(address: str, timeout: float) -> distributed.Client:
     try:
         return distributed.Client(address, timeout=timeout)
     except Exception as error:
-        raise hsr.Error(f"--scheduler '{address}': cannot reach it ({_one_line(str(error)) or type(error).__name__})") from None
+        reason = _one_line(str(error)) or type(error).__name__
+        raise hsr.Error(f"--scheduler '{address}': cannot reach it ({reason})") from None
 
 
 if __name__ == "__main__":

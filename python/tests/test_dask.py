@@ -44,7 +44,8 @@ def good_lines():
         stem = model.split(".")[0]
         for yaw in [0, 40, 80]:
             for algorithm in ["zbuffer", "painter"]:
-                lines.append(f"{MODELS / model} --yaw {yaw} --pitch 20 -a {algorithm} {SIZE} -o {stem}-{yaw}-{algorithm}.png")
+                lines.append(f"{MODELS / model} --yaw {yaw} --pitch 20 -a {algorithm} {SIZE} "
+                             f"-o {stem}-{yaw}-{algorithm}.png")
     lines.append(f"{MODELS / 'tetrahedron.off'} --views 4 {SIZE} -o turn-%02d.png --depth-out turn-depth-%02d.npy")
     lines.append(f"'{MODELS / 'three-polygons.scene'}' -l facecolor {SIZE} -o 'sub folder/three polygons.png'")
     lines.append(f"{MODELS / 'boxes.scene'} -a roberts --edges all --hidden dashed {SIZE} -o boxes-lines.svg")
