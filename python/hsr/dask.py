@@ -38,7 +38,7 @@ import uuid
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import hsr
-from hsr import _options
+from hsr import _hsr, _options
 
 try:
     import dask
@@ -63,16 +63,6 @@ _UNGUARDED_SCRIPT = ("local worker processes start by importing the script that 
 
 # The limits of an `hsr render --jobs` file (docs/many-frames.md).
 _MAX_JOB_FILE_BYTES = 64 << 20
-
-# Options of `hsr render` that take no value; every other option takes one.
-_FLAGS = {"--ortho", "--stats", "-h", "--help"}
-# Options of `hsr render` that name a file the render writes.
-_OUTPUT_OPTIONS = {"-o", "--output", "--depth-out", "--id-out", "--normal-out", "--overdraw-out",
-                   "--depth-tests-out", "--trace"}
-_SHORT_OPTIONS = {"-o": "--output", "-a": "--algorithm", "-l": "--lighting"}
-# Instead of a model: no model file, so no default output name either.
-_MODEL_SOURCES = {"--surface", "--random-triangles", "--heightmap"}
-
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Job:
@@ -270,9 +260,10 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
     for j, job in enumerate(jobs):
         if job.model is not None and threads is not None and "threads" not in job.keywords:
             jobs[j] = dataclasses.replace(job, keywords={**job.keywords, "threads": threads})
-    commands = [job.command(out_folder) if job.model is not None else _with_threads(job.command(), threads)
-                for job in jobs]
-    outputs = {} if arrays else _check_outputs(jobs, commands, folder)
+    plans = [None if job.model is not None or arrays else _command_plan(job.command()) for job in jobs]
+    commands = [job.command(out_folder) if job.model is not None else _with_threads(job.command(), plan, threads)
+                for job, plan in zip(jobs, plans)]
+    outputs = {} if arrays else _check_outputs(jobs, commands, plans)
 
     owned = None
     if client is None:
@@ -289,7 +280,7 @@ def render_many(jobs: Sequence[Job] | str | os.PathLike, client: distributed.Cli
         start = time.monotonic()
         report = _progress_reporter(progress, len(jobs))
         batch = uuid.uuid4().hex[:8]
-        keys = [f"hsr-{_file_name(_model_word(commands[task[0]]) or 'render')}-{batch}-{number}"
+        keys = [f"hsr-{_file_name(_task_name(jobs[task[0]], plans[task[0]]))}-{batch}-{number}"
                 for number, task in enumerate(tasks)]
         # One map for all the tasks: a submit each would cost a round trip to the scheduler.
         if arrays:
@@ -440,22 +431,18 @@ def _render_model_arrays(folder: str, model: str, keywords: list[dict]) -> list[
     return results
 
 
-def _remove_temporaries(outputs: dict[str, tuple[set[str], list[str]]]) -> int:
-    """Removes, in each folder, the temporary files of its outputs: those named ".<output>.tmp-<pid>-
-    <random>", where <output> is one of its file names or matches one of its name templates."""
+def _remove_temporaries(outputs: dict[str, set[str]]) -> int:
+    """Removes, in each folder, the temporary files of its outputs: those named
+    ".<output>.tmp-<pid>-<random>", where <output> is one of its file names."""
     removed = 0
-    for folder, (names, templates) in outputs.items():
-        matcher = re.compile("|".join(f"(?:{t})" for t in templates)) if templates else None
+    for folder, names in outputs.items():
         try:
             entries = os.listdir(folder)
         except OSError:
             continue
         for entry in entries:
             temporary = _TEMPORARY_NAME.fullmatch(entry)
-            if not temporary:
-                continue
-            target = temporary.group(1)
-            if target in names or (matcher and matcher.fullmatch(target)):
+            if temporary and temporary.group(1) in names:
                 with contextlib.suppress(FileNotFoundError):
                     os.remove(os.path.join(folder, entry))
                     removed += 1
@@ -510,103 +497,48 @@ def _option_words(keywords: Mapping[str, Any]) -> list[str]:
     return words + _options.words(**{_RENAMED.get(k, k): v for k, v in options.items()})
 
 
-def _parse_words(words: Sequence[str]) -> tuple[list[str], list[tuple[str, str]]]:
-    """The positional words and the (long option, value) pairs of one `hsr render`'s options."""
-    positional, options = [], []
-    rest = iter(words)
-    for word in rest:
-        if word.startswith("--") and "=" in word:
-            name, value = word.split("=", 1)
-            options.append((name, value))
-        elif word in _FLAGS:
-            options.append((word, ""))
-        elif word.startswith("--") or word in _SHORT_OPTIONS:
-            options.append((_SHORT_OPTIONS.get(word, word), next(rest, "")))
-        elif word[:2] in _SHORT_OPTIONS and len(word) > 2:
-            options.append((_SHORT_OPTIONS[word[:2]], word[2:]))
-        else:
-            positional.append(word)
-    return positional, options
+def _command_plan(command: Sequence[str]) -> dict | None:
+    """What hsr says of one `hsr render` command line (hsr._hsr.command_plan): the files it writes,
+    its model's name, its kind of plugin; None for a command with a mistake, which then fails on its
+    worker and is recorded with the others."""
+    try:
+        return _hsr.command_plan(list(command))
+    except hsr.Error:
+        return None
 
 
-def _model_word(words: Sequence[str]) -> str | None:
-    positional, _ = _parse_words(words)
-    return os.path.splitext(os.path.basename(positional[0]))[0] if positional else None
+def _task_name(job: Job, plan: dict | None) -> str:
+    """The model's name, to name a task by in Dask's dashboard."""
+    if job.model is not None:
+        return os.path.splitext(os.path.basename(job.model))[0]
+    return plan["model"] if plan else "render"
 
 
-def _with_threads(command: list[str], threads: int | None) -> list[str]:
-    """A command with --threads set, unless it has it or its algorithm is not a hidden-surface
-    plugin (hidden-line plugins take no --threads)."""
-    if threads is None:
-        return command
-    options = _parse_words(command)[1]
-    algorithm = next((value for name, value in reversed(options) if name == "--algorithm"), "zbuffer")
-    if any(name == "--threads" for name, _ in options) or algorithm.split(":")[0] not in _hidden_surface_plugins():
+def _with_threads(command: list[str], plan: dict | None, threads: int | None) -> list[str]:
+    """A command with --threads set, unless it has it or draws lines (hidden-line plugins take no
+    --threads)."""
+    if threads is None or plan is None or plan["threads_given"] or not plan["hidden_surface"]:
         return command
     return [*command, "--threads", str(threads)]
 
 
-@functools.cache
-def _hidden_surface_plugins() -> frozenset[str]:
-    return frozenset(plugin["name"] for plugin in hsr.plugins() if plugin["kind"] == "hidden-surface")
-
-
-def _output_paths(words: Sequence[str], folder: str) -> tuple[list[str], list[tuple[str, str]]]:
-    """The files one `hsr render` names as outputs (absolute, perhaps with a frame number: %03d),
-    and those it writes without naming them, as (folder, regular expression of the file name)."""
-    positional, options = _parse_words(words)
-    named = [os.path.normpath(os.path.join(folder, value)) for name, value in options
-             if name in _OUTPUT_OPTIONS and value]
-    unnamed = []
-    has_output = any(name == "--output" for name, _ in options)
-    has_model = positional and not any(name in _MODEL_SOURCES for name, _ in options)
-    if not has_output and has_model:  # <model name>.png, <model name>-NNN.png (or .svg), here
-        stem = os.path.splitext(os.path.basename(positional[0]))[0]
-        unnamed.append((folder, re.escape(stem) + r"(?:-[0-9]+)?\.(?:png|svg)"))
-    return named, unnamed
-
-
-def _template_expression(name: str) -> str | None:
-    """A regular expression for the names a file name with a frame number (%d, %03d) may expand to;
-    None for a name without one."""
-    parts, at = [], 0
-    for match in re.finditer(r"%%|%[0-9]*d", name):
-        parts.append(re.escape(name[at:match.start()]))
-        parts.append("%" if match.group() == "%%" else "[ 0-9-]+")
-        at = match.end()
-    if not parts:
-        return None
-    parts.append(re.escape(name[at:]))
-    return "".join(parts)
-
-
-def _check_outputs(jobs: list[Job], commands: list[list[str]],
-                   folder: str) -> dict[str, tuple[set[str], list[str]]]:
-    """Refuses two jobs that name one output file. Returns, by folder, the names of the outputs
-    written there and the regular expressions of those with a frame number."""
+def _check_outputs(jobs: list[Job], commands: list[list[str]], plans: list[dict | None]) -> dict[str, set[str]]:
+    """Refuses two jobs that write one file. Returns, by folder, the names of the files written
+    there."""
     writers: dict[str, str] = {}
-    outputs: dict[str, tuple[set[str], list[str]]] = {}
-    for job, command in zip(jobs, commands):
+    outputs: dict[str, set[str]] = {}
+    for job, command, plan in zip(jobs, commands, plans):
         # A job made by jobs() names one file, its last word.
-        named, unnamed = ([command[-1]], []) if job.model is not None else _output_paths(command, folder)
+        named = [command[-1]] if job.model is not None else plan["files"] if plan else []
         for path in named:
             if path in writers and writers[path] != job.origin:
                 raise hsr.UsageError(f"{job.origin}: '{path}' is written by {writers[path]} too")
             writers[path] = job.origin
-            names, templates = outputs.setdefault(os.path.dirname(path), (set(), []))
-            template = _template_expression(os.path.basename(path))
-            if template is None:
-                names.add(os.path.basename(path)[:200])
-            elif template not in templates:
-                templates.append(template)
-        for where, expression in unnamed:
-            templates = outputs.setdefault(os.path.normpath(where), (set(), []))[1]
-            if expression not in templates:
-                templates.append(expression)
+            outputs.setdefault(os.path.dirname(path), set()).add(os.path.basename(path))
     return outputs
 
 
-def _remove_temporaries_everywhere(client: distributed.Client, outputs: dict[str, tuple[set[str], list[str]]]) -> int:
+def _remove_temporaries_everywhere(client: distributed.Client, outputs: dict[str, set[str]]) -> int:
     """Removes the temporary files of the batch's outputs that a stopped worker left, as seen from
     the client and from every worker (whose disks may differ)."""
     removed = _remove_temporaries(outputs)

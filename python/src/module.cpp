@@ -320,6 +320,36 @@ private:
     std::optional<FrameLoop> loop_;
 };
 
+// What a batch needs to know of one `hsr render` command line before it runs it elsewhere: every
+// file it writes (absolute, links resolved, each frame's), its model's name, whether it draws with
+// a hidden-surface plugin and whether it sets --threads. The command is checked as hsr render checks
+// it (a mistake raises); nothing is written, and the process's limits stay as they were.
+py::dict command_plan(const std::vector<std::string>& args) {
+    host::check_argument_count(args.size());
+    std::vector<fs::path> files;
+    std::optional<host::RenderJob> job;
+    {
+        py::gil_scoped_release unlocked;
+        const Limits saved = limits();
+        try {
+            const std::lock_guard lock(registries_mutex);
+            job.emplace(host::prepare_render_job(args, registries(), files));
+        } catch (...) {
+            set_limits(saved);
+            throw;
+        }
+        set_limits(saved);
+    }
+    std::vector<std::string> paths;
+    for (const fs::path& file : files) paths.push_back(file.string());
+    py::dict plan;
+    plan["files"] = paths;
+    plan["model"] = host::model_path(job->options).stem().string();
+    plan["hidden_surface"] = job->picture.has_value();
+    plan["threads_given"] = job->options.was_given("threads");
+    return plan;
+}
+
 py::dict limits_dict() {
     py::dict out;
     for (const LimitInfo& info : limit_table()) out[py::str(info.name)] = limits().*info.value;
@@ -392,6 +422,7 @@ PYBIND11_MODULE(_hsr, m) {
     m.def("set_limits", &set_limit_settings);
     m.def("split_job_line", [](const std::string& line) { return hsr::host::split_job_line(line); });
     m.def("scene_key", &scene_key);
+    m.def("command_plan", &command_plan);
     m.def("render_commands", &render_commands);
     py::class_<FrameLoopTimer>(m, "_FrameLoopTimer")
         .def(py::init<std::shared_ptr<Scene>, const std::vector<std::string>&>())

@@ -11,6 +11,8 @@ import pathlib
 import signal
 import subprocess
 import sys
+import threading
+import time
 
 import pytest
 
@@ -95,16 +97,31 @@ def test_files_are_those_of_hsr_jobs_when_a_worker_dies(client, tmp_path, monkey
     (work / ".notes.txt.tmp-4242-0123456789abcdef").write_bytes(b"not the batch's")
     monkeypatch.chdir(work)
 
-    killed = []
+    # A worker is killed as soon as one has a task, by a thread of its own: the batch's first
+    # results may come back together, too late to find a worker still busy.
+    finished_so_far, killed, batch_over = [0], [], threading.Event()
 
     def progress(done, failed, total):
-        if not killed:
-            killed.append((kill_a_busy_worker(client), done + failed))
+        finished_so_far[0] = done + failed
 
-    summary = hsr.dask.render_many("batch.jobs", client, progress=progress)
+    def kill_when_busy():
+        while not killed and not batch_over.is_set():
+            pid = kill_a_busy_worker(client)
+            if pid is not None:
+                killed.append((pid, finished_so_far[0]))
+            time.sleep(0.002)
+
+    watcher = threading.Thread(target=kill_when_busy)
+    watcher.start()
+    try:
+        summary = hsr.dask.render_many("batch.jobs", client, progress=progress)
+    finally:
+        batch_over.set()
+        watcher.join()
+    killed.append((None, None))
 
     pid, finished = killed[0]
-    assert pid is not None and finished < len(lines) // 2, "the batch was over before a worker was killed"
+    assert pid is not None and finished < len(lines) // 2, "the batch was half done before a worker was killed"
     assert pid not in client.run(os.getpid).values()
     assert summary.done == len(lines)
     failures = {job.origin: error for job, error in summary.failures}
