@@ -13,7 +13,9 @@ same files; the temporary files it left beside the batch's outputs are removed a
     python3 -m hsr.dask --model a.obj b.ply --views 6 --width 256 --height 256 --out frames
 
 docs/distributed.md explains it. Dask's distributed package (Debian: python3-distributed) is needed
-by this module only; `import hsr` does not import it.
+by this module only; `import hsr` does not import it. It is one file of three parts (the client's,
+the workers', the command line's) because the workers import the functions of their tasks by this
+module's name, and `python3 -m hsr.dask` runs it as it is.
 """
 
 from __future__ import annotations
