@@ -1,22 +1,30 @@
 #!/usr/bin/env bash
-# The README's two commands:
-#   bash setup.sh render   install what is missing, build, render the default scene to bunny.png
-#   bash setup.sh test     install what is missing, build, run the whole test suite (CI runs this):
-#                          first a Release build in build/, then the same suite built with clang
-#                          under AddressSanitizer + UndefinedBehaviorSanitizer in build-sanitize/
+# The README's commands:
+#   bash setup.sh render      install what the build needs, fetch the bunny, build hsr and its
+#                             plugins (no tests), render the bunny to bunny.png
+#   bash setup.sh test        install what is missing, build, run the whole test suite (CI runs this):
+#                             first a Release build in build/, then the same suite built with clang
+#                             under AddressSanitizer + UndefinedBehaviorSanitizer in build-sanitize/
+#   bash setup.sh test quick  the Release build and every test but those labelled `slow`; no
+#                             sanitizer stage (the loop while changing code)
 # Needs root (or sudo) on Debian 12 for the package step; everything else stays in this folder.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
-packages=(g++ cmake make pkg-config libboost-dev libboost-program-options-dev libboost-filesystem-dev
-          libopenmesh-dev libglm-dev libfmt-dev catch2 libpng-dev libcairo2-dev libmuparser-dev valgrind time
-          clang libclang-rt-14-dev libcpp-httplib-dev nlohmann-json3-dev libcmark-dev chromium libembree-dev
-          libtbb-dev libhwy-dev libtinygltf-dev libopenexr-dev python3-numpy assimp-utils ffmpeg
-          python3-dev pybind11-dev python3-pytest python3-distributed)
+# What building hsr and its plugins needs.
+build_packages=(g++ cmake make pkg-config libboost-dev libboost-program-options-dev libboost-filesystem-dev
+                libopenmesh-dev libglm-dev libfmt-dev libpng-dev libcairo2-dev libmuparser-dev
+                libcpp-httplib-dev nlohmann-json3-dev libcmark-dev libembree-dev libtbb-dev libhwy-dev
+                libtinygltf-dev libopenexr-dev)
+# What the tests need besides: Catch2; valgrind, GNU time, clang and its sanitizer runtime; the
+# browser test's chromium; NumPy, the Python package's headers and pybind11, pytest and Dask; assimp
+# and ffmpeg for the docs' conversion and video examples.
+test_packages=(catch2 valgrind time clang libclang-rt-14-dev chromium python3-numpy assimp-utils ffmpeg
+               python3-dev pybind11-dev python3-pytest python3-distributed)
 
-install_missing() {
+install_missing() {  # install_missing <package>...
     local missing=()
-    for p in "${packages[@]}"; do
+    for p in "$@"; do
         dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
     done
     [ ${#missing[@]} -eq 0 ] && return 0
@@ -34,8 +42,14 @@ install_browser_test() {
 }
 
 build() {
-    cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+    cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON -DHSR_BUILD_PYTHON=ON
     cmake --build build -j"$(nproc)"
+}
+
+# hsr and the bundled plugins only, in the same build/ that `setup.sh test` completes later.
+build_for_rendering() {
+    cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DHSR_BUILD_PYTHON=OFF
+    cmake --build build -j"$(nproc)" --target hsr hsr_plugins
 }
 
 # The sanitizer stage: everything (host, framework, plugins, tests) built by clang with
@@ -58,25 +72,29 @@ test_sanitized() {
         ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" --label-exclude slow
 }
 
-case "${1:-}" in
-render)
-    install_missing
-    bash models/fetch-models.sh
-    build
+case "${1:-} ${2:-}" in
+"render ")
+    install_missing "${build_packages[@]}"
+    bash models/fetch-models.sh bunny
+    build_for_rendering
     build/hsr render models/bunny.obj --algorithm zbuffer --lighting blinn-phong -o bunny.png
     ;;
-test)
-    install_missing
+"test "|"test quick")
+    install_missing "${build_packages[@]}" "${test_packages[@]}"
     install_browser_test
     export HSR_BROWSER_TEST_REQUIRED=1  # a skipped browser test fails the run
     bash models/fetch-models.sh
     build
-    ctest --test-dir build --output-on-failure -j"$(nproc)"
-    build_sanitized
-    test_sanitized
+    if [ "${2:-}" = quick ]; then
+        ctest --test-dir build --output-on-failure -j"$(nproc)" --label-exclude slow
+    else
+        ctest --test-dir build --output-on-failure -j"$(nproc)"
+        build_sanitized
+        test_sanitized
+    fi
     ;;
 *)
-    echo "usage: bash setup.sh render|test" >&2
+    echo "usage: bash setup.sh render | test | test quick" >&2
     exit 2
     ;;
 esac
