@@ -11,7 +11,7 @@ set -euo pipefail
 src=$1
 cd "$src"
 
-strict_pages=" docs/writing-a-plugin.md "
+strict_pages=" docs/writing-a-plugin.md docs/sdk-reference.md "
 pages=(README.md docs/*.md docs/algorithms/*.md)
 
 status=0
