@@ -17,8 +17,8 @@
 # no marker names.
 set -euo pipefail
 src="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-binary=build/hsr
-out=docs/images
+binary=$src/build/hsr
+out=$src/docs/images
 quick=0
 only=
 list=0
@@ -34,16 +34,16 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-cd "$src"
 binary="$(cd "$(dirname "$binary")" && pwd)/$(basename "$binary")"
 mkdir -p "$out"
 out="$(cd "$out" && pwd)"
+cd "$src"
 
 # Every marked block as one record: page, line, slow reason (or -), pictures, then the block's lines.
 blocks=$(mktemp -d)
 scratch=$(mktemp -d)
 trap 'rm -rf "$blocks" "$scratch"' EXIT
-pages=(README.md $(find docs -name '*.md' | sort))
+mapfile -t pages < <(echo README.md; find docs -name '*.md' | sort)
 awk -v dir="$blocks" '
     FNR == 1 { pending = 0; inside = 0 }
     inside && /^[ \t]*```[ \t]*$/ { inside = 0; close(file); next }
@@ -88,7 +88,8 @@ skipped=()
 for head in "$blocks"/*.head; do
     body=${head%.head}
     { read -r page; read -r line; read -r slow; read -r names; } < "$head"
-    for name in $names; do claimed[${name%%=*}]=1; done
+    read -ra made_files <<< "$names"
+    for name in "${made_files[@]}"; do claimed[${name%%=*}]=1; done
     if [ "$list" = 1 ]; then
         printf '%s %s  (%s:%s)\n' "$([ "$slow" = - ] && echo quick || echo slow)" "$names" "$page" "$line"
         continue
@@ -104,7 +105,7 @@ for head in "$blocks"/*.head; do
         work=${ran[$key]}
         echo "make.sh: $names ($page:$line): made by the same block before"
         [ -f "$work.failed" ] && continue
-        check_made "$work" "$page" "$line" $names
+        check_made "$work" "$page" "$line" "${made_files[@]}"
         continue
     fi
     work="$scratch/$(basename "$body")"
@@ -130,7 +131,7 @@ for head in "$blocks"/*.head; do
         touch "$work.failed"
         continue
     fi
-    check_made "$work" "$page" "$line" $names
+    check_made "$work" "$page" "$line" "${made_files[@]}"
 done
 
 for file in docs/images/*; do
