@@ -4,6 +4,7 @@
 // steps, whose run to the end is the plain render and whose every prefix is the render's picture
 // inside the windows decided so far and the cleared buffer elsewhere.
 #include "hsr/abi.h"
+#include "hsr/image.hpp"
 #include "hsr/pipeline.hpp"
 #include "hsr/plugin_registry.hpp"
 #include "hsr/scene.hpp"
@@ -17,7 +18,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <vector>
@@ -277,4 +280,77 @@ TEST_CASE("warnock: a scene over max-polygons is refused with one line", "[warno
         CHECK(message.find("warnock: the scene draws 12 triangles, more than max-polygons=5") != std::string::npos);
         CHECK(message.find('\n') == std::string::npos);
     }
+}
+
+// Writes docs/images/warnock-quadtree.png of the working folder (a hidden case, not run by the
+// suite): every window warnock decides on boxes.scene at 128x128 (--yaw 30 --pitch -15), from the
+// text of each step, drawn 4 times enlarged: empty windows dark, windows filled by a surrounder in
+// front green (lighter nearer), one-pixel windows red, windows drawn with one polygon blue, and
+// the outline of every larger window, subdivided ones too.
+TEST_CASE("warnock: the picture of the quadtree", "[warnock][.figures]") {
+    const hsr::SceneData& data = model("boxes.scene");
+    const uint32_t size = 128, scale = 4, side = size * scale;
+    const hsr_camera camera = orbit(data, 30, -15, 1, false, size);
+    hsr::HiddenSurfaceRemover remover(plugin("warnock"), {});
+    auto run = [&](uint64_t stop_after) {
+        hsr::Frame frame;
+        hsr::resolve_visibility_steps(data.view(), camera, remover, frame, stop_after);
+        REQUIRE(frame.steps.has_value());
+        return frame;
+    };
+    const hsr::Frame all = run(0);
+    struct Window {
+        uint32_t x0, x1, y0, y1;
+        std::string kind;
+    };
+    std::vector<Window> windows;
+    float nearest = 1, farthest = 0;
+    for (uint64_t k = 1; k <= all.steps->taken; ++k) {
+        const std::string text = run(k).steps->last.text;
+        Window w{};
+        const size_t at = text.find("window x ");
+        REQUIRE(at != std::string::npos);
+        REQUIRE(std::sscanf(text.c_str() + at, "window x %u..%u, y %u..%u", &w.x0, &w.x1, &w.y0, &w.y1) == 4);
+        w.kind = text.find("surrounds") != std::string::npos     ? "surrounder"
+                 : text.find("one pixel") != std::string::npos   ? "pixel"
+                 : text.find("one polygon") != std::string::npos ? "polygon"
+                 : text.find("empty") != std::string::npos       ? "empty"
+                                                                 : "subdivided";
+        if (w.kind == "surrounder") {
+            const float depth = all.depth[size_t(w.y0) * size + w.x0];
+            nearest = std::min(nearest, depth);
+            farthest = std::max(farthest, depth);
+        }
+        windows.push_back(w);
+    }
+    std::vector<uint8_t> rgb(size_t(3) * side * side, 0);
+    auto fill = [&](uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, glm::vec3 colour) {
+        for (uint32_t y = y0; y < y1; ++y)
+            for (uint32_t x = x0; x < x1; ++x)
+                for (int c = 0; c < 3; ++c) rgb[3 * (size_t(y) * side + x) + c] = uint8_t(colour[c]);
+    };
+    fill(0, 0, side, side, {38, 38, 43});
+    for (const Window& w : windows) {
+        glm::vec3 colour{38, 38, 43};
+        if (w.kind == "surrounder") {
+            const float depth = all.depth[size_t(w.y0) * size + w.x0];
+            const float t = farthest > nearest ? (farthest - depth) / (farthest - nearest) : 1.0f;
+            colour = glm::mix(glm::vec3{50, 110, 60}, glm::vec3{130, 230, 140}, t);
+        } else if (w.kind == "pixel") {
+            colour = {200, 80, 70};
+        } else if (w.kind == "polygon") {
+            colour = {80, 120, 210};
+        }
+        if (w.kind != "subdivided") fill(w.x0 * scale, w.y0 * scale, (w.x1 + 1) * scale, (w.y1 + 1) * scale, colour);
+    }
+    for (const Window& w : windows) {
+        if (w.x0 == w.x1 && w.y0 == w.y1) continue;
+        const uint32_t x0 = w.x0 * scale, y0 = w.y0 * scale, x1 = (w.x1 + 1) * scale - 1, y1 = (w.y1 + 1) * scale - 1;
+        const glm::vec3 line{20, 20, 24};
+        fill(x0, y0, x1 + 1, y0 + 1, line);
+        fill(x0, y1, x1 + 1, y1 + 1, line);
+        fill(x0, y0, x0 + 1, y1 + 1, line);
+        fill(x1, y0, x1 + 1, y1 + 1, line);
+    }
+    hsr::write_png(std::filesystem::path("docs") / "images" / "warnock-quadtree.png", side, side, 3, rgb);
 }

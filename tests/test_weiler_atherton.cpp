@@ -406,9 +406,10 @@ TEST_CASE("weiler-atherton: too many fragments are refused in one line", "[weile
 
 // Writes docs/images/weiler-atherton-fragments.png (a hidden case, not run by the suite): the picture
 // docs/images/weiler-atherton.png (boxes.scene at 400x400, --zoom 1.6, as `hsr render` draws it) with
-// the outline of every visible fragment, taken from the steps, drawn over it.
+// the outline of every visible fragment, taken from the steps, drawn over it. Both are in the
+// docs/images/ of the working folder, so that docs/images/make.sh can run it in a folder of its own.
 TEST_CASE("weiler-atherton: the picture of the visible fragments", "[weiler-atherton][.figures]") {
-    const std::filesystem::path images = std::filesystem::path(HSR_SOURCE_DIR) / "docs" / "images";
+    const std::filesystem::path images = std::filesystem::path("docs") / "images";
     hsr::Image image = hsr::read_png_rgb(images / "weiler-atherton.png");
     const hsr::SceneData& data = model("boxes.scene");
     const hsr_camera camera = orbit(data, 35, 25, 1.6f, false, image.width, image.height);
