@@ -24,7 +24,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -57,6 +56,8 @@ public:
 
     void prepare(const hsr::sdk::Scene& scene, const hsr_shading_context& context) override {
         prepared_ = false;
+        if (context.struct_size < sizeof(hsr_shading_context))
+            throw hsr::sdk::InvalidArgument("gooch: hsr_shading_context is smaller than this plugin's");
         scene_.emplace(scene);
         perspective_ = context.projection_type == HSR_PROJECTION_PERSPECTIVE;
         eye_ = glm::vec3(context.eye[0], context.eye[1], context.eye[2]);
@@ -84,6 +85,9 @@ public:
 
     void shade(hsr_fragment_batch& batch) const override {
         if (!prepared_) throw hsr::sdk::InvalidArgument("gooch: shade before a successful prepare");
+        // A host never accepts a plugin newer than itself, so this only refuses a malformed call.
+        if (batch.struct_size < sizeof(hsr_fragment_batch))
+            throw hsr::sdk::InvalidArgument("gooch: hsr_fragment_batch is smaller than this plugin's");
         if (highlight_ > 0)
             shade_batch<true>(batch);
         else
@@ -132,10 +136,7 @@ private:
 
     template <bool kHighlight>
     void shade_batch(hsr_fragment_batch& batch) const {
-        // batch.instance exists from ABI 1.1 on; a shorter batch has no instances.
-        const bool has_instance_field =
-            batch.struct_size >= offsetof(hsr_fragment_batch, instance) + sizeof(batch.instance);
-        const uint32_t* instance = has_instance_field ? batch.instance : nullptr;
+        const uint32_t* instance = batch.instance;
         const auto faces = static_cast<uint32_t>(cool_.size());
         const auto instances = static_cast<uint32_t>(rotations_.size());
         for (uint32_t i = 0; i < batch.count; ++i) {
