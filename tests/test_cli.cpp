@@ -171,7 +171,8 @@ TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") 
 TEST_CASE("cli: plugins lists every plugin with its parameters", "[cli]") {
     const Run r = run_hsr("plugins", "plugins");
     CHECK(r.status == 0);
-    for (const char* name : {"zbuffer", "lambert", "phong", "blinn-phong", "facecolor"}) CHECK_THAT(r.out, Catch::Contains(name));
+    for (const char* name : {"zbuffer", "lambert", "phong", "blinn-phong", "facecolor", "gooch"})
+        CHECK_THAT(r.out, Catch::Contains(name));
     CHECK_THAT(r.out, Catch::Contains("ABI 1." + std::to_string(HSR_ABI_MINOR)));
     CHECK_THAT(r.out, Catch::Contains("depth-test=less (less|greater)"));
     CHECK_THAT(r.out, Catch::Contains("interpolation="));

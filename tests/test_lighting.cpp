@@ -1,5 +1,6 @@
 // Lighting plugins (lambert, phong, blinn-phong, facecolor) loaded through the real ABI and checked
-// against values worked out by hand on one- and two-triangle scenes built here.
+// against values worked out by hand on one- and two-triangle scenes built here; gooch too where
+// every model must behave alike (its colours: test_gooch.cpp).
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/plugin_registry.hpp"
@@ -499,7 +500,7 @@ TEST_CASE("facecolor returns each fragment's face colour exactly", "[lighting][f
 TEST_CASE("an empty batch is fine, also with NULL arrays", "[lighting]") {
     const TestScene scene = floor_triangle();
     const std::vector<hsr_light> lights{directional(up)};
-    for (const char* name : {"lambert", "phong", "blinn-phong", "facecolor"}) {
+    for (const char* name : {"lambert", "phong", "blinn-phong", "facecolor", "gooch"}) {
         INFO(name);
         hsr::LightingModel model(load(name), {});
         const hsr_scene raw = scene.raw();
@@ -515,7 +516,7 @@ TEST_CASE("bad input is a clear error, not a crash", "[lighting][errors]") {
     const TestScene scene = floor_triangle();
     const hsr_scene raw = scene.raw();
     const std::vector<hsr_light> lights{directional(up)};
-    for (const char* name : {"lambert", "phong", "blinn-phong", "facecolor"}) {
+    for (const char* name : {"lambert", "phong", "blinn-phong", "facecolor", "gooch"}) {
         INFO(name);
         hsr::LightingModel model(load(name), {});
         CHECK_THROWS_WITH(shade_batch(model, {fragment(0, {0, 0, 0}, up)}),
