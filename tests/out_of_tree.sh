@@ -8,6 +8,7 @@
 #                   (n + 1) / 2 of their known normals (world space, and camera space seen from +x)
 #   wireframe       all 12 edges of the cube, none hidden, on the lines that the bundled roberts
 #                   draws (visible and dashed hidden together)
+# and builds normals once more against the build tree's package (-Dhsr_DIR=<build>/sdk).
 #   out_of_tree.sh <source dir> <build dir>
 set -euo pipefail
 src=$1
@@ -138,4 +139,14 @@ unpaired "$work/cube-roberts.segments" "$work/cube-wireframe.segments" > "$work/
 [ ! -s "$work/unpaired.txt" ] ||
     { cat "$work/unpaired.txt" >&2; fail "wireframe's lines are not the cube's edges that roberts draws"; }
 
-echo "out_of_tree: the three example plugins built, loaded and drew what they should"
+# --- the build tree's package: -Dhsr_DIR=<build>/sdk, no install --------------------------------
+
+cmake -S "$src/docs/example-plugin" -B "$work/from-build-tree" -Dhsr_DIR="$build/sdk" \
+      -DCMAKE_BUILD_TYPE=Release > "$work/configure-build-tree.log" ||
+    { cat "$work/configure-build-tree.log" >&2; fail "find_package(hsr) with hsr_DIR=<build>/sdk fails"; }
+cmake --build "$work/from-build-tree" --target plugin_normals > "$work/build-build-tree.log" ||
+    { cat "$work/build-build-tree.log" >&2; fail "the normals example does not build against the build tree"; }
+"$build/hsr" plugins --plugin-path "$work/from-build-tree" > "$work/plugins-build-tree.txt"
+grep -Eq "^lighting +normals " "$work/plugins-build-tree.txt" || fail "the build tree's hsr does not list normals built against it"
+
+echo "out_of_tree: the three example plugins built, loaded and drew what they should; normals built against the build tree too"

@@ -8,6 +8,7 @@
 #include "hsr/error.hpp"
 #include "hsr/limits.hpp"
 
+#include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/program_options.hpp>
 #include <fmt/format.h>
 #include <signal.h>
@@ -30,6 +31,17 @@ extern char** environ;
 namespace {
 
 using hsr::host::UsageError;
+
+// The model list's first folder: <prefix>/share/hsr/models beside an installed hsr, else the source
+// tree's models/ that the build was made from, if either exists.
+fs::path bundled_models_folder() {
+    std::error_code ec;
+    const fs::path installed =
+        fs::path(boost::dll::program_location().parent_path().string()).parent_path() / HSR_INSTALL_MODELS_DIR;
+    if (fs::is_directory(installed, ec)) return installed;
+    if (fs::is_directory(HSR_SOURCE_MODELS_DIR, ec)) return HSR_SOURCE_MODELS_DIR;
+    return {};
+}
 
 struct ViewOptions {
     std::string model;
@@ -139,7 +151,7 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
 
     ViewConfig config;
     std::error_code ec;
-    if (fs::is_directory(HSR_SOURCE_MODELS_DIR, ec)) config.model_folders.push_back(HSR_SOURCE_MODELS_DIR);
+    if (const fs::path bundled = bundled_models_folder(); !bundled.empty()) config.model_folders.push_back(bundled);
     for (const std::string& dir : o.model_dirs) {
         if (!fs::is_directory(dir, ec)) throw hsr::Error("--models '{}': no such folder", hsr::printable(dir));
         config.model_folders.push_back(dir);
