@@ -91,3 +91,10 @@ TEST_CASE("bad settings are errors that name the plugin and the key", "[params]"
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"tint", "1/2/0"}}), Catch::Contains("not a colour"));
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"depth", "2"}, {"depth", "3"}}), Catch::Contains("given twice"));
 }
+
+TEST_CASE("a mistyped parameter name is answered with the nearest one", "[params]") {
+    const hsr_plugin_descriptor d = make_descriptor();
+    CHECK_THROWS_WITH(hsr::resolve_params(d, {{"dpeth", "2"}}),
+                      Catch::Contains("plugin 'demo' has no parameter 'dpeth' (did you mean depth?)"));
+    CHECK_THROWS_WITH(hsr::resolve_params(d, {{"colour", "1/1/1"}}), !Catch::Contains("did you mean"));
+}

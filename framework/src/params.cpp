@@ -1,6 +1,7 @@
 #include "hsr/params.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/spelling.hpp"
 
 #include <fmt/format.h>
 
@@ -154,16 +155,16 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
 
 ParamValues resolve_params(const hsr_plugin_descriptor& plugin, const std::vector<Setting>& settings) {
     const char* plugin_name = plugin.name ? plugin.name : "?";
-    std::vector<std::string_view> known;
+    std::vector<std::string> known;
     for (uint32_t i = 0; i < plugin.param_count; ++i) known.emplace_back(param_desc(plugin, i).name);
 
     for (size_t i = 0; i < settings.size(); ++i) {
         const std::string& key = settings[i].first;
         if (std::find(known.begin(), known.end(), key) == known.end()) {
             std::string list;
-            for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-            throw Error("plugin '{}' has no parameter '{}' (it has: {})", plugin_name, printable(key),
-                        list.empty() ? "none" : list);
+            for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+            throw Error("plugin '{}' has no parameter '{}'{} (it has: {})", plugin_name, printable(key),
+                        did_you_mean(key, known), list.empty() ? "none" : list);
         }
         for (size_t j = 0; j < i; ++j)
             if (settings[j].first == key)
