@@ -160,6 +160,13 @@ TEST_CASE("cli: unknown commands and options", "[cli]") {
     require_one_line_error(run_hsr("render " + model("cube.obj") + " --zoom abc", "bad-number"), "zoom");
 }
 
+TEST_CASE("cli: integer plugin parameters show whole-number ranges", "[cli]") {
+    const Run r = run_hsr("plugins", "plugins-integers");
+    CHECK(r.status == 0);
+    CHECK_THAT(r.out, Catch::Contains("(integer 1..100000000)"));
+    CHECK_THAT(r.out, !Catch::Contains("e+"));
+}
+
 TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") {
     const Run r = run_hsr(std::string("plugins --plugin-path ") + HSR_TEST_PLUGIN_DIR, "plugins-refused");
     CHECK(r.status == 0);
