@@ -160,6 +160,40 @@ TEST_CASE("cli: unknown commands and options", "[cli]") {
     require_one_line_error(run_hsr("render " + model("cube.obj") + " --zoom abc", "bad-number"), "zoom");
 }
 
+TEST_CASE("cli: a mistyped command, option or plugin is answered with the nearest one", "[cli]") {
+    const std::string cube = model("cube.obj");
+    require_one_line_error(run_hsr("rendr " + cube, "typo-command"),
+                           "unknown command 'rendr' (did you mean render?) (see hsr --help)");
+    require_one_line_error(run_hsr("--verison", "typo-version"), "(did you mean --version?)");
+    require_one_line_error(run_hsr("render " + cube + " --algoritm zbuffer -o x.png", "typo-option"),
+                           "unknown option --algoritm (did you mean --algorithm?) (see hsr render --help)");
+    require_one_line_error(run_hsr("render " + cube + " --widht=64 -o x.png", "typo-option-value"),
+                           "unknown option --widht (did you mean --width?)");
+    require_one_line_error(run_hsr("render " + cube + " --frobnicate -o x.png", "no-near-option"),
+                           "unknown option --frobnicate (see hsr render --help)");
+    require_one_line_error(run_hsr("bench --modles cube", "typo-bench"),
+                           "unknown option --modles (did you mean --models?) (see hsr bench --help)");
+    require_one_line_error(run_hsr("plugins --plugin-pth x", "typo-plugins"),
+                           "unknown option --plugin-pth (did you mean --plugin-path?) (see hsr plugins --help)");
+    require_one_line_error(run_hsr("view --lisen 127.0.0.1:0", "typo-view"),
+                           "unknown option --lisen (did you mean --listen?) (see hsr view --help)");
+    require_one_line_error(run_hsr("render " + cube + " -a zbufer -o x.png", "typo-algorithm"),
+                           "no hidden-surface or hidden-line plugin named 'zbufer' (did you mean zbuffer?)");
+    require_one_line_error(run_hsr("render " + cube + " -l phnog -o x.png", "typo-lighting"),
+                           "no lighting plugin named 'phnog' (did you mean phong?)");
+    require_one_line_error(run_hsr("render " + cube + " -a zbuffer:cul-backfaces=true -o x.png", "typo-parameter"),
+                           "has no parameter 'cul-backfaces' (did you mean cull-backfaces?)");
+}
+
+TEST_CASE("cli: a mistake points to the --help of its own command", "[cli]") {
+    require_one_line_error(run_hsr("render", "hint-render"), "(see hsr render --help)");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --width 0", "hint-width"), "(see hsr render --help)");
+    require_one_line_error(run_hsr("bench --sizes 0", "hint-bench"), "(see hsr bench --help)");
+    require_one_line_error(run_hsr("plugins extra", "hint-plugins"), "(see hsr plugins --help)");
+    require_one_line_error(run_hsr("view --listen nowhere", "hint-view"), "(see hsr view --help)");
+    require_one_line_error(run_hsr("paint", "hint-command"), "(see hsr --help)");
+}
+
 TEST_CASE("cli: integer plugin parameters show whole-number ranges", "[cli]") {
     const Run r = run_hsr("plugins", "plugins-integers");
     CHECK(r.status == 0);

@@ -2,6 +2,7 @@
 // path read from them (options.hpp).
 #include "render/options.hpp"
 
+#include "common/command_line.hpp"
 #include "common/plugins.hpp"
 #include "common/threads.hpp"
 
@@ -152,13 +153,16 @@ hsr::host::RenderOptions hsr::host::parse_render_options(const std::vector<std::
     RenderOptions o;
     po::options_description hidden;
     hidden.add_options()("model", po::value(&o.model));
+    const po::options_description shown = render_option_descriptions(o);
     po::options_description all;
-    all.add(render_option_descriptions(o)).add(hidden);
+    all.add(shown).add(hidden);
     po::positional_options_description positional;
     positional.add("model", 1);
 
     po::variables_map vm;
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::command_line_parser parser(args);
+    parser.options(all).positional(positional);
+    po::store(hsr::host::parse_command_line(parser, shown), vm);
     po::notify(vm);
     for (const auto& [name, value] : vm)
         if (!value.defaulted()) o.given.insert(name);

@@ -1,5 +1,6 @@
 // hsr view: a local web server with the viewer page and its JSON API (view_server.hpp,
 // docs/viewer.md): its options, the folders it serves, and a clean stop on SIGINT or SIGTERM.
+#include "common/command_line.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
 #include "common/threads.hpp"
@@ -117,7 +118,9 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
     po::positional_options_description positional;
     positional.add("model", 1);
     po::variables_map vm;
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::command_line_parser parser(args);
+    parser.options(all).positional(positional);
+    po::store(hsr::host::parse_command_line(parser, options), vm);
     po::notify(vm);
     if (vm.count("help")) {
         std::cout << options;
