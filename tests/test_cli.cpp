@@ -201,6 +201,28 @@ TEST_CASE("cli: integer plugin parameters show whole-number ranges", "[cli]") {
     CHECK_THAT(r.out, !Catch::Contains("e+"));
 }
 
+TEST_CASE("cli: --plugin-path must name a folder", "[cli]") {
+    require_one_line_error(run_hsr("plugins --plugin-path /nonexistent", "plugin-path-missing"),
+                           "--plugin-path '/nonexistent': no such folder");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --plugin-path /nonexistent -o x.png",
+                                   "plugin-path-render"),
+                           "--plugin-path '/nonexistent': no such folder");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --plugin-path " + model("cube.obj") + " -o x.png",
+                                   "plugin-path-file"),
+                           "is not a folder");
+}
+
+TEST_CASE("cli: a folder or standard input named as the model has its own message", "[cli]") {
+    require_one_line_error(run_hsr("render " + std::string(HSR_MODELS_DIR) + " -o x.png", "model-folder"),
+                           "is a folder, not a model file");
+    const fs::path dotted = cli::scratch_dir() / "folder.obj";
+    fs::create_directories(dotted);
+    require_one_line_error(run_hsr("render " + dotted.string() + " -o x.png", "model-folder-obj"),
+                           "is a folder, not a model file");
+    require_one_line_error(run_hsr("render /dev/stdin -o x.png", "model-stdin"),
+                           "MODEL '/dev/stdin': standard input is read as MODEL '-', with --format");
+}
+
 TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") {
     const Run r = run_hsr(std::string("plugins --plugin-path ") + HSR_TEST_PLUGIN_DIR, "plugins-refused");
     CHECK(r.status == 0);

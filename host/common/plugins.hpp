@@ -9,7 +9,8 @@
 
 namespace hsr::host {
 
-// Every plugin in the default folders (beside the executable, $HSR_PLUGIN_PATH) and extra_dirs.
+// Every plugin in the default folders (beside the executable, $HSR_PLUGIN_PATH) and extra_dirs
+// (--plugin-path), each of which must be a folder: a UsageError says which is not.
 hsr::PluginRegistry scan_plugins(const std::vector<std::string>& extra_dirs);
 
 // For a front end that is not the hsr executable (the Python module): the folders scan_plugins

@@ -94,6 +94,10 @@ void hsr::host::check_render_options(const RenderOptions& o) {
         throw UsageError("MODEL '-' reads standard input: name its format with --format {}",
                          hsr::host::stdin_model_format_list());
     }
+    for (const char* standard_input : {"/dev/stdin", "/dev/fd/0", "/proc/self/fd/0"})
+        if (o.model == standard_input)
+            throw UsageError("MODEL '{}': standard input is read as MODEL '-', with --format {}", o.model,
+                             hsr::host::stdin_model_format_list());
     if (!o.color.empty()) hsr::host::parse_color_option(o.color, "color");  // before a long load
     if (!hsr::is_sample_count(o.samples < 0 || o.samples > 16 ? 0u : uint32_t(o.samples)))
         throw UsageError("--samples {}: expected 1, 2, 4, 8 or 16", o.samples);

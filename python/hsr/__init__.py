@@ -14,6 +14,7 @@ docs/python.md describes the package; hsr.dask renders batches on many processes
 
 import collections.abc
 import dataclasses
+import os
 import typing
 
 from . import _hsr, _options
@@ -256,7 +257,10 @@ def _listed(value):
 
 
 def _plugin_paths(plugin_path):
-    return [] if plugin_path is None else [_options.model_path(p) for p in _listed(plugin_path)]
+    if plugin_path is None:
+        return []
+    folders = [plugin_path] if isinstance(plugin_path, (str, bytes, os.PathLike)) else plugin_path
+    return [_options.model_path(p) for p in folders]
 
 
 def _view_words(algorithm, params, width, height, yaw, pitch, zoom, fov, orthographic, eye, target, up, camera,

@@ -276,6 +276,16 @@ def test_errors_carry_the_command_lines_message(models, hsr_cli):
         hsr.render(scene, no_such_keyword=1)
 
 
+def test_plugin_path_must_be_a_folder(models):
+    scene = hsr.load(models / "cube.obj")
+    with pytest.raises(hsr.UsageError, match="--plugin-path '/nonexistent': no such folder"):
+        hsr.render(scene, plugin_path="/nonexistent")
+    with pytest.raises(hsr.UsageError, match="no such folder"):
+        hsr.plugins(plugin_path=["/nonexistent"])
+    with pytest.raises(hsr.UsageError, match="is not a folder"):
+        hsr.render(scene, plugin_path=models / "cube.obj")
+
+
 def test_limits_hold(models):
     defaults = hsr.limits()
     assert defaults["stored-triangles"] > 0
