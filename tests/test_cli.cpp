@@ -223,6 +223,51 @@ TEST_CASE("cli: a folder or standard input named as the model has its own messag
                            "MODEL '/dev/stdin': standard input is read as MODEL '-', with --format");
 }
 
+TEST_CASE("cli: several models render in one run, each named by {stem}", "[cli]") {
+    const fs::path dir = cli::scratch_dir() / "several";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string size = " --width 32 --height 24";
+    const Run r = run_hsr("render " + model("cube.obj") + " " + model("pyramid.stl") + size + " -o '" +
+                              (dir / "{stem}-zb.png").string() + "' --depth-out '" + (dir / "{stem}-depth.npy").string() + "'",
+                          "several-models");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    for (const char* name : {"cube-zb.png", "pyramid-zb.png", "cube-depth.npy", "pyramid-depth.npy"})
+        CHECK(fs::exists(dir / name));
+    // Each picture is the one a render of its model alone writes.
+    const Run alone = run_hsr("render " + model("pyramid.stl") + size + " -o " + (dir / "alone.png").string(),
+                              "several-alone");
+    REQUIRE(alone.status == 0);
+    CHECK(slurp(dir / "pyramid-zb.png") == slurp(dir / "alone.png"));
+    // A model that fails is reported once, by name, and the others still render.
+    const std::string missing = (dir / "missing.obj").string();
+    const Run failing = run_hsr("render " + missing + " " + model("cube.obj") + size + " -o '" +
+                                    (dir / "{stem}-after.png").string() + "'", "several-failing");
+    CHECK(failing.status == 1);
+    CHECK_THAT(failing.err, Catch::Contains("hsr: error: " + missing + ": no such file\n"));
+    CHECK_THAT(failing.err, Catch::Contains("1 of 2 jobs failed"));
+    CHECK(fs::exists(dir / "cube-after.png"));
+    // {stem} for one model too.
+    const Run one = run_hsr("render " + model("cube.obj") + size + " -o '" + (dir / "{stem}-one.png").string() + "'",
+                            "stem-one");
+    CHECK(one.status == 0);
+    CHECK(fs::exists(dir / "cube-one.png"));
+}
+
+TEST_CASE("cli: several models with one fixed file name are refused before any render", "[cli]") {
+    const std::string two = "render " + model("cube.obj") + " " + model("pyramid.stl");
+    require_one_line_error(run_hsr(two + " -o x.png", "several-fixed"),
+                           "--output 'x.png': 2 models would each write it; put {stem}");
+    require_one_line_error(run_hsr(two + " -o '{stem}.png' --depth-out d.png", "several-fixed-depth"),
+                           "--depth-out 'd.png': 2 models would each write it");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " " + model("cube.obj") + " -o '{stem}.png'",
+                                   "several-same-stem"),
+                           "is written by the render of");
+    require_one_line_error(run_hsr(two + " - -o '{stem}.png'", "several-stdin"), "standard input");
+    CHECK_FALSE(fs::exists("x.png"));
+}
+
 TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") {
     const Run r = run_hsr(std::string("plugins --plugin-path ") + HSR_TEST_PLUGIN_DIR, "plugins-refused");
     CHECK(r.status == 0);

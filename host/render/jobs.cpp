@@ -88,8 +88,12 @@ std::string error_message(const std::exception_ptr& error) {
 // A failed job's error: printed with its origin, or kept for the caller when `kept` is given.
 void report(const RenderJob& job, std::size_t index, const std::exception_ptr& error,
             std::vector<std::optional<std::string>>* kept) {
-    if (kept) (*kept)[index] = error_message(error);
-    else std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), error_message(error).c_str());
+    const std::string message = error_message(error);
+    // The origin of a command line's model is its path, which the model's own errors name already.
+    const bool named = message.rfind(job.origin + ":", 0) == 0;
+    if (kept) (*kept)[index] = message;
+    else if (named) std::fprintf(stderr, "hsr: error: %s\n", message.c_str());
+    else std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), message.c_str());
 }
 
 // A file descriptor, closed when it goes.

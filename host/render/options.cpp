@@ -30,15 +30,16 @@ po::options_description render_option_descriptions(RenderOptions& o) {
     using hsr::host::default_background;
     using hsr::host::default_lighting;
     po::options_description general(
-        "hsr render MODEL [options]: render a mesh or .scene file to PNG (MODEL '-': standard input, with "
-        "--format)");
+        "hsr render MODEL... [options]: render a mesh or .scene file to PNG, each MODEL in turn (MODEL '-': "
+        "standard input, with --format)");
     general.add_options()
         ("help,h", "show this help, with every plugin's parameters")
         ("output,o", po::value(&o.output),
          "file to write: PNG for a hidden-surface plugin (default <model name>.png); SVG or PNG for a "
          "hidden-line plugin (default <model name>.svg). With several frames, a frame number goes in every "
          "file name: %d, or %03d for 000, 001, ... (frames count from 0; %% is a % sign; default "
-         "<model name>-%03d.png). '-' writes the PNG to standard output (one frame; messages stay on stderr)")
+         "<model name>-%03d.png). {stem} is the model's file name without its extension, which several models need "
+         "(-o '{stem}.png'). '-' writes the PNG to standard output (one frame; messages stay on stderr)")
         ("format", po::value(&o.format),
          "with MODEL '-': the format of the model read from standard input: obj, off, ply, stl, gltf or glb "
          "(docs/formats.md)")
@@ -149,25 +150,48 @@ po::options_description render_option_descriptions(RenderOptions& o) {
 
 }  // namespace
 
-hsr::host::RenderOptions hsr::host::parse_render_options(const std::vector<std::string>& args) {
-    RenderOptions o;
-    po::options_description hidden;
-    hidden.add_options()("model", po::value(&o.model));
+namespace {
+
+// Parses args as hsr render's words: each option with its words as given (MODEL's named "model"),
+// bound to o's fields for po::store.
+po::parsed_options parse_render_words(const std::vector<std::string>& args, RenderOptions& o,
+                                      po::options_description& all) {
     const po::options_description shown = render_option_descriptions(o);
-    po::options_description all;
+    po::options_description hidden;
+    hidden.add_options()("model", po::value(&o.models));
     all.add(shown).add(hidden);
     po::positional_options_description positional;
-    positional.add("model", 1);
-
-    po::variables_map vm;
+    positional.add("model", -1);
     po::command_line_parser parser(args);
     parser.options(all).positional(positional);
-    po::store(hsr::host::parse_command_line(parser, shown), vm);
+    return hsr::host::parse_command_line(parser, shown);
+}
+
+}  // namespace
+
+hsr::host::RenderOptions hsr::host::parse_render_options(const std::vector<std::string>& args) {
+    RenderOptions o;
+    po::options_description all;
+    po::variables_map vm;
+    po::store(parse_render_words(args, o, all), vm);
     po::notify(vm);
     for (const auto& [name, value] : vm)
         if (!value.defaulted()) o.given.insert(name);
     o.help = vm.count("help") > 0;
+    if (!o.models.empty()) o.model = o.models.front();
     return o;
+}
+
+std::string hsr::host::with_model_stem(const std::string& text, const RenderOptions& options) {
+    std::string result;
+    std::size_t from = 0;
+    for (std::size_t at = text.find(stem_placeholder); at != std::string::npos;
+         at = text.find(stem_placeholder, from)) {
+        result.append(text, from, at - from);
+        for (char c : model_path(options).stem().string()) result += c == '%' ? "%%" : std::string(1, c);
+        from = at + stem_placeholder.size();
+    }
+    return result + text.substr(from);
 }
 
 void hsr::host::print_render_help(const std::vector<std::string>& plugin_dirs) {
