@@ -94,11 +94,11 @@ int hsr::host::run_render(const std::vector<std::string>& args) {
         return 0;
     }
     if (!options.jobs.empty()) {
-        for (const std::string& option : options.given)
-            if (option != "jobs")
-                throw UsageError("--jobs {}: --{} goes on the lines of the file, which hold every option of each render",
-                                 hsr::printable(options.jobs), option);
-        return run_job_file(options.jobs);
+        if (!options.models.empty())
+            throw UsageError("--jobs {}: the models go on the lines of the file ('{}' is on the command line)",
+                             hsr::printable(options.jobs, hsr::kMaxQuotedPathChars),
+                             hsr::printable(options.models.front(), hsr::kMaxQuotedPathChars));
+        return run_job_file(options.jobs, args);
     }
     if (options.models.size() > 1) return run_models(options);
     PluginRegistries registries;

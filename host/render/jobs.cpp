@@ -280,8 +280,9 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures, std::vector<std
     return 0;
 }
 
-int run_job_file(const fs::path& file) {
+int run_job_file(const fs::path& file, const std::vector<std::string>& defaults) {
     const std::string shown = hsr::printable(file.string(), hsr::kMaxQuotedPathChars);
+    const fs::path folder = file.parent_path();
     PluginRegistries registries;
     std::vector<RenderJob> jobs;
     std::unordered_map<std::string, std::string> writers;  // each file written, and the line that writes it
@@ -291,7 +292,7 @@ int run_job_file(const fs::path& file) {
         if (first == std::string_view::npos || line[first] == '#') return;
         const std::string origin = fmt::format("{}:{}", shown, number);
         try {
-            const std::vector<std::string> args = split_job_line(line);
+            const std::vector<std::string> args = job_line_arguments(split_job_line(line), folder, defaults);
             check_argument_count(args.size());
             std::vector<fs::path> files;
             RenderJob job = prepare_render_job(args, registries, files);

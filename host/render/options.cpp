@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <set>
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -45,7 +46,9 @@ po::options_description render_option_descriptions(RenderOptions& o) {
          "(docs/formats.md)")
         ("jobs", po::value(&o.jobs),
          "FILE: run the renders of FILE, one line each of the options of hsr render (# starts a comment "
-         "line); each model is loaded once for all the lines that name it (docs/many-frames.md)")
+         "line); each model is loaded once for all the lines that name it. The files a line reads are taken "
+         "from FILE's folder, those it writes from the current folder; options after --jobs FILE go to every "
+         "line that does not give them (docs/many-frames.md)")
         ("algorithm,a", po::value(&o.algorithm)->default_value(default_algorithm),
          "hidden-surface or hidden-line plugin: NAME[:key=value,...]")
         ("lighting,l", po::value(&o.lighting)->default_value(default_lighting),
@@ -167,6 +170,11 @@ po::parsed_options parse_render_words(const std::vector<std::string>& args, Rend
     return hsr::host::parse_command_line(parser, shown);
 }
 
+// The options of a command line that name files it reads, and so are taken from a jobs file's folder.
+bool reads_a_file(const std::string& option) {
+    return option == "model" || option == "heightmap" || option == "plugin-path";
+}
+
 }  // namespace
 
 hsr::host::RenderOptions hsr::host::parse_render_options(const std::vector<std::string>& args) {
@@ -180,6 +188,28 @@ hsr::host::RenderOptions hsr::host::parse_render_options(const std::vector<std::
     o.help = vm.count("help") > 0;
     if (!o.models.empty()) o.model = o.models.front();
     return o;
+}
+
+std::vector<std::string> hsr::host::job_line_arguments(const std::vector<std::string>& line, const fs::path& folder,
+                                                       const std::vector<std::string>& defaults) {
+    RenderOptions unused;  // the words are only parsed, not stored
+    po::options_description line_options, default_options;
+    std::vector<std::string> words;
+    std::set<std::string> given;
+    for (const po::option& option : parse_render_words(line, unused, line_options).options) {
+        given.insert(option.string_key);
+        const bool relative = option.value.size() == 1 && !option.value.front().empty() &&
+                              option.value.front() != "-" && fs::path(option.value.front()).is_relative();
+        if (reads_a_file(option.string_key) && relative && !folder.empty())
+            words.push_back("--" + option.string_key + "=" +
+                            (folder / option.value.front()).lexically_normal().string());
+        else
+            words.insert(words.end(), option.original_tokens.begin(), option.original_tokens.end());
+    }
+    for (const po::option& option : parse_render_words(defaults, unused, default_options).options)
+        if (option.string_key != "jobs" && given.count(option.string_key) == 0)
+            words.insert(words.end(), option.original_tokens.begin(), option.original_tokens.end());
+    return words;
 }
 
 std::string hsr::host::with_model_stem(const std::string& text, const RenderOptions& options) {

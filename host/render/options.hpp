@@ -73,6 +73,13 @@ struct RenderOptions {
 // boost::program_options errors, an unknown option a UsageError.
 RenderOptions parse_render_options(const std::vector<std::string>& args);
 
+// A --jobs line's words as the render's command line: the files the line reads (MODEL, --heightmap,
+// --plugin-path), when relative, taken from `folder`, the jobs file's; then every option of
+// `defaults` (the command line of hsr render --jobs, whose --jobs is left out) that the line does
+// not give itself. The files the line writes stay relative to the current folder.
+std::vector<std::string> job_line_arguments(const std::vector<std::string>& line, const std::filesystem::path& folder,
+                                            const std::vector<std::string>& defaults);
+
 // The placeholder an output name may hold for the model's file name without its extension.
 inline constexpr std::string_view stem_placeholder = "{stem}";
 // text with every {stem} replaced by the stem of the options' model (model_path), its % signs

@@ -23,8 +23,8 @@ from ._paths import plugin_dir as _plugin_dir
 
 __all__ = [
     "Error", "UsageError", "LimitError", "PluginError", "Scene", "Mesh", "Frame", "Lines", "Step", "Steps",
-    "plugins", "load", "render", "lines", "steps", "limits", "set_limits", "split_job_line", "scene_key",
-    "render_commands",
+    "plugins", "load", "render", "lines", "steps", "limits", "set_limits", "split_job_line",
+    "job_line_arguments", "scene_key", "render_commands",
 ]
 
 _hsr.set_builtin_plugin_dirs([_plugin_dir])
@@ -236,6 +236,13 @@ def set_limits(settings=None, **named):
 def split_job_line(line):
     """One line of an `hsr render --jobs` file split into its words, as hsr splits it."""
     return _hsr.split_job_line(line)
+
+
+def job_line_arguments(words, folder, defaults=()):
+    """The words of an `hsr render --jobs` line as the render's command line: the files the line reads
+    (MODEL, --heightmap, --plugin-path), when relative, taken from `folder` (the jobs file's); then the
+    options of `defaults` (the command line of hsr render --jobs) that the line does not give itself."""
+    return _hsr.job_line_arguments(list(words), os.fspath(folder), list(defaults))
 
 
 def scene_key(words):

@@ -286,6 +286,15 @@ def test_plugin_path_must_be_a_folder(models):
         hsr.render(scene, plugin_path=models / "cube.obj")
 
 
+def test_job_line_arguments_take_inputs_from_the_jobs_folder():
+    assert hsr.job_line_arguments(["cube.obj", "-o", "x.png"], "jobs/here") == [
+        "--model=jobs/here/cube.obj", "-o", "x.png"]
+    assert hsr.job_line_arguments(["cube.obj", "--width", "8"], "", ["--jobs", "f.jobs", "--width", "64", "--ortho"]) == [
+        "cube.obj", "--width", "8", "--ortho"]
+    with pytest.raises(hsr.UsageError, match=r"unknown option --widht \(did you mean --width\?\)"):
+        hsr.job_line_arguments(["cube.obj", "--widht", "8"], "")
+
+
 def test_limits_hold(models):
     defaults = hsr.limits()
     assert defaults["stored-triangles"] > 0
