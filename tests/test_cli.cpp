@@ -210,6 +210,10 @@ TEST_CASE("cli: --plugin-path must name a folder", "[cli]") {
     require_one_line_error(run_hsr("render " + model("cube.obj") + " --plugin-path " + model("cube.obj") + " -o x.png",
                                    "plugin-path-file"),
                            "is not a folder");
+    require_one_line_error(run_hsr("view --plugin-path /nonexistent --listen 127.0.0.1:0", "plugin-path-view"),
+                           "--plugin-path '/nonexistent': no such folder (see hsr view --help)");
+    require_one_line_error(run_hsr("bench --plugin-path /nonexistent", "plugin-path-bench"),
+                           "--plugin-path '/nonexistent': no such folder (see hsr bench --help)");
 }
 
 TEST_CASE("cli: a folder or standard input named as the model has its own message", "[cli]") {

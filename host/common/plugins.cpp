@@ -31,7 +31,7 @@ std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
 
 void hsr::host::set_builtin_plugin_dirs(std::vector<fs::path> dirs) { builtin_plugin_dirs = std::move(dirs); }
 
-hsr::PluginRegistry hsr::host::scan_plugins(const std::vector<std::string>& extra_dirs) {
+void hsr::host::check_plugin_dirs(const std::vector<std::string>& extra_dirs) {
     for (const std::string& dir : extra_dirs) {
         std::error_code ec;
         const fs::file_status status = fs::status(dir, ec);
@@ -39,6 +39,10 @@ hsr::PluginRegistry hsr::host::scan_plugins(const std::vector<std::string>& extr
         if (!fs::exists(status)) throw hsr::UsageError("--plugin-path '{}': no such folder", shown);
         if (!fs::is_directory(status)) throw hsr::UsageError("--plugin-path '{}': is not a folder", shown);
     }
+}
+
+hsr::PluginRegistry hsr::host::scan_plugins(const std::vector<std::string>& extra_dirs) {
+    check_plugin_dirs(extra_dirs);
     std::vector<fs::path> dirs;
     if (builtin_plugin_dirs) {
         dirs = *builtin_plugin_dirs;

@@ -3,6 +3,7 @@
 #include "common/command_line.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
+#include "common/plugins.hpp"
 #include "common/threads.hpp"
 #include "view/server/view_server.hpp"
 
@@ -157,6 +158,7 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
         if (!served) config.model_folders.push_back(folder);
         config.initial_model = o.model;
     }
+    check_plugin_dirs(o.plugin_dirs);  // here, rather than in each worker, whose message would be lost
     config.plugin_dirs = o.plugin_dirs;
     config.limits = o.limits;
     config.threads = o.threads;
