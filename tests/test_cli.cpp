@@ -160,6 +160,118 @@ TEST_CASE("cli: unknown commands and options", "[cli]") {
     require_one_line_error(run_hsr("render " + model("cube.obj") + " --zoom abc", "bad-number"), "zoom");
 }
 
+TEST_CASE("cli: a mistyped command, option or plugin is answered with the nearest one", "[cli]") {
+    const std::string cube = model("cube.obj");
+    require_one_line_error(run_hsr("rendr " + cube, "typo-command"),
+                           "unknown command 'rendr' (did you mean render?) (see hsr --help)");
+    require_one_line_error(run_hsr("--verison", "typo-version"), "(did you mean --version?)");
+    require_one_line_error(run_hsr("render " + cube + " --algoritm zbuffer -o x.png", "typo-option"),
+                           "unknown option --algoritm (did you mean --algorithm?) (see hsr render --help)");
+    require_one_line_error(run_hsr("render " + cube + " --widht=64 -o x.png", "typo-option-value"),
+                           "unknown option --widht (did you mean --width?)");
+    require_one_line_error(run_hsr("render " + cube + " --frobnicate -o x.png", "no-near-option"),
+                           "unknown option --frobnicate (see hsr render --help)");
+    require_one_line_error(run_hsr("bench --modles cube", "typo-bench"),
+                           "unknown option --modles (did you mean --models?) (see hsr bench --help)");
+    require_one_line_error(run_hsr("plugins --plugin-pth x", "typo-plugins"),
+                           "unknown option --plugin-pth (did you mean --plugin-path?) (see hsr plugins --help)");
+    require_one_line_error(run_hsr("view --lisen 127.0.0.1:0", "typo-view"),
+                           "unknown option --lisen (did you mean --listen?) (see hsr view --help)");
+    require_one_line_error(run_hsr("render " + cube + " -a zbufer -o x.png", "typo-algorithm"),
+                           "no hidden-surface or hidden-line plugin named 'zbufer' (did you mean zbuffer?)");
+    require_one_line_error(run_hsr("render " + cube + " -l phnog -o x.png", "typo-lighting"),
+                           "no lighting plugin named 'phnog' (did you mean phong?)");
+    require_one_line_error(run_hsr("render " + cube + " -a zbuffer:cul-backfaces=true -o x.png", "typo-parameter"),
+                           "has no parameter 'cul-backfaces' (did you mean cull-backfaces?)");
+}
+
+TEST_CASE("cli: a mistake points to the --help of its own command", "[cli]") {
+    require_one_line_error(run_hsr("render", "hint-render"), "(see hsr render --help)");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --width 0", "hint-width"), "(see hsr render --help)");
+    require_one_line_error(run_hsr("bench --sizes 0", "hint-bench"), "(see hsr bench --help)");
+    require_one_line_error(run_hsr("plugins extra", "hint-plugins"), "(see hsr plugins --help)");
+    require_one_line_error(run_hsr("view --listen nowhere", "hint-view"), "(see hsr view --help)");
+    require_one_line_error(run_hsr("paint", "hint-command"), "(see hsr --help)");
+}
+
+TEST_CASE("cli: integer plugin parameters show whole-number ranges", "[cli]") {
+    const Run r = run_hsr("plugins", "plugins-integers");
+    CHECK(r.status == 0);
+    CHECK_THAT(r.out, Catch::Contains("(integer 1..100000000)"));
+    CHECK_THAT(r.out, !Catch::Contains("e+"));
+}
+
+TEST_CASE("cli: --plugin-path must name a folder", "[cli]") {
+    require_one_line_error(run_hsr("plugins --plugin-path /nonexistent", "plugin-path-missing"),
+                           "--plugin-path '/nonexistent': no such folder");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --plugin-path /nonexistent -o x.png",
+                                   "plugin-path-render"),
+                           "--plugin-path '/nonexistent': no such folder");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " --plugin-path " + model("cube.obj") + " -o x.png",
+                                   "plugin-path-file"),
+                           "is not a folder");
+    require_one_line_error(run_hsr("view --plugin-path /nonexistent --listen 127.0.0.1:0", "plugin-path-view"),
+                           "--plugin-path '/nonexistent': no such folder (see hsr view --help)");
+    require_one_line_error(run_hsr("bench --plugin-path /nonexistent", "plugin-path-bench"),
+                           "--plugin-path '/nonexistent': no such folder (see hsr bench --help)");
+}
+
+TEST_CASE("cli: a folder or standard input named as the model has its own message", "[cli]") {
+    require_one_line_error(run_hsr("render " + std::string(HSR_MODELS_DIR) + " -o x.png", "model-folder"),
+                           "is a folder, not a model file");
+    const fs::path dotted = cli::scratch_dir() / "folder.obj";
+    fs::create_directories(dotted);
+    require_one_line_error(run_hsr("render " + dotted.string() + " -o x.png", "model-folder-obj"),
+                           "is a folder, not a model file");
+    require_one_line_error(run_hsr("render /dev/stdin -o x.png", "model-stdin"),
+                           "MODEL '/dev/stdin': standard input is read as MODEL '-', with --format");
+}
+
+TEST_CASE("cli: several models render in one run, each named by {stem}", "[cli]") {
+    const fs::path dir = cli::scratch_dir() / "several";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string size = " --width 32 --height 24";
+    const Run r = run_hsr("render " + model("cube.obj") + " " + model("pyramid.stl") + size + " -o '" +
+                              (dir / "{stem}-zb.png").string() + "' --depth-out '" + (dir / "{stem}-depth.npy").string() + "'",
+                          "several-models");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    for (const char* name : {"cube-zb.png", "pyramid-zb.png", "cube-depth.npy", "pyramid-depth.npy"})
+        CHECK(fs::exists(dir / name));
+    // Each picture is the one a render of its model alone writes.
+    const Run alone = run_hsr("render " + model("pyramid.stl") + size + " -o " + (dir / "alone.png").string(),
+                              "several-alone");
+    REQUIRE(alone.status == 0);
+    CHECK(slurp(dir / "pyramid-zb.png") == slurp(dir / "alone.png"));
+    // A model that fails is reported once, by name, and the others still render.
+    const std::string missing = (dir / "missing.obj").string();
+    const Run failing = run_hsr("render " + missing + " " + model("cube.obj") + size + " -o '" +
+                                    (dir / "{stem}-after.png").string() + "'", "several-failing");
+    CHECK(failing.status == 1);
+    CHECK_THAT(failing.err, Catch::Contains("hsr: error: " + missing + ": no such file\n"));
+    CHECK_THAT(failing.err, Catch::Contains("1 of 2 jobs failed"));
+    CHECK(fs::exists(dir / "cube-after.png"));
+    // {stem} for one model too.
+    const Run one = run_hsr("render " + model("cube.obj") + size + " -o '" + (dir / "{stem}-one.png").string() + "'",
+                            "stem-one");
+    CHECK(one.status == 0);
+    CHECK(fs::exists(dir / "cube-one.png"));
+}
+
+TEST_CASE("cli: several models with one fixed file name are refused before any render", "[cli]") {
+    const std::string two = "render " + model("cube.obj") + " " + model("pyramid.stl");
+    require_one_line_error(run_hsr(two + " -o x.png", "several-fixed"),
+                           "--output 'x.png': 2 models would each write it; put {stem}");
+    require_one_line_error(run_hsr(two + " -o '{stem}.png' --depth-out d.png", "several-fixed-depth"),
+                           "--depth-out 'd.png': 2 models would each write it");
+    require_one_line_error(run_hsr("render " + model("cube.obj") + " " + model("cube.obj") + " -o '{stem}.png'",
+                                   "several-same-stem"),
+                           "is written by the render of");
+    require_one_line_error(run_hsr(two + " - -o '{stem}.png'", "several-stdin"), "standard input");
+    CHECK_FALSE(fs::exists("x.png"));
+}
+
 TEST_CASE("cli: plugins of another ABI version are listed as refused", "[cli]") {
     const Run r = run_hsr(std::string("plugins --plugin-path ") + HSR_TEST_PLUGIN_DIR, "plugins-refused");
     CHECK(r.status == 0);

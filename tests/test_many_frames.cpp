@@ -4,6 +4,7 @@
 // name FILE:LINE before anything is rendered.
 #include "cli_support.hpp"
 #include "render/jobs.hpp"
+#include "render/options.hpp"
 
 #include "hsr/error.hpp"
 
@@ -254,9 +255,11 @@ TEST_CASE("frames: a mistake on any line of a --jobs file stops the run before i
     std::ofstream(empty) << "# nothing but comments\n\n";
     require_one_line_error(run_hsr("render --jobs " + empty.string(), "empty-jobs"), "no jobs in the file");
     fs::remove(empty);
-    // Options for every job go on the lines, not beside --jobs.
-    require_one_line_error(run_hsr("render --jobs x.jobs --width 10", "jobs-and-options"),
-                           "--width goes on the lines of the file");
+    // The models go on the lines; a mistyped option beside --jobs is refused before the file is read.
+    require_one_line_error(run_hsr("render --jobs x.jobs cube.obj", "jobs-and-model"),
+                           "--jobs x.jobs: the models go on the lines of the file ('cube.obj' is on the command line)");
+    require_one_line_error(run_hsr("render --jobs x.jobs --widht 10", "jobs-typo"),
+                           "unknown option --widht (did you mean --width?) (see hsr render --help)");
     require_one_line_error(run_hsr("render --jobs /nonexistent/x.jobs", "jobs-missing"), "cannot read it");
 }
 
@@ -281,19 +284,20 @@ TEST_CASE("frames: a --jobs line that fails while running is reported, and the o
 TEST_CASE("frames: the example job file of docs/many-frames.md runs and writes every file it names",
           "[frames][jobs]") {
     const fs::path dir = fresh_dir("example-jobs");
-    fs::create_directory_symlink(HSR_MODELS_DIR, dir / "models");
     const fs::path err = dir / "stderr.txt";
+    // Run from a folder of its own: the models are found from the file's folder, the files are
+    // written into the current one.
     const std::string command = "cd " + dir.string() + " && " + HSR_BINARY_DIR + "/hsr render --jobs " +
                                 HSR_SOURCE_DIR + "/docs/examples/turntable.jobs 2> " + err.string();
     const int status = std::system(command.c_str());
     INFO(slurp(err));
     REQUIRE(status == 0);
-    CHECK_THAT(slurp(err), Catch::Contains("loaded models/bunny.obj once for 2 jobs"));
+    CHECK_THAT(slurp(err), Catch::Contains("loaded " + (fs::path(HSR_SOURCE_DIR) / "models/bunny.obj").string() +
+                                           " once for 2 jobs"));
     std::vector<std::string> expected{"boxes-0.svg", "boxes-1.svg", "boxes-2.svg", "bunny-painter.png"};
     for (int k = 0; k < 12; ++k) expected.push_back(fmt::format("bunny-turn-{:02}.png", k));
     for (int k = 0; k < 5; ++k) expected.push_back(fmt::format("monkey-{}.png", k));
     for (int k = 0; k < 5; ++k) expected.push_back(fmt::format("monkey-depth-{}.png", k));
-    expected.push_back("models");
     expected.push_back("stderr.txt");
     std::sort(expected.begin(), expected.end());
     CHECK(names_in(dir) == expected);
@@ -352,4 +356,61 @@ TEST_CASE("frames: --jobs refuses what is not a file of renders before reading i
     for (int k = 0; k < 2100; ++k) words += " --yaw 1";
     jobs_error("words.jobs", words + "\n", "1: 4207 arguments, more than a command may have (4096)");
     CHECK(names_in(dir) == std::vector<std::string>{"fifo.jobs", "long.jobs", "quote.jobs", "words.jobs"});
+}
+
+TEST_CASE("frames: a --jobs line reads its files from the jobs file's folder and writes into the current one",
+          "[frames][jobs]") {
+    const fs::path dir = fresh_dir("jobs-folders");
+    const fs::path models = dir / "models", work = dir / "work";
+    fs::create_directories(models / "sub");
+    fs::create_directories(work);
+    fs::copy_file(model("cube.obj"), models / "cube.obj");
+    fs::copy_file(model("pyramid.stl"), models / "sub" / "pyramid.stl");
+    std::ofstream(models / "relative.jobs") << "cube.obj --width 20 --height 20 -o cube.png\n"
+                                            << "sub/pyramid.stl --width 20 --height 20\n"
+                                            << model("octahedron.ply") << " --width 20 --height 20\n";
+    const Run r = run_hsr("render --jobs ../models/relative.jobs", "jobs-folders", 60, work);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.err, Catch::Contains("loaded ../models/cube.obj once"));
+    CHECK_THAT(r.err, Catch::Contains("loaded ../models/sub/pyramid.stl once"));
+    CHECK(names_in(work) == std::vector<std::string>{"cube.png", "octahedron.png", "pyramid.png"});
+    CHECK(names_in(models) == std::vector<std::string>{"cube.obj", "relative.jobs", "sub"});
+}
+
+TEST_CASE("frames: options after --jobs FILE go to every line that does not give them", "[frames][jobs]") {
+    const fs::path dir = fresh_dir("jobs-defaults");
+    const std::string cube = model("cube.obj");
+    const fs::path jobs = dir / "defaults.jobs";
+    std::ofstream(jobs) << cube << " -o " << (dir / "small.png").string() << "\n"
+                        << cube << " --width 40 -a painter -o " << (dir / "wide.png").string() << "\n";
+    const Run r = run_hsr("render --jobs " + jobs.string() + " --width 24 --height 16 -l lambert", "jobs-defaults");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.err, Catch::Contains("small.png (24x16,"));
+    CHECK_THAT(r.err, Catch::Contains("wide.png (40x16,"));
+    // Each is what its line with the command line's other options writes alone.
+    const Run alone = run_hsr("render " + cube + " --width 40 --height 16 -a painter -l lambert -o " +
+                                  (dir / "alone.png").string(), "jobs-defaults-alone");
+    REQUIRE(alone.status == 0);
+    CHECK(slurp(dir / "wide.png") == slurp(dir / "alone.png"));
+}
+
+TEST_CASE("frames: the words of a --jobs line as its render's command line", "[frames][jobs]") {
+    using hsr::host::job_line_arguments;
+    using Words = std::vector<std::string>;
+    CHECK(job_line_arguments({"cube.obj", "-o", "x.png"}, "", {}) == Words{"cube.obj", "-o", "x.png"});
+    CHECK(job_line_arguments({"cube.obj", "-o", "x.png"}, "jobs/here", {}) ==
+          Words{"--model=jobs/here/cube.obj", "-o", "x.png"});
+    CHECK(job_line_arguments({"../m/cube.obj", "--heightmap=h.png", "--plugin-path", "p"}, "a/b", {}) ==
+          Words{"--model=a/m/cube.obj", "--heightmap=a/b/h.png", "--plugin-path=a/b/p"});
+    CHECK(job_line_arguments({"/abs/cube.obj", "--trace", "t.jsonl"}, "a", {}) == Words{"/abs/cube.obj", "--trace", "t.jsonl"});
+    CHECK(job_line_arguments({"cube.obj", "--width", "8"}, "", {"--jobs", "f.jobs", "--width=64", "--height", "32",
+                                                                 "--ortho", "--light", "dir:0,0,1"}) ==
+          Words{"cube.obj", "--width", "8", "--height", "32", "--ortho", "--light", "dir:0,0,1"});
+    // A repeatable option on the line replaces the command line's.
+    CHECK(job_line_arguments({"cube.obj", "--light", "dir:1,0,0"}, "", {"--light", "dir:0,0,1", "--light", "dir:0,1,0"}) ==
+          Words{"cube.obj", "--light", "dir:1,0,0"});
+    CHECK_THROWS_WITH(job_line_arguments({"cube.obj", "--algoritm", "zbuffer"}, "", {}),
+                      Catch::Contains("unknown option --algoritm (did you mean --algorithm?)"));
 }

@@ -91,3 +91,20 @@ TEST_CASE("bad settings are errors that name the plugin and the key", "[params]"
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"tint", "1/2/0"}}), Catch::Contains("not a colour"));
     CHECK_THROWS_WITH(hsr::resolve_params(d, {{"depth", "2"}, {"depth", "3"}}), Catch::Contains("given twice"));
 }
+
+TEST_CASE("integer parameters show their ranges as whole numbers at any size", "[params]") {
+    const hsr_param_desc big{sizeof(hsr_param_desc), "max-polygons", HSR_PARAM_INT, "1000000", 1, 1e8, nullptr, "m"};
+    const hsr_param_desc huge{sizeof(hsr_param_desc), "max-candidates", HSR_PARAM_INT, "1", 1, 1e15, nullptr, "c"};
+    const hsr_param_desc scale{sizeof(hsr_param_desc), "scale", HSR_PARAM_FLOAT, "1", 0, 1e8, nullptr, "s"};
+    CHECK_THAT(hsr::describe_param(big), Catch::Contains("(integer 1..100000000)"));
+    CHECK_THAT(hsr::describe_param(huge), Catch::Contains("(integer 1..1000000000000000)"));
+    CHECK_THAT(hsr::describe_param(scale), Catch::Contains("(0..1e+08)"));
+    CHECK_THROWS_WITH(hsr::parse_param_value(big, "200000000"), Catch::Contains("out of range [1, 100000000]"));
+}
+
+TEST_CASE("a mistyped parameter name is answered with the nearest one", "[params]") {
+    const hsr_plugin_descriptor d = make_descriptor();
+    CHECK_THROWS_WITH(hsr::resolve_params(d, {{"dpeth", "2"}}),
+                      Catch::Contains("plugin 'demo' has no parameter 'dpeth' (did you mean depth?)"));
+    CHECK_THROWS_WITH(hsr::resolve_params(d, {{"colour", "1/1/1"}}), !Catch::Contains("did you mean"));
+}

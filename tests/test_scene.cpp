@@ -556,7 +556,7 @@ TEST_CASE("bad model files give one clear line naming the file", "[scene][errors
     }
     SECTION("a folder is not a model") {
         fs::create_directories(dir.path / "folder.obj");
-        CHECK_THAT(error_of(load(dir.path / "folder.obj")), Contains("folder.obj") && Contains("directory"));
+        CHECK_THAT(error_of(load(dir.path / "folder.obj")), Contains("folder.obj") && Contains("is a folder, not a model file"));
     }
 }
 

@@ -187,7 +187,7 @@ std::string cli_message(const std::string& args, const std::string& tag) {
     REQUIRE(run.status != 0);
     std::string message = run.err.substr(std::string("hsr: error: ").size());
     message = message.substr(0, message.find('\n'));
-    const std::string hint = " (see hsr --help)";
+    const std::string hint = " (see hsr render --help)";
     if (message.ends_with(hint)) message.resize(message.size() - hint.size());
     return message;
 }

@@ -68,7 +68,7 @@ std::string read_regular_file(const fs::path& file, const std::string& what, boo
     } closer{fd};
     struct stat info {};
     if (::fstat(fd, &info) != 0) throw Error("{}: cannot read the file size", what);
-    if (S_ISDIR(info.st_mode)) throw Error("{}: is a directory, not a model file", what);
+    if (S_ISDIR(info.st_mode)) throw Error("{}: is a folder, not a model file", what);
     if (!S_ISREG(info.st_mode)) throw Error("{}: is not a regular file (a pipe, device or socket)", what);
     const uint64_t size = static_cast<uint64_t>(info.st_size);
     check_limit(&Limits::model_bytes, size, what);

@@ -116,13 +116,20 @@ Format format_of(const std::filesystem::path& file) {
                 extension.empty() ? "no extension" : printable(extension));
 }
 
-std::string read_whole_file(const std::filesystem::path& file) {
+// That the file is there and is a regular file, before its name's extension is asked for a format:
+// a folder or a device has no extension to speak of.
+void check_model_file(const std::filesystem::path& file) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) throw Error("{}: no such file", display(file));
-    if (std::filesystem::is_directory(file, ec)) throw Error("{}: is a directory, not a model file", display(file));
+    if (std::filesystem::is_directory(file, ec)) throw Error("{}: is a folder, not a model file", display(file));
     // A pipe would be read until its writer stops, a device such as /dev/zero until memory runs out.
     if (!std::filesystem::is_regular_file(file, ec))
         throw Error("{}: is not a regular file (a pipe, device or socket), not a model file", display(file));
+}
+
+// The file passed check_model_file.
+std::string read_whole_file(const std::filesystem::path& file) {
+    std::error_code ec;
     const std::uintmax_t size = std::filesystem::file_size(file, ec);
     if (ec) throw Error("{}: cannot read the file size", display(file));
     check_limit(&Limits::model_bytes, size, display(file));
@@ -448,6 +455,7 @@ Object object_from_polygon_mesh(const TriMesh& mesh, const FaceCounts& face_coun
 }  // namespace
 
 Object read_model_object(const std::filesystem::path& file) {
+    check_model_file(file);
     Format format = format_of(file);
     std::optional<ModelContents> contents;
     {

@@ -1,12 +1,14 @@
 #include "hsr/params.hpp"
 
 #include "hsr/error.hpp"
+#include "hsr/spelling.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace hsr {
@@ -57,7 +59,11 @@ bool parse_color(std::string_view text, float (&rgb)[3]) {
     return true;
 }
 
-std::string format_number(double v) { return fmt::format("{:g}", v); }
+// A bound or value as the parameter's type reads: integers whole at any size (not 1e+08).
+std::string format_number(const hsr_param_desc& desc, double v) {
+    if (desc.type == HSR_PARAM_INT && std::abs(v) < 9.2e18) return fmt::format("{}", static_cast<int64_t>(v));
+    return fmt::format("{:g}", v);
+}
 
 }  // namespace
 
@@ -128,8 +134,8 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
         if (desc.type == HSR_PARAM_INT && number != std::floor(number))
             throw Error("'{}' is not a whole number", printable(text));
         if (number < desc.min || number > desc.max)
-            throw Error("{} is out of range [{}, {}]", printable(trim(text)), format_number(desc.min),
-                        format_number(desc.max));
+            throw Error("{} is out of range [{}, {}]", printable(trim(text)), format_number(desc, desc.min),
+                        format_number(desc, desc.max));
         v.number = number;
         break;
     }
@@ -154,16 +160,16 @@ hsr_param_value parse_param_value(const hsr_param_desc& desc, std::string_view t
 
 ParamValues resolve_params(const hsr_plugin_descriptor& plugin, const std::vector<Setting>& settings) {
     const char* plugin_name = plugin.name ? plugin.name : "?";
-    std::vector<std::string_view> known;
+    std::vector<std::string> known;
     for (uint32_t i = 0; i < plugin.param_count; ++i) known.emplace_back(param_desc(plugin, i).name);
 
     for (size_t i = 0; i < settings.size(); ++i) {
         const std::string& key = settings[i].first;
         if (std::find(known.begin(), known.end(), key) == known.end()) {
             std::string list;
-            for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-            throw Error("plugin '{}' has no parameter '{}' (it has: {})", plugin_name, printable(key),
-                        list.empty() ? "none" : list);
+            for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+            throw Error("plugin '{}' has no parameter '{}'{} (it has: {})", plugin_name, printable(key),
+                        did_you_mean(key, known), list.empty() ? "none" : list);
         }
         for (size_t j = 0; j < i; ++j)
             if (settings[j].first == key)
@@ -196,8 +202,10 @@ std::string describe_param(const hsr_param_desc& desc) {
     std::string range;
     switch (desc.type) {
     case HSR_PARAM_BOOL: range = "true|false"; break;
-    case HSR_PARAM_INT: range = fmt::format("integer {}..{}", format_number(desc.min), format_number(desc.max)); break;
-    case HSR_PARAM_FLOAT: range = fmt::format("{}..{}", format_number(desc.min), format_number(desc.max)); break;
+    case HSR_PARAM_INT:
+        range = fmt::format("integer {}..{}", format_number(desc, desc.min), format_number(desc, desc.max));
+        break;
+    case HSR_PARAM_FLOAT: range = fmt::format("{}..{}", format_number(desc, desc.min), format_number(desc, desc.max)); break;
     case HSR_PARAM_ENUM: range = desc.choices ? desc.choices : ""; break;
     case HSR_PARAM_COLOR: range = "colour r/g/b or #rrggbb"; break;
     }

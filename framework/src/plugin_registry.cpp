@@ -4,6 +4,7 @@
 
 #include "hsr/error.hpp"
 #include "hsr/plugin_faults.hpp"
+#include "hsr/spelling.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
@@ -453,11 +454,15 @@ const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> ki
         for (const Plugin& p : plugins_)
             if (p.descriptor.kind == kind && name == p.descriptor.name) return p;
     std::string kinds_text, found;
+    std::vector<std::string> known;
     for (hsr_plugin_kind kind : kinds) {
         kinds_text += (kinds_text.empty() ? "" : " or ") + std::string(kind_name(kind));
         std::string names;
         for (const Plugin& p : plugins_)
-            if (p.descriptor.kind == kind) names += (names.empty() ? "" : ", ") + std::string(p.descriptor.name);
+            if (p.descriptor.kind == kind) {
+                names += (names.empty() ? "" : ", ") + std::string(p.descriptor.name);
+                known.emplace_back(p.descriptor.name);
+            }
         if (kinds.size() > 1) names = std::string(kind_name(kind)) + ": " + (names.empty() ? "none" : names);
         if (!names.empty()) found += (found.empty() ? "" : "; ") + names;
     }
@@ -470,8 +475,8 @@ const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> ki
         if (r.reason.find("'" + name + "'") != std::string::npos || stem == name || stem == "hsr-" + name)
             refused = "; refused: " + r.reason;
     }
-    throw Error("no {} plugin named '{}' (searched: {}; found: {}){}", kinds_text, printable(name),
-                where.empty() ? "nowhere" : where, found.empty() ? "none" : found, refused);
+    throw Error("no {} plugin named '{}'{} (searched: {}; found: {}){}", kinds_text, printable(name),
+                did_you_mean(name, known), where.empty() ? "nowhere" : where, found.empty() ? "none" : found, refused);
 }
 
 std::vector<fs::path> default_plugin_dirs(const fs::path& executable_dir, const std::vector<std::string>& extra) {

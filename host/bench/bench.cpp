@@ -6,6 +6,7 @@
 #include "bench/bench_plot.hpp"
 #include "bench/bench_report.hpp"
 #include "bench/bench_worker.hpp"
+#include "common/command_line.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
 #include "common/outputs.hpp"
@@ -245,7 +246,9 @@ po::options_description describe_options(BenchOptions& o) {
 std::optional<BenchOptions> parse_options(const std::vector<std::string>& args) {
     BenchOptions o;
     const po::options_description options = describe_options(o);
-    const po::parsed_options parsed = po::command_line_parser(args).options(options).run();
+    po::command_line_parser parser(args);
+    parser.options(options);
+    const po::parsed_options parsed = hsr::host::parse_command_line(parser, options);
     po::store(parsed, o.vm);
     po::notify(o.vm);
     if (o.vm.count("help")) {

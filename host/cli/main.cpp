@@ -7,10 +7,12 @@
 #include "hsr/abi.h"
 #include "hsr/error.hpp"
 #include "hsr/plugin_faults.hpp"
+#include "hsr/spelling.hpp"
 
 #include <boost/program_options.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -32,18 +34,29 @@ const char* usage_text =
     "  hsr --version  versions of hsr and of its plugin ABI\n"
     "  hsr <command> --help\n";
 
+// The commands people run, for a mistyped one's suggestion.
+const std::vector<std::string> command_names{"render", "plugins", "bench", "view"};
+
+// Where a mistake in `command`'s words is explained: the command's own --help, which lists its
+// options, or hsr's for a command that is not one.
+std::string help_hint(const std::string& command) {
+    const bool known = std::find(command_names.begin(), command_names.end(), command) != command_names.end();
+    return known ? " (see hsr " + command + " --help)" : " (see hsr --help)";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     using hsr::host::UsageError;
     hsr::report_plugin_faults();
     std::vector<std::string> args(argv + 1, argv + argc);
+    std::string command;
     try {
         if (args.empty()) {
             std::cerr << usage_text;
             return 2;
         }
-        const std::string command = args.front();
+        command = args.front();
         args.erase(args.begin());
         hsr::host::check_argument_count(args.size());
         if (command == "--help" || command == "-h" || command == "help") {
@@ -60,12 +73,16 @@ int main(int argc, char** argv) {
         if (command == "view") return hsr::host::run_view(args);
         if (command == "view-worker") return hsr::host::run_view_worker(args);
         if (command == hsr::host::kBenchWorkerCommand) return hsr::host::run_bench_worker(args);  // hsr bench's own
-        throw UsageError("unknown command '{}' (commands: render, plugins, bench, view)", hsr::printable(command));
+        std::vector<std::string> known = command_names;
+        known.insert(known.end(), {"--help", "--version"});
+        const std::string suggestion = hsr::did_you_mean(command, known);
+        throw UsageError("unknown command '{}'{}", hsr::printable(command),
+                         suggestion.empty() ? " (commands: render, plugins, bench, view)" : suggestion);
     } catch (const UsageError& e) {
-        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << " (see hsr --help)\n";
+        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << help_hint(command) << "\n";
         return 2;
     } catch (const boost::program_options::error& e) {
-        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << " (see hsr --help)\n";
+        std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << help_hint(command) << "\n";
         return 2;
     } catch (const hsr::Error& e) {
         std::cerr << "hsr: error: " << hsr::host::message_line(e.what()) << "\n";

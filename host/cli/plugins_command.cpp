@@ -1,4 +1,5 @@
 // hsr plugins: every plugin found, with its parameters, and the folders searched.
+#include "common/command_line.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
 #include "common/plugins.hpp"
@@ -29,7 +30,9 @@ int hsr::host::run_plugins(const std::vector<std::string>& args) {
     all.add(options).add(hidden);
     po::positional_options_description positional;
     positional.add("unexpected", -1);
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::command_line_parser parser(args);
+    parser.options(all).positional(positional);
+    po::store(hsr::host::parse_command_line(parser, options), vm);
     po::notify(vm);
     if (!unexpected.empty()) throw UsageError("plugins: unexpected argument '{}'", unexpected.front());
     if (vm.count("help")) {

@@ -1,12 +1,14 @@
 // The plugin search and description the commands share (plugins.hpp).
 #include "common/plugins.hpp"
 
+#include "hsr/error.hpp"
 #include "hsr/params.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <fmt/format.h>
 
 #include <optional>
+#include <system_error>
 #include <utility>
 
 namespace fs = std::filesystem;
@@ -29,7 +31,18 @@ std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
 
 void hsr::host::set_builtin_plugin_dirs(std::vector<fs::path> dirs) { builtin_plugin_dirs = std::move(dirs); }
 
+void hsr::host::check_plugin_dirs(const std::vector<std::string>& extra_dirs) {
+    for (const std::string& dir : extra_dirs) {
+        std::error_code ec;
+        const fs::file_status status = fs::status(dir, ec);
+        const std::string shown = hsr::printable(dir, hsr::kMaxQuotedPathChars);
+        if (!fs::exists(status)) throw hsr::UsageError("--plugin-path '{}': no such folder", shown);
+        if (!fs::is_directory(status)) throw hsr::UsageError("--plugin-path '{}': is not a folder", shown);
+    }
+}
+
 hsr::PluginRegistry hsr::host::scan_plugins(const std::vector<std::string>& extra_dirs) {
+    check_plugin_dirs(extra_dirs);
     std::vector<fs::path> dirs;
     if (builtin_plugin_dirs) {
         dirs = *builtin_plugin_dirs;

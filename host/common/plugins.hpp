@@ -9,7 +9,11 @@
 
 namespace hsr::host {
 
-// Every plugin in the default folders (beside the executable, $HSR_PLUGIN_PATH) and extra_dirs.
+// That each of extra_dirs (--plugin-path) is a folder: a UsageError says which is not.
+void check_plugin_dirs(const std::vector<std::string>& extra_dirs);
+
+// Every plugin in the default folders (beside the executable, $HSR_PLUGIN_PATH) and extra_dirs
+// (--plugin-path), checked by check_plugin_dirs first.
 hsr::PluginRegistry scan_plugins(const std::vector<std::string>& extra_dirs);
 
 // For a front end that is not the hsr executable (the Python module): the folders scan_plugins

@@ -88,8 +88,12 @@ std::string error_message(const std::exception_ptr& error) {
 // A failed job's error: printed with its origin, or kept for the caller when `kept` is given.
 void report(const RenderJob& job, std::size_t index, const std::exception_ptr& error,
             std::vector<std::optional<std::string>>* kept) {
-    if (kept) (*kept)[index] = error_message(error);
-    else std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), error_message(error).c_str());
+    const std::string message = error_message(error);
+    // The origin of a command line's model is its path, which the model's own errors name already.
+    const bool named = message.rfind(job.origin + ":", 0) == 0;
+    if (kept) (*kept)[index] = message;
+    else if (named) std::fprintf(stderr, "hsr: error: %s\n", message.c_str());
+    else std::fprintf(stderr, "hsr: error: %s: %s\n", job.origin.c_str(), message.c_str());
 }
 
 // A file descriptor, closed when it goes.
@@ -276,8 +280,9 @@ int run_jobs(std::vector<RenderJob>& jobs, JobFailures failures, std::vector<std
     return 0;
 }
 
-int run_job_file(const fs::path& file) {
+int run_job_file(const fs::path& file, const std::vector<std::string>& defaults) {
     const std::string shown = hsr::printable(file.string(), hsr::kMaxQuotedPathChars);
+    const fs::path folder = file.parent_path();
     PluginRegistries registries;
     std::vector<RenderJob> jobs;
     std::unordered_map<std::string, std::string> writers;  // each file written, and the line that writes it
@@ -287,7 +292,7 @@ int run_job_file(const fs::path& file) {
         if (first == std::string_view::npos || line[first] == '#') return;
         const std::string origin = fmt::format("{}:{}", shown, number);
         try {
-            const std::vector<std::string> args = split_job_line(line);
+            const std::vector<std::string> args = job_line_arguments(split_job_line(line), folder, defaults);
             check_argument_count(args.size());
             std::vector<fs::path> files;
             RenderJob job = prepare_render_job(args, registries, files);

@@ -43,8 +43,10 @@ std::vector<std::string> split_job_line(std::string_view line);
 
 // Reads the file and prepares every job (prepare_render_job) before any is run, so that a mistake on
 // any line stops the run before it starts, with the line's FILE:LINE; then runs them, going on past
-// one that fails. FILE must be a regular file (a pipe or a device is refused before it is read) of at
-// most kMaxJobFileBytes; a line may end in CR LF.
-int run_job_file(const std::filesystem::path& file);
+// one that fails. Each line's words are taken as job_line_arguments says: the files it reads from the
+// file's folder, and the options of `defaults` (hsr render's command line) it does not give itself.
+// FILE must be a regular file (a pipe or a device is refused before it is read) of at most
+// kMaxJobFileBytes; a line may end in CR LF.
+int run_job_file(const std::filesystem::path& file, const std::vector<std::string>& defaults);
 
 }  // namespace hsr::host

@@ -2,6 +2,7 @@
 // path read from them (options.hpp).
 #include "render/options.hpp"
 
+#include "common/command_line.hpp"
 #include "common/plugins.hpp"
 #include "common/threads.hpp"
 
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <set>
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -29,21 +31,24 @@ po::options_description render_option_descriptions(RenderOptions& o) {
     using hsr::host::default_background;
     using hsr::host::default_lighting;
     po::options_description general(
-        "hsr render MODEL [options]: render a mesh or .scene file to PNG (MODEL '-': standard input, with "
-        "--format)");
+        "hsr render MODEL... [options]: render a mesh or .scene file to PNG, each MODEL in turn (MODEL '-': "
+        "standard input, with --format)");
     general.add_options()
         ("help,h", "show this help, with every plugin's parameters")
         ("output,o", po::value(&o.output),
          "file to write: PNG for a hidden-surface plugin (default <model name>.png); SVG or PNG for a "
          "hidden-line plugin (default <model name>.svg). With several frames, a frame number goes in every "
          "file name: %d, or %03d for 000, 001, ... (frames count from 0; %% is a % sign; default "
-         "<model name>-%03d.png). '-' writes the PNG to standard output (one frame; messages stay on stderr)")
+         "<model name>-%03d.png). {stem} is the model's file name without its extension, which several models need "
+         "(-o '{stem}.png'). '-' writes the PNG to standard output (one frame; messages stay on stderr)")
         ("format", po::value(&o.format),
          "with MODEL '-': the format of the model read from standard input: obj, off, ply, stl, gltf or glb "
          "(docs/formats.md)")
         ("jobs", po::value(&o.jobs),
          "FILE: run the renders of FILE, one line each of the options of hsr render (# starts a comment "
-         "line); each model is loaded once for all the lines that name it (docs/many-frames.md)")
+         "line); each model is loaded once for all the lines that name it. The files a line reads are taken "
+         "from FILE's folder, those it writes from the current folder; options after --jobs FILE go to every "
+         "line that does not give them (docs/many-frames.md)")
         ("algorithm,a", po::value(&o.algorithm)->default_value(default_algorithm),
          "hidden-surface or hidden-line plugin: NAME[:key=value,...]")
         ("lighting,l", po::value(&o.lighting)->default_value(default_lighting),
@@ -148,22 +153,75 @@ po::options_description render_option_descriptions(RenderOptions& o) {
 
 }  // namespace
 
+namespace {
+
+// Parses args as hsr render's words: each option with its words as given (MODEL's named "model"),
+// bound to o's fields for po::store.
+po::parsed_options parse_render_words(const std::vector<std::string>& args, RenderOptions& o,
+                                      po::options_description& all) {
+    const po::options_description shown = render_option_descriptions(o);
+    po::options_description hidden;
+    hidden.add_options()("model", po::value(&o.models));
+    all.add(shown).add(hidden);
+    po::positional_options_description positional;
+    positional.add("model", -1);
+    po::command_line_parser parser(args);
+    parser.options(all).positional(positional);
+    return hsr::host::parse_command_line(parser, shown);
+}
+
+// The options of a command line that name files it reads, and so are taken from a jobs file's folder.
+bool reads_a_file(const std::string& option) {
+    return option == "model" || option == "heightmap" || option == "plugin-path";
+}
+
+}  // namespace
+
 hsr::host::RenderOptions hsr::host::parse_render_options(const std::vector<std::string>& args) {
     RenderOptions o;
-    po::options_description hidden;
-    hidden.add_options()("model", po::value(&o.model));
     po::options_description all;
-    all.add(render_option_descriptions(o)).add(hidden);
-    po::positional_options_description positional;
-    positional.add("model", 1);
-
     po::variables_map vm;
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::store(parse_render_words(args, o, all), vm);
     po::notify(vm);
     for (const auto& [name, value] : vm)
         if (!value.defaulted()) o.given.insert(name);
     o.help = vm.count("help") > 0;
+    if (!o.models.empty()) o.model = o.models.front();
     return o;
+}
+
+std::vector<std::string> hsr::host::job_line_arguments(const std::vector<std::string>& line, const fs::path& folder,
+                                                       const std::vector<std::string>& defaults) {
+    RenderOptions unused;  // the words are only parsed, not stored
+    po::options_description line_options, default_options;
+    std::vector<std::string> words;
+    std::set<std::string> given;
+    for (const po::option& option : parse_render_words(line, unused, line_options).options) {
+        given.insert(option.string_key);
+        const bool relative = option.value.size() == 1 && !option.value.front().empty() &&
+                              option.value.front() != "-" && fs::path(option.value.front()).is_relative();
+        if (reads_a_file(option.string_key) && relative && !folder.empty())
+            words.push_back("--" + option.string_key + "=" +
+                            (folder / option.value.front()).lexically_normal().string());
+        else
+            words.insert(words.end(), option.original_tokens.begin(), option.original_tokens.end());
+    }
+    for (const po::option& option : parse_render_words(defaults, unused, default_options).options)
+        if (option.string_key != "jobs" && given.count(option.string_key) == 0)
+            words.insert(words.end(), option.original_tokens.begin(), option.original_tokens.end());
+    return words;
+}
+
+std::string hsr::host::with_model_stem(const std::string& text, const RenderOptions& options) {
+    std::string result;
+    std::size_t from = 0;
+    for (std::size_t at = text.find(stem_placeholder); at != std::string::npos;
+         at = text.find(stem_placeholder, from)) {
+        result.append(text, from, at - from);
+        for (char c : model_path(options).stem().string()) result += c == '%' ? "%%" : std::string(1, c);
+        from = at + stem_placeholder.size();
+    }
+    return result + text.substr(from);
 }
 
 void hsr::host::print_render_help(const std::vector<std::string>& plugin_dirs) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hsr::host {
@@ -18,7 +19,8 @@ namespace hsr::host {
 struct RenderOptions {
     bool help = false;
     std::string jobs;  // --jobs FILE
-    std::string model;
+    std::vector<std::string> models;  // every MODEL of the command line
+    std::string model;                // the MODEL of this render: the first of models
     std::string output;
     std::string algorithm = default_algorithm;
     std::string lighting = default_lighting;
@@ -68,8 +70,21 @@ struct RenderOptions {
 };
 
 // The options of args, parsed but not checked; malformed options and values of the wrong type are
-// boost::program_options errors.
+// boost::program_options errors, an unknown option a UsageError.
 RenderOptions parse_render_options(const std::vector<std::string>& args);
+
+// A --jobs line's words as the render's command line: the files the line reads (MODEL, --heightmap,
+// --plugin-path), when relative, taken from `folder`, the jobs file's; then every option of
+// `defaults` (the command line of hsr render --jobs, whose --jobs is left out) that the line does
+// not give itself. The files the line writes stay relative to the current folder.
+std::vector<std::string> job_line_arguments(const std::vector<std::string>& line, const std::filesystem::path& folder,
+                                            const std::vector<std::string>& defaults);
+
+// The placeholder an output name may hold for the model's file name without its extension.
+inline constexpr std::string_view stem_placeholder = "{stem}";
+// text with every {stem} replaced by the stem of the options' model (model_path), its % signs
+// doubled, as a frame-number template (OutputTemplate) reads them.
+std::string with_model_stem(const std::string& text, const RenderOptions& options);
 // The options, then every plugin found with its parameters.
 void print_render_help(const std::vector<std::string>& plugin_dirs);
 

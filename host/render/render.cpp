@@ -94,6 +94,10 @@ void hsr::host::check_render_options(const RenderOptions& o) {
         throw UsageError("MODEL '-' reads standard input: name its format with --format {}",
                          hsr::host::stdin_model_format_list());
     }
+    for (const char* standard_input : {"/dev/stdin", "/dev/fd/0", "/proc/self/fd/0"})
+        if (o.model == standard_input)
+            throw UsageError("MODEL '{}': standard input is read as MODEL '-', with --format {}", o.model,
+                             hsr::host::stdin_model_format_list());
     if (!o.color.empty()) hsr::host::parse_color_option(o.color, "color");  // before a long load
     if (!hsr::is_sample_count(o.samples < 0 || o.samples > 16 ? 0u : uint32_t(o.samples)))
         throw UsageError("--samples {}: expected 1, 2, 4, 8 or 16", o.samples);
@@ -202,12 +206,9 @@ void set_output_templates(hsr::host::RenderJob& job, bool line_drawing) {
                                        {"trace", o.trace}})
         if (text == "-") throw UsageError("--{} -: only the picture (-o -) can go to standard output", option);
     std::string output = o.output;
-    if (output.empty()) {  // <model name>.png, its % signs kept as they are
-        std::string stem;
-        for (char c : hsr::host::model_path(o).stem().string()) stem += c == '%' ? "%%" : std::string(1, c);
-        output = stem + (frames > 1 ? "-%03d" : "") + (line_drawing ? ".svg" : ".png");
-    }
-    for (const auto& [option, text, name] :
+    if (output.empty())
+        output = std::string(hsr::host::stem_placeholder) + (frames > 1 ? "-%03d" : "") + (line_drawing ? ".svg" : ".png");
+    for (const auto& [option, given_text, name] :
          {std::tuple<const char*, const std::string&, hsr::host::OutputTemplate&>{"output", output, job.output},
           {"depth-out", o.depth_out, job.depth_out},
           {"id-out", o.id_out, job.id_out},
@@ -215,7 +216,8 @@ void set_output_templates(hsr::host::RenderJob& job, bool line_drawing) {
           {"overdraw-out", o.overdraw_out, job.overdraw_out},
           {"depth-tests-out", o.depth_tests_out, job.depth_tests_out},
           {"trace", o.trace, job.trace}}) {
-        if (text.empty()) continue;
+        if (given_text.empty()) continue;
+        const std::string text = hsr::host::with_model_stem(given_text, o);
         name = hsr::host::OutputTemplate(text, option);
         if (frames > 1 && !name.has_number())
             throw UsageError("--{} '{}': {} frames need a frame number in the name, e.g. '{}' (frames count from 0)",
@@ -267,6 +269,9 @@ hsr::host::RenderJob hsr::host::prepare_render_plugins(RenderOptions options, co
     RenderJob job;
     job.options = std::move(options);
     if (job.options.help) throw UsageError("--help goes on a command line of its own");
+    if (job.options.models.size() > 1)
+        throw UsageError("{} models: one render takes one (hsr render MODEL MODEL... renders each of them)",
+                         job.options.models.size());
     if (!job.options.jobs.empty()) throw UsageError("--jobs: a job cannot run another jobs file");
     job.frames = plan_frames(job.options);
     check_render_options(job.options);
@@ -278,7 +283,11 @@ hsr::host::RenderJob hsr::host::prepare_render_plugins(RenderOptions options, co
 
 hsr::host::RenderJob hsr::host::prepare_render_job(const std::vector<std::string>& args, PluginRegistries& registries,
                                                    std::vector<fs::path>& files) {
-    RenderOptions options = parse_render_options(args);
+    return prepare_render_job(parse_render_options(args), registries, files);
+}
+
+hsr::host::RenderJob hsr::host::prepare_render_job(RenderOptions options, PluginRegistries& registries,
+                                                   std::vector<fs::path>& files) {
     hsr::Limits limits;
     try {
         limits = hsr::limits_from_settings(options.limits);

@@ -111,6 +111,9 @@ using PluginRegistries = std::map<std::vector<std::string>, hsr::PluginRegistry>
 // boost::program_options errors), anything else hsr::Error.
 RenderJob prepare_render_job(const std::vector<std::string>& args, PluginRegistries& registries,
                              std::vector<std::filesystem::path>& files);
+// The same for options parsed already (parse_render_options).
+RenderJob prepare_render_job(RenderOptions options, PluginRegistries& registries,
+                             std::vector<std::filesystem::path>& files);
 
 // The job of the options without its files: the options checked, the frames planned and the plugins
 // made from the registry, as prepare_render_job does before it names and checks the files. For a

@@ -14,6 +14,7 @@ docs/python.md describes the package; hsr.dask renders batches on many processes
 
 import collections.abc
 import dataclasses
+import os
 import typing
 
 from . import _hsr, _options
@@ -22,8 +23,8 @@ from ._paths import plugin_dir as _plugin_dir
 
 __all__ = [
     "Error", "UsageError", "LimitError", "PluginError", "Scene", "Mesh", "Frame", "Lines", "Step", "Steps",
-    "plugins", "load", "render", "lines", "steps", "limits", "set_limits", "split_job_line", "scene_key",
-    "render_commands",
+    "plugins", "load", "render", "lines", "steps", "limits", "set_limits", "split_job_line",
+    "job_line_arguments", "scene_key", "render_commands",
 ]
 
 _hsr.set_builtin_plugin_dirs([_plugin_dir])
@@ -237,6 +238,13 @@ def split_job_line(line):
     return _hsr.split_job_line(line)
 
 
+def job_line_arguments(words, folder, defaults=()):
+    """The words of an `hsr render --jobs` line as the render's command line: the files the line reads
+    (MODEL, --heightmap, --plugin-path), when relative, taken from `folder` (the jobs file's); then the
+    options of `defaults` (the command line of hsr render --jobs) that the line does not give itself."""
+    return _hsr.job_line_arguments(list(words), os.fspath(folder), list(defaults))
+
+
 def scene_key(words):
     """The options of `hsr render` that decide the scene it loads, as one string: renders with equal
     keys share one load."""
@@ -256,7 +264,10 @@ def _listed(value):
 
 
 def _plugin_paths(plugin_path):
-    return [] if plugin_path is None else [_options.model_path(p) for p in _listed(plugin_path)]
+    if plugin_path is None:
+        return []
+    folders = [plugin_path] if isinstance(plugin_path, (str, bytes, os.PathLike)) else plugin_path
+    return [_options.model_path(p) for p in folders]
 
 
 def _view_words(algorithm, params, width, height, yaw, pitch, zoom, fov, orthographic, eye, target, up, camera,

@@ -71,7 +71,8 @@ class Job:
     """One render of a batch.
 
     Either a line of an `hsr render --jobs` file (`words`: its options as hsr render takes them,
-    paths taken from the current folder), or a model with keywords of hsr.load and hsr.render and
+    paths taken from the current folder: read_jobs_file() puts the jobs file's folder in front of the
+    files the line reads), or a model with keywords of hsr.load and hsr.render and
     the file name of its picture (`model`, `keywords`, `name`: made by jobs()). `origin` names the job in the
     summary: "FILE:LINE" for a line, the picture's name for the others.
     """
@@ -193,9 +194,11 @@ def read_jobs_file(path: str | os.PathLike) -> list[Job]:
     """The jobs of an `hsr render --jobs` file: one line each, '#' comments and blank lines skipped.
 
     Lines are split as hsr splits them (hsr.split_job_line); a line that cannot be split is an
-    hsr.UsageError naming FILE:LINE, as is a file without jobs.
+    hsr.UsageError naming FILE:LINE, as is a file without jobs. The files a line reads are taken from
+    the file's folder, those it writes from the current folder (hsr.job_line_arguments).
     """
     shown = os.fspath(path)
+    folder = os.path.dirname(os.fsdecode(shown))
     try:
         # Checked before it is opened: opening a FIFO would wait for a writer.
         if not stat.S_ISREG(os.stat(path).st_mode):
@@ -217,6 +220,10 @@ def read_jobs_file(path: str | os.PathLike) -> list[Job]:
             words = hsr.split_job_line(line)
         except hsr.Error as error:
             raise hsr.UsageError(f"{origin}: {error}") from None
+        try:
+            words = hsr.job_line_arguments(words, folder)
+        except hsr.Error:
+            pass  # the line's mistake is the job's error when it runs
         made.append(Job(origin=origin, words=tuple(words)))
     if not made:
         raise hsr.UsageError(f"--jobs '{shown}': no jobs in the file (each line holds the options of one render)")

@@ -421,6 +421,10 @@ PYBIND11_MODULE(_hsr, m) {
     m.def("limits", &limits_dict);
     m.def("set_limits", &set_limit_settings);
     m.def("split_job_line", [](const std::string& line) { return hsr::host::split_job_line(line); });
+    m.def("job_line_arguments", [](const std::vector<std::string>& words, const std::string& folder,
+                                   const std::vector<std::string>& defaults) {
+        return hsr::host::job_line_arguments(words, folder, defaults);
+    });
     m.def("scene_key", &scene_key);
     m.def("command_plan", &command_plan);
     m.def("render_commands", &render_commands);

@@ -276,6 +276,25 @@ def test_errors_carry_the_command_lines_message(models, hsr_cli):
         hsr.render(scene, no_such_keyword=1)
 
 
+def test_plugin_path_must_be_a_folder(models):
+    scene = hsr.load(models / "cube.obj")
+    with pytest.raises(hsr.UsageError, match="--plugin-path '/nonexistent': no such folder"):
+        hsr.render(scene, plugin_path="/nonexistent")
+    with pytest.raises(hsr.UsageError, match="no such folder"):
+        hsr.plugins(plugin_path=["/nonexistent"])
+    with pytest.raises(hsr.UsageError, match="is not a folder"):
+        hsr.render(scene, plugin_path=models / "cube.obj")
+
+
+def test_job_line_arguments_take_inputs_from_the_jobs_folder():
+    assert hsr.job_line_arguments(["cube.obj", "-o", "x.png"], "jobs/here") == [
+        "--model=jobs/here/cube.obj", "-o", "x.png"]
+    assert hsr.job_line_arguments(["cube.obj", "--width", "8"], "", ["--jobs", "f.jobs", "--width", "64", "--ortho"]) == [
+        "cube.obj", "--width", "8", "--ortho"]
+    with pytest.raises(hsr.UsageError, match=r"unknown option --widht \(did you mean --width\?\)"):
+        hsr.job_line_arguments(["cube.obj", "--widht", "8"], "")
+
+
 def test_limits_hold(models):
     defaults = hsr.limits()
     assert defaults["stored-triangles"] > 0

@@ -180,6 +180,21 @@ def test_two_jobs_writing_one_file_are_refused(tmp_path, monkeypatch):
         hsr.dask.render_many("twice.jobs", client=None)
 
 
+def test_a_jobs_line_reads_from_the_files_folder_and_writes_into_the_current_one(client, tmp_path, monkeypatch):
+    (tmp_path / "batch").mkdir()
+    (tmp_path / "batch" / "cube.obj").write_bytes((MODELS / "cube.obj").read_bytes())
+    (tmp_path / "batch" / "here.jobs").write_text(f"cube.obj {SIZE} -o cube.png\n{MODELS / 'pyramid.stl'} {SIZE}\n"
+                                                  "cube.obj --no-such-option\n")
+    monkeypatch.chdir(tmp_path)
+    jobs = hsr.dask.read_jobs_file("batch/here.jobs")
+    assert jobs[0].words == ("--model=batch/cube.obj", *SIZE.split(), "-o", "cube.png")
+    assert jobs[1].words == (str(MODELS / "pyramid.stl"), *SIZE.split())
+    assert jobs[2].words == ("cube.obj", "--no-such-option")  # its mistake is its error when it runs
+    summary = hsr.dask.render_many(jobs[:2], client, progress=False)
+    assert summary.ok, summary.failures
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["batch", "cube.png", "pyramid.png"]
+
+
 def run_module(*arguments, cwd):
     package_folder = str(pathlib.Path(hsr.__file__).resolve().parents[1])
     environment = dict(os.environ, PYTHONPATH=os.pathsep.join([package_folder, os.environ.get("PYTHONPATH", "")]))

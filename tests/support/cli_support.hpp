@@ -42,12 +42,13 @@ inline std::filesystem::path write_file(const std::string& name, const std::stri
     return path;
 }
 
-// Runs `hsr <args>` with no input and a time limit; stdout and stderr go to <tag>.out and <tag>.err
-// in the scratch folder.
-inline Run run_hsr(const std::string& args, const std::string& tag, int timeout_seconds = 60) {
+// Runs `hsr <args>` with no input and a time limit, in folder `cwd` when one is given; stdout and
+// stderr go to <tag>.out and <tag>.err in the scratch folder.
+inline Run run_hsr(const std::string& args, const std::string& tag, int timeout_seconds = 60,
+                   const std::filesystem::path& cwd = {}) {
     const std::filesystem::path dir = scratch_dir();
     const std::filesystem::path out = dir / (tag + ".out"), err = dir / (tag + ".err");
-    const std::string command = "timeout " + std::to_string(timeout_seconds) + " " + std::string(HSR_BINARY_DIR) +
+    const std::string command = (cwd.empty() ? "" : "cd '" + cwd.string() + "' && ") + "timeout " + std::to_string(timeout_seconds) + " " + std::string(HSR_BINARY_DIR) +
                                 "/hsr " + args + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
     const int raw = std::system(command.c_str());
     Run r;

@@ -1,7 +1,9 @@
 // hsr view: a local web server with the viewer page and its JSON API (view_server.hpp,
 // docs/viewer.md): its options, the folders it serves, and a clean stop on SIGINT or SIGTERM.
+#include "common/command_line.hpp"
 #include "common/commands.hpp"
 #include "common/options.hpp"
+#include "common/plugins.hpp"
 #include "common/threads.hpp"
 #include "view/server/view_server.hpp"
 
@@ -129,7 +131,9 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
     po::positional_options_description positional;
     positional.add("model", 1);
     po::variables_map vm;
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::command_line_parser parser(args);
+    parser.options(all).positional(positional);
+    po::store(hsr::host::parse_command_line(parser, options), vm);
     po::notify(vm);
     if (vm.count("help")) {
         std::cout << options;
@@ -166,6 +170,7 @@ int hsr::host::run_view(const std::vector<std::string>& args) {
         if (!served) config.model_folders.push_back(folder);
         config.initial_model = o.model;
     }
+    check_plugin_dirs(o.plugin_dirs);  // here, rather than in each worker, whose message would be lost
     config.plugin_dirs = o.plugin_dirs;
     config.limits = o.limits;
     config.threads = o.threads;
