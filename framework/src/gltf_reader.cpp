@@ -14,8 +14,9 @@
 //
 // tinygltf's implementation is compiled here and nowhere else, without stb_image; that is also why
 // this one file holds the whole reader, over 700 lines: its checks all take tinygltf's types, which
-// no header of hsr's should bring into other files. The system headers come first: tiny_gltf.h includes its JSON parser under hidden visibility, which would
-// otherwise apply to their declarations too.
+// no header of hsr's should bring into other files. The system headers come first: tiny_gltf.h
+// includes its JSON parser under hidden visibility, which would otherwise apply to their
+// declarations too.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
