@@ -481,10 +481,14 @@ const Plugin& PluginRegistry::find_any(std::initializer_list<hsr_plugin_kind> ki
 
 std::vector<fs::path> default_plugin_dirs(const fs::path& executable_dir, const std::vector<std::string>& extra) {
     std::vector<fs::path> dirs;
-    dirs.push_back(executable_dir / "plugins");
+    // <exe dir>/plugins in a build tree, <prefix>/lib/hsr/plugins when installed; the first is
+    // named even when missing if the second is too, so that "searched:" says where to look.
+    const fs::path beside = executable_dir / "plugins";
     const fs::path installed = executable_dir.parent_path() / HSR_INSTALL_PLUGIN_DIR;
     std::error_code ec;
-    if (fs::is_directory(installed, ec)) dirs.push_back(installed);
+    const bool is_installed = fs::is_directory(installed, ec);
+    if (fs::is_directory(beside, ec) || !is_installed) dirs.push_back(beside);
+    if (is_installed) dirs.push_back(installed);
     for (fs::path& d : plugin_path_dirs(extra)) dirs.push_back(std::move(d));
     return dirs;
 }
