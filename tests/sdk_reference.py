@@ -298,6 +298,16 @@ def identifiers(span):
     return set(re.findall(r"[A-Za-z_]\w*", span))
 
 
+def prose_lines(lines):
+    """(index, line) of every line outside fenced code blocks."""
+    in_code = False
+    for k, line in enumerate(lines):
+        if line.lstrip().startswith("```"):
+            in_code = not in_code
+        elif not in_code:
+            yield k, line
+
+
 def check(source):
     page_path = source / PAGE
     page = page_path.read_text()
@@ -314,12 +324,9 @@ def check(source):
 
     lines = page.split("\n")
     headings = []  # (line index, level, backticked spans)
-    in_code = False
-    for k, line in enumerate(lines):
-        if line.lstrip().startswith("```"):
-            in_code = not in_code
+    for k, line in prose_lines(lines):
         m = re.match(r"(#+)\s", line)
-        if m and not in_code:
+        if m:
             headings.append((k, len(m.group(1)), backticked(line)))
 
     def section(index):
@@ -386,12 +393,9 @@ def check(source):
                 problems.append(f"{header}: {name} is not listed under a heading that names `{owner}`")
 
     # Stale names: the first cell of a table row names something that exists.
-    in_code = False
-    for k, line in enumerate(lines):
-        if line.lstrip().startswith("```"):
-            in_code = not in_code
+    for k, line in prose_lines(lines):
         m = re.match(r"\|\s*`([^`]+)`", line)
-        if in_code or not m:
+        if not m:
             continue
         lead = re.match(r"[A-Za-z_][\w:.]*", m.group(1).strip())
         if lead is None:
