@@ -276,6 +276,40 @@ async function main() {
   });
   await screenshot('steps');
 
+  await check('the keys step with a select or checkbox focused, and leave them as they are', async () => {
+    const stepShown = async () => Number((await text('#step-text')).match(/^step (\d+):/)?.[1]);
+    const k = await stepShown();
+    const total = Number((await text('#step-total')).slice(2));
+    await page.selectOption('#step-speed', '5');
+    await page.focus('#step-speed');
+    await andFrame(() => page.keyboard.press('ArrowRight'));
+    assert(await stepShown() === k + 1, `→ showed ${await text('#step-text')} after step ${k}`);
+    await andFrame(() => page.keyboard.press('ArrowLeft'));
+    assert(await stepShown() === k, `← showed ${await text('#step-text')} after step ${k + 1}`);
+    assert(await page.$eval('#step-speed', (s) => s.value) === '5', 'the arrows changed the speed');
+    await andFrame(() => page.keyboard.press('End'));
+    assert(await stepShown() === total, `End showed ${await text('#step-text')} of ${total}`);
+    await andFrame(() => page.keyboard.press('Home'));
+    assert(await stepShown() === 1, `Home showed ${await text('#step-text')}`);
+    // Space plays and pauses with a checkbox focused, which keeps its state.
+    const box = '#params input[type="checkbox"]';
+    const checked = await page.$eval(box, (b) => b.checked);
+    await page.focus(box);
+    await page.keyboard.press('Space');
+    assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'pause', 'space did not play');
+    await page.keyboard.press('Space');
+    assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'play', 'space did not pause');
+    assert(await page.$eval(box, (b) => b.checked) === checked, 'space toggled the checkbox');
+    // On the focused play button, space plays once (not also as the button's click).
+    await page.focus('#step-play');
+    await page.keyboard.press('Space');
+    assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'pause', 'space on play did not play');
+    await page.keyboard.press('Space');
+    assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'play', 'space on play did not pause');
+    await idle();
+    await page.selectOption('#step-speed', '1');
+  });
+
   await check('the last step is the CLI\'s picture for the same camera, pixel for pixel', async () => {
     await andFrame(() => page.click('#step-last'));
     const response = await page.evaluate(() => window.hsrView.lastResponse);

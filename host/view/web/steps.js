@@ -25,14 +25,10 @@ export class StepControls {
     el.forward.addEventListener('click', () => this.go(this.current === null ? 1 : this.current + 1));
     el.play.addEventListener('click', () => this.setPlaying(!this.playing));
     el.slider.addEventListener('input', () => this.go(Number(el.slider.value)));
-    // The arrow keys step back and forward while the step bar is shown and no field has the focus.
-    document.addEventListener('keydown', (e) => {
-      if (el.play.closest('[hidden]') || e.target.closest?.('input, select, textarea')) return;
-      if (e.key === 'ArrowRight') el.forward.click();
-      else if (e.key === 'ArrowLeft') el.back.click();
-      else return;
-      e.preventDefault();
-    });
+    // The keys step wherever the focus is but in a field that takes typing: space plays and pauses,
+    // the arrows step back and forward, Home and End go to the first and last step. They are taken
+    // in the capture phase, before a focused select or checkbox acts on them.
+    window.addEventListener('keydown', (e) => this.key(e), true);
     el.number.addEventListener('change', () => {
       const k = Math.round(Number(el.number.value));
       if (Number.isFinite(k) && k >= 1) this.go(k);
@@ -41,6 +37,20 @@ export class StepControls {
 
   speed() {
     return Number(this.el.speed.value) || 5;
+  }
+
+  key(e) {
+    if (e.ctrlKey || e.altKey || e.metaKey || e.isComposing || this.el.play.closest('[hidden]')) return;
+    if (typesText(e.target)) return;
+    const el = this.el;
+    if (e.key === ' ') this.setPlaying(!this.playing);
+    else if (e.key === 'ArrowRight') el.forward.click();
+    else if (e.key === 'ArrowLeft') el.back.click();
+    else if (e.key === 'Home') el.first.click();
+    else if (e.key === 'End') el.last.click();
+    else return;
+    e.preventDefault();
+    e.stopPropagation();
   }
 
   // Step k (clamped to the known total), or the full render for null.
@@ -116,6 +126,16 @@ export class StepControls {
     number.value = this.current === null && this.total === null ? '' : String(shown);
     totalText.textContent = `/ ${this.total ?? '–'}`;
   }
+}
+
+// Inputs that take no typing: the step keys act while one of them has the focus.
+const UNTYPED_INPUTS = new Set(['checkbox', 'radio', 'range', 'button', 'submit', 'reset', 'file', 'color', 'image']);
+
+// Does the focused element take typed text (a text or number input, a textarea, editable content)?
+function typesText(target) {
+  if (!(target instanceof Element)) return false;
+  if (target instanceof HTMLTextAreaElement || target.isContentEditable) return true;
+  return target instanceof HTMLInputElement && !UNTYPED_INPUTS.has(target.type);
 }
 
 // Draws one step's highlight on the overlay canvas (cleared first); steps null clears it.
