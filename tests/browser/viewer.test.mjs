@@ -227,6 +227,13 @@ async function main() {
     assert(!(await errorState()), await text('#error'));
   });
 
+  await check('the step bar starts at the slowest speed and knows its total before any step', async () => {
+    assert(await page.$eval('#step-speed', (s) => s.value) === '1', 'the speed is not 1 step/s');
+    await page.waitForFunction(() => /^\/ \d+$/.test(document.querySelector('#step-total').textContent), null,
+      { timeout: 20_000 });
+    assert(/^the full render \(\d+ steps\)$/.test(await text('#step-text')), `step text: ${await text('#step-text')}`);
+  });
+
   await check('stepping forward and back changes the step text and the picture', async () => {
     const full = await canvasPixels();
     await andFrame(() => page.click('#step-forward'));

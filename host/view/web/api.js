@@ -67,6 +67,14 @@ export const postJson = (path, value) => call(path, {
   body: JSON.stringify(value),
 });
 
+// A request beside the page's frames, under a name of its own: it cancels none of them (and a
+// newer one cancels the one before).
+export const postJsonAside = (path, value) => call(path, {
+  method: 'POST',
+  headers: { 'Content-Type': 'application/json', Accept: 'application/json', 'X-HSR-Page': `${PAGE_ID}-aside` },
+  body: JSON.stringify(value),
+});
+
 // How far this page's frame in flight has got: {running, ms, progress: {steps, total} or null}.
 export const getProgress = () => call('/api/progress', { headers: { Accept: 'application/json', 'X-HSR-Page': PAGE_ID } });
 

@@ -1,7 +1,7 @@
 // The viewer page: loads the models and plugins, keeps the settings, asks the server for frames
 // (latest wins) and shows them with their steps, buffers, stats, comparison and theory.
 
-import { getJson, postJson, cancelFrame, getProgress, ApiError } from './api.js';
+import { getJson, postJson, postJsonAside, cancelFrame, getProgress, ApiError } from './api.js';
 import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
@@ -226,6 +226,7 @@ async function runJob(job, isStale) {
     } else {
       hideCompare(compareElements);
       renderStats($('stats'), '', frame.stats, roundTrip);
+      if (request.step === null || request.step === undefined) askStepTotal(request);
     }
     clearFieldErrors();
     showError('');
@@ -242,6 +243,26 @@ async function runJob(job, isStale) {
     if (!(e instanceof ApiError)) console.error(e);
     reportError(e instanceof ApiError ? e : new Error(`could not show the frame: ${e.message}`));
     if (steps.playing) steps.setPlaying(false);
+  }
+}
+
+// A full render's answer has no step count: ask for step 1 aside for the count, so the step bar
+// shows it before any step, and take it if the view is still the same when it comes.
+const viewKey = (request) => JSON.stringify({ ...request, step: null, buffers: null });
+let totalAskedFor = null;
+async function askStepTotal(request) {
+  if (!currentAlgorithm()?.steps || settings.compare || steps.total !== null) return;
+  const key = viewKey(request);
+  if (totalAskedFor === key) return;
+  totalAskedFor = key;
+  try {
+    const answer = await postJsonAside('/api/frame', { ...request, step: 1, buffers: false });
+    const total = answer.steps?.total;
+    if (steps.total === null && Number.isFinite(total) && viewKey(frameRequest()) === key) steps.setTotal(total);
+  } catch {
+    // the count comes with the first step instead
+  } finally {
+    if (totalAskedFor === key) totalAskedFor = null;
   }
 }
 

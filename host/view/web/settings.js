@@ -7,7 +7,7 @@ export const DEFAULT_SETTINGS = Object.freeze({
   model: null, algorithm: 'zbuffer', lighting: 'blinn-phong',
   params: {}, lightingParams: {},          // plugin name -> {param: text}
   camera: null, width: 512, height: 512,
-  bufferView: 'frame', gridMode: 'depth', speed: '5',
+  bufferView: 'frame', gridMode: 'depth', speed: '1',
   compare: false, compareAlgorithm: null, theoryOpen: false,
   initialModel: null,                      // the model hsr view was started with, last visit
 });

@@ -36,7 +36,7 @@ export class StepControls {
   }
 
   speed() {
-    return Number(this.el.speed.value) || 5;
+    return Number(this.el.speed.value) || 1;
   }
 
   key(e) {
@@ -107,6 +107,13 @@ export class StepControls {
       clearTimeout(this.timer);
       this.timer = setTimeout(() => this.advance(), wait);
     }
+  }
+
+  // The step count of the full render shown, learnt before any step is asked for.
+  setTotal(total) {
+    this.total = total;
+    if (this.current === null) this.el.text.textContent = `the full render (${total} steps)`;
+    this.show();
   }
 
   // A new algorithm, model, camera or size: the count is unknown until the server answers.
