@@ -232,6 +232,8 @@ async function main() {
     await page.waitForFunction(() => /^\/ \d+$/.test(document.querySelector('#step-total').textContent), null,
       { timeout: 20_000 });
     assert(/^the full render \(\d+ steps\)$/.test(await text('#step-text')), `step text: ${await text('#step-text')}`);
+    assert(await page.$eval('#step-text', (e) => e.getAttribute('aria-live')) === 'polite',
+      'the step text is not a polite live region');
   });
 
   await check('stepping forward and back changes the step text and the picture', async () => {
@@ -315,6 +317,21 @@ async function main() {
     assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'play', 'space on play did not pause');
     await idle();
     await page.selectOption('#step-speed', '1');
+  });
+
+  await check('a step the server does not answer stops playing and says so', async () => {
+    await page.route('**/api/frame', (route) => route.abort());
+    try {
+      const number = await page.$eval('#step-number', (n) => n.value);
+      await page.locator('#step-play').click();
+      await page.waitForFunction(() => /^stepping stopped: /.test(document.querySelector('#step-text').textContent),
+        null, { timeout: 20_000 });
+      await idle();
+      assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'play', 'still playing');
+      assert(await page.$eval('#step-number', (n) => n.value) === number, 'the step number counted on');
+    } finally {
+      await page.unroute('**/api/frame');
+    }
   });
 
   await check('the last step is the CLI\'s picture for the same camera, pixel for pixel', async () => {

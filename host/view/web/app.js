@@ -242,7 +242,8 @@ async function runJob(job, isStale) {
     canvas.dataset.state = 'error';
     if (!(e instanceof ApiError)) console.error(e);
     reportError(e instanceof ApiError ? e : new Error(`could not show the frame: ${e.message}`));
-    if (steps.playing) steps.setPlaying(false);
+    if (job.kind === 'frame' && job.body.step !== null && job.body.step !== undefined) steps.failed(e.message);
+    else if (steps.playing) steps.setPlaying(false);
   }
 }
 

@@ -14,7 +14,8 @@ export class StepControls {
     this.el = el;
     this.onStep = onStep;
     this.total = null;       // steps of the full render, once the server told
-    this.current = null;     // the step shown, null = the full render
+    this.current = null;     // the step shown or asked for, null = the full render
+    this.shownStep = null;   // the step of the picture on screen, null = the full render
     this.playing = false;
     this.timer = null;
     this.lastAdvance = 0;
@@ -99,6 +100,7 @@ export class StepControls {
   frameShown(steps, isStepRequest) {
     if (steps && Number.isFinite(steps.total)) this.total = steps.total;
     if (steps && isStepRequest && Number.isFinite(steps.current)) this.current = steps.current;
+    this.shownStep = isStepRequest ? this.current : null;
     this.el.text.textContent = steps && isStepRequest && steps.text ? `step ${steps.current}: ${steps.text}`
       : (this.total !== null ? `the full render (${this.total} steps)` : 'the full render');
     this.show();
@@ -113,6 +115,15 @@ export class StepControls {
   setTotal(total) {
     this.total = total;
     if (this.current === null) this.el.text.textContent = `the full render (${total} steps)`;
+    this.show();
+  }
+
+  // A step request failed (the server gone, say): playing stops, the controls go back to the
+  // picture on screen and the step text says why.
+  failed(message) {
+    this.setPlaying(false);
+    this.current = this.shownStep;
+    this.el.text.textContent = `stepping stopped: ${message}`;
     this.show();
   }
 
