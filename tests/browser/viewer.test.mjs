@@ -527,6 +527,24 @@ async function main() {
     await andFrame(() => page.selectOption('#algorithm', 'zbuffer'));
   });
 
+  await check('the picture fills the window: larger on a large one, near the top of a small one', async () => {
+    const box = () => page.$eval('#canvas', (c) => {
+      window.scrollTo(0, 0);
+      const r = c.getBoundingClientRect();
+      return { width: r.width, top: r.top, bottom: r.bottom };
+    });
+    await page.setViewportSize({ width: 1280, height: 800 });
+    const medium = await box();
+    await page.setViewportSize({ width: 1920, height: 1080 });
+    const large = await box();
+    await page.setViewportSize({ width: 800, height: 600 });
+    const small = await box();
+    await page.setViewportSize({ width: 1400, height: 920 });
+    assert(large.width > medium.width * 1.2, `${large.width} px wide at 1920×1080, ${medium.width} px at 1280×800`);
+    assert(large.width > 600, `${large.width} px wide at 1920×1080`);
+    assert(small.top < 150 && small.bottom <= 600, `at 800×600 the picture spans ${small.top}–${small.bottom} px`);
+  });
+
   await check('the page raised no script errors', async () => {
     assert(pageErrors.length === 0, pageErrors.join('; '));
   });

@@ -320,11 +320,13 @@ function showFrame(request, response, image, roundTrip) {
   $('canvas').dataset.frame = String(frameSerial);
 }
 
-// The stage size for the picture: small images are scaled up by a whole factor, in pixels.
-function displayWidth(width, height) {
-  const factor = Math.max(1, Math.floor(384 / Math.max(width, height)));
-  return width * factor;
+// The picture is drawn as large as the window lets it be (style.css, .stack): its pixels stay crisp
+// squares whenever it is shown larger than it is.
+function pixelateIfEnlarged() {
+  const canvas = $('canvas');
+  canvas.classList.toggle('pixelated', canvas.getBoundingClientRect().width > canvas.width);
 }
+new ResizeObserver(pixelateIfEnlarged).observe($('canvas'));
 
 function redraw() {
   if (!shown) return;
@@ -335,8 +337,8 @@ function redraw() {
     if (c.width !== width) c.width = width;
     if (c.height !== height) c.height = height;
   }
-  canvas.style.width = `${displayWidth(width, height)}px`;
-  canvas.classList.toggle('pixelated', displayWidth(width, height) > width);
+  canvas.closest('.stack').style.setProperty('--aspect', String(width / height));
+  pixelateIfEnlarged();
   const ctx = canvas.getContext('2d');
   ctx.imageSmoothingEnabled = false;
   ctx.clearRect(0, 0, width, height);
