@@ -315,6 +315,10 @@ async function main() {
     assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'pause', 'space on play did not play');
     await page.keyboard.press('Space');
     assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'play', 'space on play did not pause');
+    // In a field that takes typing the keys type: space in the step number box does not play.
+    await page.focus('#step-number');
+    await page.keyboard.press('Space');
+    assert(await page.$eval('#step-play', (b) => b.getAttribute('aria-label')) === 'play', 'space in the number box played');
     await idle();
     await page.selectOption('#step-speed', '1');
   });
