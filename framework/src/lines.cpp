@@ -57,6 +57,7 @@ void collect_counter(void* context, const char* name, uint64_t value) {
 struct TraceWriter {
     std::ostream* out = nullptr;
     bool plugin_has_drawing = false;  // claims ABI 1.3: events may carry text and lines
+    bool plugin_has_phases = false;   // claims ABI 1.5: events may name a phase
     uint64_t stop_after = 0;
     bool past_end_is_last = false;
     const LineDrawing* drawing = nullptr;
@@ -75,7 +76,8 @@ void write_event(void* context, const hsr_trace_event* event) {
     if (event == nullptr) return;
     const bool has_drawing =
         w.plugin_has_drawing && event->struct_size >= offsetof(hsr_trace_event, line_roles) + sizeof(event->line_roles);
-    if (w.out != nullptr) *w.out << trace_event_json(*event, has_drawing) << '\n';
+    const bool has_phase = w.plugin_has_phases && event->struct_size >= offsetof(hsr_trace_event, phase) + sizeof(event->phase);
+    if (w.out != nullptr) *w.out << trace_event_json(*event, has_drawing, has_phase) << '\n';
     ++w.events;
     if (w.stop_after == 0) return;
     // Past the end, the last event is the one kept: each is kept until another comes.
@@ -89,6 +91,7 @@ void write_event(void* context, const hsr_trace_event* event) {
         r.qi = event->qi;
         r.t0 = event->t0;
         r.t1 = event->t1;
+        if (has_phase && event->phase != nullptr) r.phase = printable(bounded(event->phase, 64), 64);
         if (has_drawing) {
             if (event->text != nullptr) r.text = printable(bounded(event->text, 1024), 300);
             const uint32_t lines = event->lines != nullptr ? std::min(event->line_count, kMaxEventLines) : 0;
@@ -124,7 +127,7 @@ uint64_t LineDrawing::counter(const std::string& name) const {
     return 0;
 }
 
-std::string trace_event_json(const hsr_trace_event& e, bool with_text) {
+std::string trace_event_json(const hsr_trace_event& e, bool with_text, bool with_phase) {
     std::string out = "{\"type\":";
     append_json_string(out, e.type != nullptr ? e.type : "");
     if (e.edge != HSR_NO_EDGE) out += fmt::format(",\"edge\":{}", e.edge);
@@ -136,6 +139,10 @@ std::string trace_event_json(const hsr_trace_event& e, bool with_text) {
     if (with_text && e.text != nullptr) {
         out += ",\"text\":";
         append_json_string(out, printable(bounded(e.text, 1024), 300).c_str());
+    }
+    if (with_phase && e.phase != nullptr) {
+        out += ",\"phase\":";
+        append_json_string(out, printable(bounded(e.phase, 64), 64).c_str());
     }
     out += '}';
     return out;
@@ -155,10 +162,11 @@ LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, Hidde
     TraceWriter writer;
     writer.out = settings.trace;
     writer.plugin_has_drawing = remover.plugin().descriptor.abi_minor >= 3;
+    writer.plugin_has_phases = remover.plugin().descriptor.abi_minor >= 5;
     writer.stop_after = settings.stop_after_event;
     writer.past_end_is_last = settings.past_end_is_last;
     writer.drawing = &drawing;
-    hsr_trace_sink trace{&writer, &write_event};
+    hsr_trace_sink trace{&writer, &write_event, settings.language.empty() ? nullptr : settings.language.c_str()};
     const bool want_events = settings.trace != nullptr || settings.stop_after_event > 0;
     hsr_counter_sink counters{&drawing.counters, &collect_counter};
     const auto start = std::chrono::steady_clock::now();

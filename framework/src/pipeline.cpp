@@ -151,6 +151,7 @@ struct StepCollector {
     uint64_t stop_after = 0;
     StepProgress* progress = nullptr;
     const hsr_visibility_buffer* keep_before_of = nullptr;  // set: copy it at step stop_after - 1
+    bool has_phases = false;  // the plugin claims ABI 1.5: its events may name a phase
     StepRun run;
 
     static uint32_t step(void* context, const hsr_step_event* event) {
@@ -163,6 +164,7 @@ struct StepCollector {
         last.index = index;
         if (event == nullptr || event->struct_size < offsetof(hsr_step_event, buffer_count) + sizeof(uint32_t)) {
             last.type = "step";
+            last.phase.clear();
             last.text = fmt::format("step {}", index);
             last.lines.clear();
             last.roles.clear();
@@ -171,6 +173,10 @@ struct StepCollector {
             return stop ? 1 : 0;
         }
         last.type = event->type != nullptr ? printable(bounded(event->type, 64), 64) : "step";
+        last.phase.clear();
+        if (self.has_phases && event->struct_size >= offsetof(hsr_step_event, phase) + sizeof(event->phase) &&
+            event->phase != nullptr)
+            last.phase = printable(bounded(event->phase, 64), 64);
         last.face = event->face;
         last.instance = event->instance;
         last.level = event->level;
@@ -237,7 +243,7 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
 
 void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                               Frame& frame, uint64_t stop_after, bool count_depth_tests, bool keep_before,
-                              StepProgress* progress) {
+                              StepProgress* progress, const std::string& language) {
     hsr_visibility_buffer target = clear_visibility(scene, camera, remover, frame, count_depth_tests);
     hsr_counter_sink sink{&frame.counters, &collect_counter};
     StepCollector collector;
@@ -245,7 +251,8 @@ void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, 
     collector.progress = progress;
     if (progress != nullptr) progress->steps.store(0, std::memory_order_relaxed);
     if (keep_before) collector.keep_before_of = &target;
-    const hsr_step_sink steps{&collector, &StepCollector::step};
+    collector.has_phases = remover.plugin().descriptor.abi_minor >= 5;
+    const hsr_step_sink steps{&collector, &StepCollector::step, language.empty() ? nullptr : language.c_str()};
     const auto start = Clock::now();
     remover.render_steps(scene, camera, target, &sink, steps);
     frame.visibility_ms = ms_since(start);
@@ -344,7 +351,7 @@ Frame render_frame(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfa
     auto resolve = [&](const hsr_scene& view) {
         if (settings.stop_after_step)
             resolve_visibility_steps(view, camera, remover, frame, *settings.stop_after_step, settings.count_depth_tests,
-                                     settings.keep_step_before, settings.step_progress);
+                                     settings.keep_step_before, settings.step_progress, settings.step_language);
         else
             resolve_visibility(view, camera, remover, frame, settings.count_depth_tests);
     };

@@ -38,7 +38,9 @@ namespace {
 
 // The part of the descriptor every ABI version shares, and the part 1.0 requires.
 constexpr size_t frozen_descriptor_size = offsetof(hsr_plugin_descriptor, kind) + sizeof(hsr_plugin_descriptor::kind);
-constexpr size_t descriptor_size_1_0 = sizeof(hsr_plugin_descriptor);
+constexpr size_t descriptor_size_1_0 = offsetof(hsr_plugin_descriptor, interface_table) + sizeof(void*);
+constexpr size_t descriptor_size_1_5 = offsetof(hsr_plugin_descriptor, phase_count) + sizeof(uint32_t);
+constexpr size_t phase_desc_size_1_5 = sizeof(hsr_phase_desc);
 constexpr size_t remover_size_1_0 = offsetof(IHiddenSurfaceRemover, extension);
 constexpr size_t lighting_size_1_0 = offsetof(ILightingModel, extension);
 constexpr size_t line_remover_size_1_2 = offsetof(IHiddenLineRemover, extension);
@@ -49,6 +51,7 @@ constexpr size_t param_desc_size_1_0 = sizeof(hsr_param_desc);
 constexpr size_t max_name_length = 256;    // api, name, version, parameter names
 constexpr size_t max_text_length = 4096;   // descriptions, defaults, choices, help
 constexpr uint32_t max_param_count = 256;
+constexpr uint32_t max_phase_count = 256;
 constexpr uint32_t max_struct_size = 4096; // a parameter description or an interface table
 
 // The string, if s is not NULL and ends within max_length bytes (never reading further).
@@ -210,6 +213,20 @@ std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major
             return fmt::format("its parameter '{}' has a bad default: {}", p.name, e.what());
         }
     }
+    if (d.abi_minor >= 5 && d.struct_size >= descriptor_size_1_5 && d.phase_count > 0) {
+        if (d.phase_count > max_phase_count)
+            return fmt::format("it declares {} phases, more than the {} allowed", d.phase_count, max_phase_count);
+        if (d.phases == nullptr) return "its phase table is missing";
+        if (d.phases[0].struct_size < phase_desc_size_1_5 || d.phases[0].struct_size > max_struct_size)
+            return fmt::format("its phase table has elements of {} bytes", d.phases[0].struct_size);
+        for (uint32_t i = 0; i < d.phase_count; ++i) {
+            const hsr_phase_desc& phase = *HSR_ELEMENT(hsr_phase_desc, d.phases, i);
+            if (phase.struct_size != d.phases[0].struct_size || phase.name == nullptr || phase.name[0] == '\0' ||
+                !bounded_string(phase.name, max_name_length) ||
+                (phase.title != nullptr && !bounded_string(phase.title, max_text_length)))
+                return fmt::format("its phase #{} is malformed", i);
+        }
+    }
     const uint32_t table_size = *static_cast<const uint32_t*>(d.interface_table);
     const size_t needed = d.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER ? remover_size_1_0
                            : d.kind == HSR_KIND_LIGHTING_MODEL    ? lighting_size_1_0
@@ -257,6 +274,14 @@ std::vector<Plugin> load_plugin_library(const fs::path& path) {
         p.library = library;
         p.path = path;
         p.descriptor = copy_prefix(*d, d->struct_size);
+        if (d->abi_minor < 5) {
+            p.descriptor.phases = nullptr;
+            p.descriptor.phase_count = 0;
+        }
+        for (uint32_t i = 0; i < p.descriptor.phase_count; ++i) {
+            const hsr_phase_desc& phase = *HSR_ELEMENT(hsr_phase_desc, p.descriptor.phases, i);
+            p.phases.push_back({std::string(phase.name), phase.title != nullptr ? std::string(phase.title) : std::string()});
+        }
         plugins.push_back(std::move(p));
     }
     if (plugins.empty()) throw Error("{}: the library describes no plugin", path.string());

@@ -242,6 +242,7 @@ Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& r
         }
         settings.stop_after_step = step;
         settings.step_progress = request.step_progress;
+        settings.step_language = request.step_language;
         picture.step_shown = step;
     }
     const std::vector<hsr_light> world_lights = lights(request.lights, picture.camera);

@@ -24,6 +24,11 @@ std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
                                   d.description ? d.description : "");
     if (d.param_count == 0) out += indent + "    (no parameters)\n";
     for (uint32_t i = 0; i < d.param_count; ++i) out += indent + "    " + hsr::describe_param(hsr::param_desc(d, i)) + "\n";
+    if (!p.phases.empty()) {
+        out += indent + "    phases of its steps:";
+        for (std::size_t i = 0; i < p.phases.size(); ++i) out += (i == 0 ? " " : ", ") + p.phases[i].name;
+        out += "\n";
+    }
     return out;
 }
 

@@ -121,6 +121,12 @@ static const hsr_plugin_descriptor descriptor = {
 #else
     &table
 #endif
+    ,
+#ifdef BAD_HUGE_PHASE_COUNT
+    0, 0x80000000u
+#else
+    0, 0
+#endif
 };
 
 HSR_EXPORT const hsr_plugin_descriptor* hsr_plugin_entry(uint32_t index) {

@@ -105,7 +105,11 @@ static const hsr_param_desc params[] = {
 static const hsr_plugin_descriptor descriptor = {
     sizeof(hsr_plugin_descriptor), HSR_API_NAME, HANDMADE_MAJOR, HANDMADE_MINOR,
     HSR_KIND_HIDDEN_SURFACE_REMOVER, HANDMADE_NAME, "0.1.0", "test plugin written in C",
-    params, 1, &table};
+    params, 1, &table,
+#if HSR_ABI_MINOR >= 5
+    0, 0,
+#endif
+};
 
 HSR_EXPORT const hsr_plugin_descriptor* hsr_plugin_entry(uint32_t index) {
     return index == 0 ? &descriptor : 0;

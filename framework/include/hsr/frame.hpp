@@ -35,6 +35,7 @@ struct FrameSettings {
     // (StepRun::before), in the same run of the plugin.
     bool keep_step_before = false;
     StepProgress* step_progress = nullptr;  // with stop_after_step: updated at each step
+    std::string step_language;              // the step texts' language (ABI 1.5); empty: English
     // Supersampling (render_supersampled_frame; render_frame renders the pixel centres only):
     // visibility and shading once per position of sample_offsets(samples), the colours averaged.
     uint32_t samples = 1;
@@ -55,6 +56,7 @@ struct StepRecord {
     uint64_t index = 0;  // 1-based; 0: no step was taken
     std::string type;
     std::string text;    // the plugin's, or one the host wrote from the fields
+    std::string phase;   // one of the plugin's phases (ABI 1.5), or empty
     uint32_t face = HSR_NO_FACE;
     uint32_t instance = 0;
     uint32_t level = HSR_NO_LEVEL;

@@ -33,6 +33,7 @@ struct TraceEventRecord {
     int32_t qi = -1;
     double t0 = 0, t1 = 0;  // NaN when not given
     std::string text;       // the plugin's (ABI 1.3), or empty
+    std::string phase;      // one of the plugin's phases (ABI 1.5), or empty
     std::vector<float> lines;     // the plugin's, 4 per line: x0, y0, x1, y1 in window coordinates
     std::vector<uint32_t> roles;  // an hsr_step_role per line
 };
@@ -62,6 +63,8 @@ struct LineSettings {
     // With stop_after_event past the plugin's last event: record the last event instead, with every
     // segment (the last step, as a viewer shows a step past the end).
     bool past_end_is_last = false;
+    // The language step texts are asked in (hsr_trace_sink.language): "en", "ru"; empty: English.
+    std::string language;
 };
 
 // The scene must have no instances (flatten_instances first). Throws hsr::Error with the plugin's
@@ -72,6 +75,6 @@ LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, Hidde
 
 // One trace event as a JSON object (no newline): fields that hold their "none" value are left out,
 // and the text unless with_text (the plugin claims ABI 1.3 and the event's struct_size covers it).
-std::string trace_event_json(const hsr_trace_event& event, bool with_text = false);
+std::string trace_event_json(const hsr_trace_event& event, bool with_text = false, bool with_phase = false);
 
 }  // namespace hsr

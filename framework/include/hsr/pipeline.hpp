@@ -42,10 +42,12 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
 // The same step by step (ABI 1.3; throws hsr::Error for a plugin without steps): stops after step
 // stop_after (0: every step), and sets frame.steps; with keep_before, frame.steps->before too, read
 // from the buffers while the plugin reports step stop_after - 1 (abi.h: render_steps).
-// progress, when given, has its `steps` set at each step.
+// progress, when given, has its `steps` set at each step. language: the step texts' (ABI 1.5,
+// hsr_step_sink.language), "en" or "ru"; empty: English.
 void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                               Frame& frame, uint64_t stop_after, bool count_depth_tests = false,
-                              bool keep_before = false, StepProgress* progress = nullptr);
+                              bool keep_before = false, StepProgress* progress = nullptr,
+                              const std::string& language = {});
 
 // True when a plugin was built before instancing (ABI 1.0) and the scene has instances: it must be
 // given flatten_instances(scene) instead.

@@ -28,10 +28,16 @@ const char* kind_name(uint32_t kind);  // an hsr_plugin_kind: "hidden-surface" /
 
 // One plugin found in a library. Keeps the library loaded for as long as it (or any instance made
 // from it) lives.
+// One phase of an algorithm (ABI 1.5, hsr_phase_desc), copied from the plugin.
+struct PluginPhase {
+    std::string name, title;
+};
+
 struct Plugin {
     std::shared_ptr<boost::dll::shared_library> library;
     std::filesystem::path path;
     hsr_plugin_descriptor descriptor{};  // copy, zero-filled beyond the plugin's struct_size
+    std::vector<PluginPhase> phases;     // the descriptor's, in its order; empty before ABI 1.5
 };
 
 struct RejectedLibrary {

@@ -133,6 +133,7 @@ struct PictureRequest {
     // plugin and parameters and then kept; the step then is one run of the plugin.
     bool step_context = false;
     StepProgress* step_progress = nullptr;  // with step: how far the counting and the run have got
+    std::string step_language;  // with step: the language of step texts (ABI 1.5); empty: English
 };
 
 struct Picture {

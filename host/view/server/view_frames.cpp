@@ -283,6 +283,7 @@ struct hsr::host::FrameRenderer::State {
             request.step = *q.step;
             request.step_context = true;
             request.step_progress = progress;
+            request.step_language = q.language;
         }
         hsr::Picture picture = renderer.picture(request, remover, lighting);
         hsr::Frame& frame = picture.frame;
@@ -298,6 +299,7 @@ struct hsr::host::FrameRenderer::State {
             const hsr::StepRecord& last = frame.steps->last;
             const bool any = last.index > 0;
             steps["type"] = any ? last.type : "";
+            steps["phase"] = any && !last.phase.empty() ? json(last.phase) : json(nullptr);
             steps["text"] = any ? last.text : "no steps: the algorithm had nothing to do";
             steps["face"] = any && last.face != HSR_NO_FACE ? json(last.face) : json(nullptr);
             json lines = json::array();
@@ -403,6 +405,7 @@ struct hsr::host::FrameRenderer::State {
         request.settings.want_hidden = q.hidden == hsr::HiddenLines::kDashed;
         request.settings.crease_angle_degrees = 40;
         request.step = q.step;
+        request.settings.language = q.language;
         const hsr::LinePicture picture = renderer.lines(request, remover);
         const hsr::LineDrawing& drawing = picture.drawing;
         const hsr_scene& scene = picture.scene;
@@ -419,6 +422,7 @@ struct hsr::host::FrameRenderer::State {
             if (drawing.stopped_at) {
                 const hsr::TraceEventRecord& e = *drawing.stopped_at;
                 steps["type"] = e.type;
+                steps["phase"] = e.phase.empty() ? json(nullptr) : json(e.phase);
                 steps["text"] = e.text.empty() ? describe_trace_event(e) : e.text;
                 steps["face"] = e.face < scene.triangle_count ? json(e.face) : json(nullptr);
                 for (std::size_t k = 0; k < e.roles.size(); ++k) {
@@ -446,6 +450,7 @@ struct hsr::host::FrameRenderer::State {
                 if (e.face < scene.triangle_count) outline = triangle_outline(scene, camera, e.face, 0);
             } else {
                 steps["type"] = "";
+                steps["phase"] = nullptr;
                 steps["text"] = "no steps: the plugin reported none";
                 steps["face"] = nullptr;
             }

@@ -190,6 +190,9 @@ hsr::host::FrameRequest hsr::host::parse_frame_request(const json& r) {
         if (step->get<double>() < 1) throw ViewError(400, "step", fmt::format("--step {}: steps count from 1", step->dump()));
         q.step = step->get<double>() > 1e18 ? uint64_t(1e18) : step->get<uint64_t>();
     }
+    q.language = text_field(r, "language", "language", "en");
+    if (q.language != "en" && q.language != "ru")
+        throw ViewError(400, "language", fmt::format("language '{}': expected 'en' or 'ru'", hsr::printable(q.language)));
     if (const json* buffers = member(r, "buffers")) {
         if (buffers->is_boolean()) {
             if (buffers->get<bool>()) q.buffers.push_back(buffer_spec(json::object()));

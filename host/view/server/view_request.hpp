@@ -39,6 +39,7 @@ struct FrameRequest {
     hsr::CameraSettings view;
     uint32_t width = 512, height = 512;
     std::optional<uint64_t> step;
+    std::string language = "en";      // of the step texts: "en" or "ru"
     std::vector<BufferSpec> buffers;  // what the answer carries, in order
     bool buffers_as_list = false;     // asked for as a list: answered as one
     bool picture = true;              // the PNG (false: only the buffers and stats)

@@ -66,8 +66,11 @@ json describe_plugin(const hsr::Plugin& plugin, bool steps) {
         if (p.type == HSR_PARAM_ENUM) param["choices"] = hsr::split_choices(p.choices);
         params.push_back(std::move(param));
     }
+    json phases = json::array();
+    for (const hsr::PluginPhase& phase : plugin.phases) phases.push_back({{"name", phase.name}, {"title", phase.title}});
     return {{"name", d.name},
             {"version", d.version ? d.version : ""},
+            {"phases", std::move(phases)},
             {"description", d.description ? d.description : ""},
             {"abi", fmt::format("{}.{}", d.abi_major, d.abi_minor)},
             {"steps", steps},

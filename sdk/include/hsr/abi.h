@@ -52,6 +52,11 @@
  *        hsr_scene.object_opacity, and IHiddenSurfaceRemover.render_fragments (optional), which
  *        hands the host every pixel's list of surface fragments with their coverage of the pixel
  *        (hsr_pixel_fragments, hsr_fragment_sink) for it to shade and composite.
+ *   1.5  phases and languages, for teaching: hsr_plugin_descriptor.phases lists the phases of an
+ *        algorithm (hsr_phase_desc); hsr_step_event.phase and hsr_trace_event.phase name the phase a
+ *        step belongs to, so that a viewer can highlight the line of pseudocode it executes.
+ *        hsr_step_sink.language and hsr_trace_sink.language ask for step texts in a language.
+ *        Optional: a plugin without phases steps as before.
  */
 #ifndef HSR_ABI_H
 #define HSR_ABI_H
@@ -65,7 +70,7 @@ extern "C" {
 
 #define HSR_API_NAME "hsr"
 #define HSR_ABI_MAJOR 1
-#define HSR_ABI_MINOR 4
+#define HSR_ABI_MINOR 5
 #define HSR_ENTRY_SYMBOL "hsr_plugin_entry"
 
 #if defined(_WIN32)
@@ -265,6 +270,15 @@ typedef struct hsr_visibility_buffer {
 
 /* Since 1.3: the steps of a hidden-surface algorithm, for a viewer that replays them. */
 
+/* Since 1.5: a phase of an algorithm (hsr_plugin_descriptor.phases): a part of it that the
+ * algorithm's pseudocode writes as one line or block, such as "depth-test". Every step names the
+ * phase it belongs to (hsr_step_event.phase, hsr_trace_event.phase). */
+typedef struct hsr_phase_desc {
+    uint32_t struct_size;
+    const char* name;  /* lower-case words joined by '-', unique in the plugin's list */
+    const char* title; /* a few words in English for a person, e.g. "depth test" */
+} hsr_phase_desc;
+
 /* What a line of a step shows (hsr_step_event.line_roles), for the colour a viewer draws it in. */
 typedef enum hsr_step_role {
     HSR_STEP_SUBJECT = 0,  /* what the step works on: a triangle's outline, a tile or node box */
@@ -304,12 +318,19 @@ typedef struct hsr_step_event {
     uint64_t pixels_rejected;   /* depth tests failed in this step */
     const hsr_step_buffer* buffers;
     uint32_t buffer_count;
+    /* Since 1.5: */
+    const char* phase; /* the name of one of the plugin's phases, or NULL when it lists none */
 } hsr_step_event;
 
 typedef struct hsr_step_sink {
     void* context;
     /* Returns 0 to go on, non-zero to stop after this step (the host's step limit). */
     uint32_t (*step)(void* context, const hsr_step_event* event);
+    /* Since 1.5 (read it only when built against 1.5 or later: an older host never loads such a
+     * plugin): the language the host would like step texts in, an ISO 639-1 code in lower case
+     * such as "en" or "ru"; NULL means English. A plugin without texts in that language writes
+     * English. */
+    const char* language;
 } hsr_step_sink;
 
 /* Since 1.4: fragment lists, for anti-aliasing and transparency (Carpenter's A-buffer). A fragment
@@ -481,11 +502,15 @@ typedef struct hsr_trace_event {
     const float* lines;         /* 4 * line_count: x0, y0, x1, y1 in window coordinates (see
                                    hsr_camera), to draw over the lines found so far */
     const uint32_t* line_roles; /* line_count hsr_step_role values, or NULL: all HSR_STEP_SUBJECT */
+    /* Since 1.5: */
+    const char* phase; /* the name of one of the plugin's phases, or NULL when it lists none */
 } hsr_trace_event;
 
 typedef struct hsr_trace_sink {
     void* context;
     void (*event)(void* context, const hsr_trace_event* event);
+    /* Since 1.5: the language of step texts, as hsr_step_sink.language. */
+    const char* language;
 } hsr_trace_sink;
 
 typedef struct IHiddenLineRemover {
@@ -528,6 +553,10 @@ typedef struct hsr_plugin_descriptor {
     /* Points to an IHiddenSurfaceRemover, an ILightingModel or an IHiddenLineRemover according to
      * kind. */
     const void* interface_table;
+    /* Since 1.5: the phases its steps name, in the order the algorithm's pseudocode has them,
+     * stepped by struct_size; NULL and 0 when its steps name none. */
+    const hsr_phase_desc* phases;
+    uint32_t phase_count;
 } hsr_plugin_descriptor;
 
 /* The one symbol a plugin library exports. Returns descriptor `index`, or NULL past the last one.

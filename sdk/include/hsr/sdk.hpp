@@ -82,6 +82,20 @@ struct ParamSpec {
     }
 };
 
+// ABI 1.5: one phase of the algorithm, for a viewer to highlight the line of pseudocode a step
+// executes. A plugin lists them as
+//   static inline const hsr::sdk::PhaseSpec phases[] = {{"clear", "clear the buffers"}, ...};
+// and names one in every step (Steps::Event::phase, Trace::Event::phase).
+struct PhaseSpec {
+    const char* name;  // lower-case words joined by '-'
+    const char* title; // a few words in English
+};
+
+// ABI 1.5: whether the host asked for step texts in `code` ("ru"); English is the default.
+inline bool wants_language(const char* asked, const char* code) {
+    return asked != nullptr && code != nullptr && std::strcmp(asked, code) == 0;
+}
+
 // The validated values the host passed to create(), looked up by name. Asking for a name that is not
 // in the schema, or with the wrong type, throws (a plugin bug, reported as an internal error).
 class Params {
@@ -340,7 +354,12 @@ public:
         uint32_t level = HSR_NO_LEVEL;
         uint64_t pixels_written = 0;
         uint64_t pixels_rejected = 0;
+        const char* phase = nullptr;  // ABI 1.5: one of the plugin's phases
     };
+
+    // ABI 1.5: the language the host wants step texts in ("en", "ru"; nullptr: English).
+    const char* language() const { return sink_->language; }
+    bool russian() const { return wants_language(sink_->language, "ru"); }
 
     void line(float x0, float y0, float x1, float y1, hsr_step_role role = HSR_STEP_SUBJECT) {
         lines_.insert(lines_.end(), {x0, y0, x1, y1});
@@ -381,6 +400,7 @@ public:
         out.pixels_rejected = e.pixels_rejected;
         out.buffers = buffers_.empty() ? nullptr : buffers_.data();
         out.buffer_count = static_cast<uint32_t>(buffers_.size());
+        out.phase = e.phase;
         ++count_;
         const uint32_t stop = sink_->step(sink_->context, &out);
         lines_.clear();
@@ -403,6 +423,8 @@ private:
 // of describing a step with `if constexpr (S::enabled)`.
 struct NoSteps {
     static constexpr bool enabled = false;
+    const char* language() const { return nullptr; }
+    bool russian() const { return false; }
     void line(float, float, float, float, hsr_step_role = HSR_STEP_SUBJECT) {}
     void box(float, float, float, float, hsr_step_role = HSR_STEP_SUBJECT) {}
     void buffer(const char*, uint32_t, uint32_t, const float*) {}
@@ -585,7 +607,11 @@ public:
         int32_t qi = -1;
         double t0 = std::numeric_limits<double>::quiet_NaN();
         double t1 = std::numeric_limits<double>::quiet_NaN();
+        const char* phase = nullptr;  // ABI 1.5: one of the plugin's phases
     };
+    // ABI 1.5: the language the host wants step texts in ("en", "ru"; nullptr: English).
+    const char* language() const { return sink_ != nullptr ? sink_->language : nullptr; }
+    bool russian() const { return sink_ != nullptr && wants_language(sink_->language, "ru"); }
     // A line for the next emit() to show (window coordinates); guard the work of finding it with
     // enabled().
     void line(float x0, float y0, float x1, float y1, hsr_step_role role = HSR_STEP_SUBJECT) const {
@@ -617,6 +643,7 @@ public:
         out.line_count = static_cast<uint32_t>(roles_.size());
         out.lines = lines_.empty() ? nullptr : lines_.data();
         out.line_roles = roles_.empty() ? nullptr : roles_.data();
+        out.phase = e.phase;
         sink_->event(sink_->context, &out);
         lines_.clear();
         roles_.clear();
@@ -860,6 +887,22 @@ const hsr_param_desc* param_table(uint32_t& count) {
 }
 
 template <class T>
+const hsr_phase_desc* phase_table(uint32_t& count) {
+    if constexpr (requires { T::phases; }) {
+        static const std::vector<hsr_phase_desc> table = [] {
+            std::vector<hsr_phase_desc> descs;
+            for (const PhaseSpec& spec : T::phases) descs.push_back({sizeof(hsr_phase_desc), spec.name, spec.title});
+            return descs;
+        }();
+        count = static_cast<uint32_t>(table.size());
+        return table.empty() ? nullptr : table.data();
+    } else {
+        count = 0;
+        return nullptr;
+    }
+}
+
+template <class T>
 const hsr_plugin_descriptor* descriptor() {
     static const hsr_plugin_descriptor d = [] {
         hsr_plugin_descriptor out{};
@@ -873,6 +916,7 @@ const hsr_plugin_descriptor* descriptor() {
         out.description = T::info.description;
         out.params = param_table<T>(out.param_count);
         out.interface_table = interface_table<T>();
+        out.phases = phase_table<T>(out.phase_count);
         return out;
     }();
     return &d;
