@@ -247,20 +247,24 @@ private:
             outline_piece(steps, tree_.polygons[node.first_polygon + k], HSR_STEP_SUBJECT);
         // The side drawn first: back to front the far one, front to back the near one.
         const bool front_first = kFrontToBack == eye_in_front;
+        const bool first_empty = (front_first ? node.front : node.back) == bsp::kNoNode;
+        const bool last_empty = (front_first ? node.back : node.front) == bsp::kNoNode;
         const unsigned n = index, count = node.polygon_count;
         hsr::sdk::Steps::Event event{"node"};
         event.phase = "traverse";
         if (steps.russian()) {
             const char* first = front_first ? "переднее" : "заднее";
             const char* last = front_first ? "заднее" : "переднее";
-            steps.step(event, "узел %u: наблюдатель %s его плоскостью; порядок: %s поддерево, %u %s узла, %s",
-                       n, eye_in_front ? "перед" : "за", first, count,
-                       russian_plural(count, "многоугольник", "многоугольника", "многоугольников"), last);
+            steps.step(event, "узел %u: наблюдатель %s его плоскостью; порядок: %s поддерево%s, %u %s узла, %s%s",
+                       n, eye_in_front ? "перед" : "за", first, first_empty ? " (пусто)" : "", count,
+                       russian_plural(count, "многоугольник", "многоугольника", "многоугольников"), last,
+                       last_empty ? " (пусто)" : "");
         } else {
             const char* first = front_first ? "front" : "back";
             const char* last = front_first ? "back" : "front";
-            steps.step(event, "node %u: the eye is %s its plane; order: %s subtree, the node's %u polygon%s, %s",
-                       n, eye_in_front ? "in front of" : "behind", first, count, count == 1 ? "" : "s", last);
+            steps.step(event, "node %u: the eye is %s its plane; order: %s subtree%s, the node's %u polygon%s, %s%s",
+                       n, eye_in_front ? "in front of" : "behind", first, first_empty ? " (empty)" : "", count,
+                       count == 1 ? "" : "s", last, last_empty ? " (empty)" : "");
         }
     }
 
