@@ -330,7 +330,7 @@ private:
             const uint64_t written = draw<true>(p, w);
             if (Steps::enabled && steps.russian())
                 window_step(steps, "surrounder", w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
-                            "грань %u охватывает окно и лежит перед остальными (их %llu): залито %llu %s", p.face,
+                            "грань %u охватывает окно и ближе всех остальных (%llu): залито %llu %s", p.face,
                             count - 1, (unsigned long long)written, russian_pixels(written));
             else
                 window_step(steps, "surrounder", w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
