@@ -429,20 +429,26 @@ function layoutGrid(size, table) {
   const stack = $('canvas').closest('.stack');
   const grid = $('grid');
   centre.classList.remove('with-grid');
+  centre.style.removeProperty('--grid-picture-width');
   stack.style.maxWidth = '';
   if (!size) return;
   const smallest = size.width > 32 || size.height > 32 ? 8 : 10;
   const comparing = Boolean(document.querySelector('.pictures.comparing'));
-  const besideWidth = centre.clientWidth - PICTURE_LEAST - GRID_GAP;
-  const top = document.querySelector('.viewbar').getBoundingClientRect().bottom + GRID_GAP
+  const top = document.querySelector('.viewbar').getBoundingClientRect().bottom + window.scrollY + GRID_GAP
     + $('grid-caption').getBoundingClientRect().height + 6;
-  const room = { width: besideWidth - 4, height: window.innerHeight - top - 12 };
   const base = { columns: size.width, rows: size.height, characters: table.characters, lines: table.lines };
-  let cells = !comparing && room.width > 0 && room.height > 0 ? gridCells({ ...base, room, smallest }) : null;
+  // The picture keeps a third of the width if the grid fits beside it so, else PICTURE_LEAST.
+  const beside = (picture) => {
+    const room = { width: centre.clientWidth - picture - GRID_GAP - 4, height: window.innerHeight - top - 12 };
+    return room.width > 0 && room.height > 0 ? gridCells({ ...base, room, smallest }) : null;
+  };
+  let cells = comparing ? null : beside(Math.max(PICTURE_LEAST, centre.clientWidth / 3)) || beside(PICTURE_LEAST);
   if (cells) {
     centre.classList.add('with-grid');
     const gridWidth = size.width * (cells.width + 1) + 3;
-    stack.style.maxWidth = `${Math.max(PICTURE_LEAST, centre.clientWidth - gridWidth - GRID_GAP)}px`;
+    const pictureWidth = Math.max(PICTURE_LEAST, centre.clientWidth - gridWidth - GRID_GAP);
+    stack.style.maxWidth = `${pictureWidth}px`;
+    centre.style.setProperty('--grid-picture-width', `${pictureWidth}px`);
   } else {
     const below = gridCells({ ...base, room: { width: centre.clientWidth - 4, height: 1e9 }, smallest: 10 });
     cells = below || cellsOfFont(10, table.characters, table.lines);
