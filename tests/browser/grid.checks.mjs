@@ -120,11 +120,11 @@ export default async (h) => {
       const l = await layout(page);
       assertOnScreenTogether(l, '32×32');
       assert(l.font >= 10, `the grid's font is ${l.font} px`);
-      await page.screenshot({ path: path.join(h.screenshotDir, 'viewer-exercise-table.png') });
     });
 
     await check('a step marks the cells it wrote and rejected, as many as its text says', async () => {
       // Step 3 draws the triangle (steps 1 and 2 the rectangle's two triangles).
+      await andFrame(() => page.click('#step-forward'));
       await andFrame(async () => {
         await page.fill('#step-number', '3');
         await page.press('#step-number', 'Enter');
@@ -141,6 +141,8 @@ export default async (h) => {
       assert(written > 0 && rejected > 0, `the triangle wrote ${written} and lost ${rejected} pixels`);
       const caption = await page.$eval('#grid-caption', (e) => e.textContent);
       assert(caption.includes(String(written)) && caption.includes(String(rejected)), `the grid's legend: ${caption}`);
+      await page.evaluate(() => window.scrollTo(0, 0));
+      await page.screenshot({ path: path.join(h.screenshotDir, 'viewer-exercise-table.png') });
       // Marked cells are the triangle's: their centres lie in it.
       const marks = await page.$$eval('#grid .cell', (all) => all.map((c, i) => (c.classList.contains('written')
         || c.classList.contains('rejected') ? i : -1)).filter((i) => i >= 0));

@@ -210,7 +210,8 @@ export function drawGrid(grid, { width, height, rgba, frameBuffers, mode, steps 
       const mark = marks.get(i);
       if (mark === 'written') written += 1;
       else if (mark === 'rejected') rejected += 1;
-      cells.push(`<div class="cell${dark ? ' dark' : ''}${mark ? ` ${mark}` : ''}" `
+      const empty = text === '−∞' || text === '∞';
+      cells.push(`<div class="cell${dark ? ' dark' : ''}${empty ? ' empty' : ''}${mark ? ` ${mark}` : ''}" `
         + `style="background:rgb(${r},${g},${b})" title="${x}, ${y}">${text}</div>`);
     }
   }
