@@ -123,7 +123,8 @@ export default async (h) => {
     });
 
     await check('a step marks the cells it wrote and rejected, as many as its text says', async () => {
-      // Step 3 draws the triangle (steps 1 and 2 the rectangle's two triangles).
+      // Step 3 draws the triangle (steps 1 and 2 the rectangle's two triangles). The full render's number
+      // box already reads 3, the last step: step forward first, so that typing 3 changes it.
       await andFrame(() => page.click('#step-forward'));
       await andFrame(async () => {
         await page.fill('#step-number', '3');

@@ -571,21 +571,31 @@ function linkState() {
   };
 }
 
-// The URL follows the page as it changes, at most four times a second (browsers throttle
-// history.replaceState called faster, as playing steps would).
+// The URL follows the page as it changes: at once, but for at most 40 rewrites in 10 s (browsers
+// refuse history.replaceState called faster, as playing steps would); past that, every 250 ms.
+const LINK_WRITES = 40;
+const LINK_WINDOW_MS = 10_000;
+const linkWriteTimes = [];
+function writeLink() {
+  clearTimeout(linkTimer);
+  linkTimer = null;
+  const hash = linkHash(linkState());
+  if (hash === linkWritten) return;
+  linkWritten = hash;
+  linkWriteTimes.push(performance.now());
+  try {
+    history.replaceState(history.state, '', hash);
+  } catch {
+    // a page that may not rewrite its URL still works
+  }
+}
+
 function updateLink() {
   if (!linkReady || linkTimer) return;
-  linkTimer = setTimeout(() => {
-    linkTimer = null;
-    const hash = linkHash(linkState());
-    if (hash === linkWritten) return;
-    linkWritten = hash;
-    try {
-      history.replaceState(history.state, '', hash);
-    } catch {
-      // a page that may not rewrite its URL still works
-    }
-  }, 250);
+  const now = performance.now();
+  while (linkWriteTimes.length && now - linkWriteTimes[0] > LINK_WINDOW_MS) linkWriteTimes.shift();
+  if (linkWriteTimes.length < LINK_WRITES) writeLink();
+  else linkTimer = setTimeout(writeLink, 250);
 }
 
 function showLinkMessage(text) {
@@ -651,8 +661,7 @@ function applyLink(models) {
 }
 
 async function copyLink() {
-  linkWritten = linkHash(linkState());
-  history.replaceState(history.state, '', linkWritten);
+  writeLink();
   const url = window.location.href;
   try {
     await navigator.clipboard.writeText(url);
@@ -771,6 +780,9 @@ function wire() {
     updatePixelInfo();
   });
   window.addEventListener('resize', () => redraw());
+  window.addEventListener('pagehide', () => {
+    if (linkReady) writeLink();
+  });
   // A link pasted into this tab's address bar: the page opens what it says.
   window.addEventListener('hashchange', () => {
     if (window.location.hash !== linkWritten) window.location.reload();
