@@ -452,7 +452,9 @@ uint64_t FloatingHorizon::update_edge(uint32_t a, uint32_t b, uint32_t edge, hsr
 
 void FloatingHorizon::sort_step() const {
     const CurveOrder& o = order_;
-    for (uint32_t n = 0; n < o.layout.curves; ++n)
+    constexpr uint64_t kMostLines = uint64_t(1) << 16;  // of a dense grid, the nearest curves only
+    const uint32_t shown = uint32_t(std::min<uint64_t>(o.layout.curves, kMostLines / (o.layout.along - 1) + 1));
+    for (uint32_t n = 0; n < shown; ++n)
         for (uint32_t i = 0; i + 1 < o.layout.along; ++i) {
             const SpacePoint& a = window_[o.layout.vertex(i, o.curves[n])];
             const SpacePoint& b = window_[o.layout.vertex(i + 1, o.curves[n])];
