@@ -618,13 +618,14 @@ function languageChosen() {
 
 onLanguageChange(() => {
   applyPageTexts();
+  $('step-play').setAttribute('aria-label', playLabel(steps.playing));
+  if (steps.current === null) $('step-text').textContent = fullRenderText(steps.total);
+  updatePixelInfo();
   if (!plugins.hidden_surface.length && !plugins.lighting.length) return;  // still starting
   fillPluginSelects();
   settings.model = modelList.set(modelList.models, settings.model);
   paramForm.setSchema(currentAlgorithm()?.params || [], settings.params[settings.algorithm] || {});
   lightingChosen();
-  $('step-play').setAttribute('aria-label', playLabel(steps.playing));
-  if (steps.current === null) $('step-text').textContent = fullRenderText(steps.total);
   if (shown) redraw();
   requestFrame();
 });
@@ -645,8 +646,6 @@ async function start() {
   languageChosen();
   applyPageTexts();
   setStatus(tr({ en: 'starting…', ru: 'запуск…' }));
-  $('step-text').textContent = fullRenderText(null);
-  updatePixelInfo();
   presentation.set(settings.presentation);
   let info;
   let models;

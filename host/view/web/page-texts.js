@@ -44,7 +44,7 @@ export const PAGE_TEXTS = {
   'pitch': { en: 'pitch', ru: 'наклон' },
   'zoom': { en: 'zoom', ru: 'масштаб' },
   'fov': { en: 'fov°', ru: 'обзор°' },
-  'look-at': { en: 'look-at camera', ru: 'камера по точке наблюдения и цели' },
+  'look-at': { en: 'look-at camera', ru: 'камера: глаз и цель' },
   'eye-label': { en: 'eye', ru: 'глаз' },
   'eye': { placeholder: { en: 'x,y,z (empty: orbit)', ru: 'x,y,z (пусто — орбита)' } },
   'target-label': { en: 'target', ru: 'цель' },
