@@ -316,7 +316,7 @@ struct hsr::host::FrameRenderer::State {
             const bool any = last.index > 0;
             steps["type"] = any ? last.type : "";
             steps["phase"] = any && !last.phase.empty() ? json(last.phase) : json(nullptr);
-            steps["text"] = any ? last.text : "no steps: the algorithm had nothing to do";
+            steps["text"] = any ? last.text : no_steps_text(false, q.language);
             steps["face"] = any && last.face != HSR_NO_FACE ? json(last.face) : json(nullptr);
             json lines = json::array();
             for (std::size_t k = 0; k < last.roles.size(); ++k)
@@ -451,7 +451,7 @@ struct hsr::host::FrameRenderer::State {
                 const hsr::TraceEventRecord& e = *drawing.stopped_at;
                 steps["type"] = e.type;
                 steps["phase"] = e.phase.empty() ? json(nullptr) : json(e.phase);
-                steps["text"] = e.text.empty() ? describe_trace_event(e) : e.text;
+                steps["text"] = e.text.empty() ? describe_trace_event(e, q.language) : e.text;
                 steps["face"] = e.face < scene.triangle_count ? json(e.face) : json(nullptr);
                 for (std::size_t k = 0; k < e.roles.size(); ++k) {
                     const float* p = &e.lines[4 * k];
@@ -479,7 +479,7 @@ struct hsr::host::FrameRenderer::State {
             } else {
                 steps["type"] = "";
                 steps["phase"] = nullptr;
-                steps["text"] = "no steps: the plugin reported none";
+                steps["text"] = no_steps_text(true, q.language);
                 steps["face"] = nullptr;
             }
             steps["lines"] = std::move(lines);

@@ -5,17 +5,19 @@ import { getJson, postJson, postJsonAside, cancelFrame, getProgress, ApiError } 
 import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
-import { StepControls, drawStepOverlay } from './steps.js';
+import { StepControls, drawStepOverlay, fullRenderText, playLabel } from './steps.js';
 import {
   BUFFER_NAMES, VIEW_BUFFER, decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid, tileAround,
   gridCells, cellsOfFont,
 } from './buffers.js';
 import { linkHash, readLink } from './link.js';
-import { tr, onLanguageChange } from './i18n.js';
 import { compareRequest, showCompare, hideCompare } from './compare.js';
 import { renderStats } from './stats.js';
 import { LatestWins } from './scheduler.js';
 import { loadSettings, saveSettings } from './settings.js';
+import { tr, language, setLanguage, onLanguageChange, browserLanguage, numberText } from './i18n.js';
+import { applyPageTexts } from './page-texts.js';
+import { PresentationView } from './presentation.js';
 
 const $ = (id) => document.getElementById(id);
 const GRID_MAX_SIDE = 64;
@@ -70,7 +72,8 @@ function reportError(error) {
     placed = true;
   }
   showError(placed ? '' : message);
-  setStatus(placed ? 'not rendered: see the marked field' : 'not rendered');
+  setStatus(placed ? tr({ en: 'not rendered: see the marked field', ru: 'не отрисовано: см. отмеченное поле' })
+    : tr({ en: 'not rendered', ru: 'не отрисовано' }));
 }
 
 // ---- plugins and forms -------------------------------------------------------------------------
@@ -194,6 +197,7 @@ function frameRequest() {
     height: settings.height,
     step: algorithm && algorithm.steps && !settings.compare ? steps.current : null,
     buffers: wantBuffers(),
+    language: language(),
   };
 }
 
@@ -252,18 +256,19 @@ async function runJob(job, isStale) {
     }
     clearFieldErrors();
     showError('');
-    setStatus(`rendered in ${Math.round(roundTrip)} ms`);
+    setStatus(tr({ en: `rendered in ${Math.round(roundTrip)} ms`, ru: `отрисовано за ${Math.round(roundTrip)} мс` }));
     canvas.dataset.state = 'ready';
   } catch (e) {
     if (isStale()) return;
     if (e instanceof ApiError && e.status === 409) {  // stopped with Stop
       canvas.dataset.state = 'ready';
-      setStatus('stopped');
+      setStatus(tr({ en: 'stopped', ru: 'остановлено' }));
       return;
     }
     canvas.dataset.state = 'error';
     if (!(e instanceof ApiError)) console.error(e);
-    reportError(e instanceof ApiError ? e : new Error(`could not show the frame: ${e.message}`));
+    reportError(e instanceof ApiError ? e
+      : new Error(tr({ en: `could not show the frame: ${e.message}`, ru: `не удалось показать кадр: ${e.message}` })));
     if (job.kind === 'frame' && job.body.step !== null && job.body.step !== undefined) steps.failed(e.message);
     else if (steps.playing) steps.setPlaying(false);
   }
@@ -298,18 +303,21 @@ const scheduler = new LatestWins(runJob, (busy) => {
   $('stop').hidden = true;
   if (busy) {
     $('canvas').dataset.state = 'loading';
-    setStatus('rendering…');
+    setStatus(tr({ en: 'rendering…', ru: 'отрисовка…' }));
     busyTimer = setInterval(async () => {
       const ms = scheduler.running();
       if (ms === null || ms < STOP_AFTER_MS) return;
       $('stop').hidden = false;
-      let text = `rendering… ${Math.floor(ms / 1000)} s`;
+      const seconds = Math.floor(ms / 1000);
+      let text = tr({ en: `rendering… ${seconds} s`, ru: `отрисовка… ${seconds} с` });
       try {
         const { progress } = await getProgress();
         if (progress && progress.total > 0) {
-          text = `step ${progress.steps.toLocaleString('en')} of ${progress.total.toLocaleString('en')}… ${Math.floor(ms / 1000)} s`;
+          const [k, total] = [numberText(progress.steps), numberText(progress.total)];
+          text = tr({ en: `step ${k} of ${total}… ${seconds} s`, ru: `шаг ${k} из ${total}… ${seconds} с` });
         } else if (progress) {
-          text = `counting the steps: ${progress.steps.toLocaleString('en')} so far… ${Math.floor(ms / 1000)} s`;
+          const k = numberText(progress.steps);
+          text = tr({ en: `counting the steps: ${k} so far… ${seconds} s`, ru: `подсчёт шагов: пока ${k}… ${seconds} с` });
         }
       } catch {
         // the status keeps its seconds
@@ -385,7 +393,8 @@ function redraw() {
   } else {
     ctx.drawImage(shown.image, 0, 0);
     if (view !== 'frame') {
-      setStatus(shown.response.kind === 'lines' ? 'a line drawing has no buffers' : 'loading the buffers…');
+      setStatus(shown.response.kind === 'lines' ? tr({ en: 'a line drawing has no buffers', ru: 'у штрихового рисунка нет буферов' })
+        : tr({ en: 'loading the buffers…', ru: 'загрузка буферов…' }));
       askForBuffers();
     }
   }
@@ -486,15 +495,18 @@ function pixelUnder(event) {
 function updatePixelInfo() {
   const info = $('pixel-info');
   if (!pointer || !shown) {
-    info.textContent = 'hover the picture for a pixel\'s depth and face';
+    info.textContent = tr({ en: 'hover the picture for a pixel\'s depth and face',
+      ru: 'наведите указатель на изображение — появятся глубина и грань пикселя' });
     return;
   }
   if (shown.response.kind === 'lines') {
-    info.textContent = `${pointer.x}, ${pointer.y}: a line drawing has no depth buffer`;
+    info.textContent = tr({ en: `${pointer.x}, ${pointer.y}: a line drawing has no depth buffer`,
+      ru: `${pointer.x}, ${pointer.y}: у штрихового рисунка нет буфера глубины` });
   } else if (pixelInfo(shown.frameBuffers, pointer.x, pointer.y) !== null) {
     info.textContent = pixelInfo(shown.frameBuffers, pointer.x, pointer.y);
   } else {
-    info.textContent = `${pointer.x}, ${pointer.y}: ${hovering ? 'loading the buffers…' : 'rest the mouse for its depth'}`;
+    info.textContent = `${pointer.x}, ${pointer.y}: ${hovering ? tr({ en: 'loading the buffers…', ru: 'загрузка буферов…' })
+      : tr({ en: 'rest the mouse for its depth', ru: 'задержите указатель, чтобы узнать глубину' })}`;
     if (hovering) askForBuffers();
   }
 }
@@ -759,6 +771,13 @@ function wire() {
     showSizeFields();
     if (shown) redraw();
   });
+  for (const button of document.querySelectorAll('.language-choice button')) {
+    button.addEventListener('click', () => {
+      settings.language = button.dataset.language;
+      saveSettings(settings);
+      languageChosen();
+    });
+  }
   $('stop').addEventListener('click', () => {
     if (steps.playing) steps.setPlaying(false);
     cancelFrame().catch(reportError);
@@ -790,6 +809,52 @@ function wire() {
   modelList.acceptDrops($('drop-target'));
 }
 
+// The plugin selects, grouped by kind; a plugin that steps is marked.
+function fillPluginSelects() {
+  const option = (p) => ({ value: p.name, text: p.steps ? tr({ en: `${p.name} (steps)`, ru: `${p.name} (по шагам)` }) : p.name });
+  const surfaces = tr({ en: 'hidden surface', ru: 'удаление невидимых поверхностей' });
+  settings.algorithm = fillSelect($('algorithm'), [
+    [surfaces, plugins.hidden_surface.map(option)],
+    [tr({ en: 'hidden line', ru: 'удаление невидимых линий' }), plugins.hidden_line.map(option)],
+  ], settings.algorithm);
+  settings.lighting = fillSelect($('lighting'), [[tr({ en: 'lighting', ru: 'освещение' }), plugins.lighting.map(option)]],
+    settings.lighting);
+  const others = plugins.hidden_surface.filter((p) => p.name !== settings.algorithm);
+  settings.compareAlgorithm = fillSelect($('compare-algorithm'), [[surfaces, plugins.hidden_surface.map(option)]],
+    settings.compareAlgorithm || others[0]?.name || settings.algorithm);
+}
+
+// ---- language and the presentation view -----------------------------------------------------------
+
+// The page's words in the language chosen (settings.language, null: the browser's): the static ones
+// at once, the rest with the frame asked for again (its step text comes from the server).
+function languageChosen() {
+  setLanguage(settings.language ?? browserLanguage());
+  for (const button of document.querySelectorAll('.language-choice button')) {
+    button.setAttribute('aria-pressed', String(button.dataset.language === language()));
+  }
+}
+
+onLanguageChange(() => {
+  applyPageTexts();
+  $('step-play').setAttribute('aria-label', playLabel(steps.playing));
+  if (steps.current === null) $('step-text').textContent = fullRenderText(steps.total);
+  updatePixelInfo();
+  if (!plugins.hidden_surface.length && !plugins.lighting.length) return;  // still starting
+  fillPluginSelects();
+  settings.model = modelList.set(modelList.models, settings.model);
+  paramForm.setSchema(currentAlgorithm()?.params || [], settings.params[settings.algorithm] || {});
+  lightingChosen();
+  if (shown) redraw();
+  requestFrame();
+});
+
+const presentation = new PresentationView($('presentation-toggle'), (on) => {
+  settings.presentation = on;
+  saveSettings(settings);
+  if (shown) redraw();
+});
+
 async function start() {
   // For scripts that drive the page (tests/browser): the last frame asked for and shown, whether
   // anything is on its way, and the camera as the controls hold it now.
@@ -797,6 +862,10 @@ async function start() {
     lastRequest: null, lastResponse: null, idle: () => scheduler.idle(), camera: () => camera.request(),
   };
   wire();
+  languageChosen();
+  applyPageTexts();
+  setStatus(tr({ en: 'starting…', ru: 'запуск…' }));
+  presentation.set(settings.presentation);
   let info;
   let models;
   try {
@@ -804,7 +873,7 @@ async function start() {
     models = (await getJson('/api/models')).models || [];
   } catch (e) {
     reportError(e);
-    setStatus('the server did not answer');
+    setStatus(tr({ en: 'the server did not answer', ru: 'сервер не ответил' }));
     return;
   }
   for (const kind of ['hidden_surface', 'hidden_line', 'lighting']) {
@@ -819,15 +888,7 @@ async function start() {
   const linkStep = applyLink(models);
   settings.model = modelList.set(models, settings.model);
 
-  const option = (p) => ({ value: p.name, text: p.steps ? `${p.name} (steps)` : p.name });
-  settings.algorithm = fillSelect($('algorithm'), [
-    ['hidden surface', plugins.hidden_surface.map(option)],
-    ['hidden line', plugins.hidden_line.map(option)],
-  ], settings.algorithm);
-  settings.lighting = fillSelect($('lighting'), [['lighting', plugins.lighting.map(option)]], settings.lighting);
-  const others = plugins.hidden_surface.filter((p) => p.name !== settings.algorithm);
-  settings.compareAlgorithm = fillSelect($('compare-algorithm'), [['hidden surface', plugins.hidden_surface.map(option)]],
-    settings.compareAlgorithm || others[0]?.name || settings.algorithm);
+  fillPluginSelects();
   $('compare-toggle').checked = settings.compare;
   $('step-speed').value = settings.speed;
   $('width').value = String(settings.width);
@@ -842,8 +903,11 @@ async function start() {
   setTheoryOpen(settings.theoryOpen);
   saveSettings(settings);
   if (!settings.model) {
-    showError('no models found: start hsr view with a model file, --models DIR, or drop a file here');
-    setStatus('no model');
+    showError(tr({
+      en: 'no models found: start hsr view with a model file, --models DIR, or drop a file here',
+      ru: 'модели не найдены: запустите hsr view с файлом модели или с --models КАТАЛОГ либо перетащите файл сюда',
+    }));
+    setStatus(tr({ en: 'no model', ru: 'нет модели' }));
     return;
   }
   requestFrame();

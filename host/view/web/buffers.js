@@ -114,14 +114,14 @@ export function bufferView(view, frameBuffers, stepBuffers) {
     const b = stepBuffers.find((s) => `step:${s.name}` === view);
     if (!b) return null;
     return { width: b.width, height: b.height,
-      ...falseColour(b.values, b.width, b.height, { title: `${b.name} (near → far)`, nearIsHigh: true }) };
+      ...falseColour(b.values, b.width, b.height, { title: tr({ en: `${b.name} (near → far)`, ru: `${b.name} (ближе → дальше)` }), nearIsHigh: true }) };
   }
   if (!frameBuffers) return null;
   const { width, height, whole } = frameBuffers;
   const pick = {
-    'depth': [whole.depth, { title: 'depth (near → far)', nearIsHigh: true }],
-    'depth-complexity': [whole.depthComplexity, { title: 'surfaces over the pixel', integer: true }],
-    'depth-tests': [whole.depthTests, { title: 'depth tests at the pixel', integer: true }],
+    'depth': [whole.depth, { title: tr({ en: 'depth (near → far)', ru: 'глубина (ближе → дальше)' }), nearIsHigh: true }],
+    'depth-complexity': [whole.depthComplexity, { title: tr({ en: 'surfaces over the pixel', ru: 'поверхностей в пикселе' }), integer: true }],
+    'depth-tests': [whole.depthTests, { title: tr({ en: 'depth tests at the pixel', ru: 'тестов глубины в пикселе' }), integer: true }],
   }[view];
   if (!pick || !pick[0]) return null;
   return { width, height, ...falseColour(pick[0], width, height, pick[1]) };
@@ -145,7 +145,7 @@ export function drawLegend(elements, legend) {
   elements.title.textContent = legend.title;
 }
 
-const idText = (v) => (v === undefined || v === null || v === EMPTY_ID ? 'none' : String(v));
+const idText = (v) => (v === undefined || v === null || v === EMPTY_ID ? tr({ en: 'none', ru: 'нет' }) : String(v));
 
 // Every buffer's value at pixel (x, y) from the tile that holds it, or null when no tile does.
 function valuesAt(frameBuffers, x, y) {
@@ -166,13 +166,16 @@ export function pixelInfo(frameBuffers, x, y) {
   const v = valuesAt(frameBuffers, x, y);
   if (!v) return null;
   if (!Number.isFinite(v.depth) && (v.face === undefined || v.face === EMPTY_ID)) {
-    return `${x}, ${y}: empty (no surface), depth ∞`;
+    return tr({ en: `${x}, ${y}: empty (no surface), depth ∞`, ru: `${x}, ${y}: пусто (нет поверхности), глубина ∞` });
   }
-  let text = `${x}, ${y}: depth ${formatValue(v.depth)}, face ${idText(v.face)}, object ${idText(v.object)}, `
-    + `instance ${idText(v.instance)}`;
+  const [depth, face, object, instance] = [formatValue(v.depth), idText(v.face), idText(v.object), idText(v.instance)];
+  let text = tr({
+    en: `${x}, ${y}: depth ${depth}, face ${face}, object ${object}, instance ${instance}`,
+    ru: `${x}, ${y}: глубина ${depth}, грань ${face}, объект ${object}, экземпляр ${instance}`,
+  });
   if (Number.isFinite(v.sceneZ)) text += `, z ${formatValue(v.sceneZ)}`;
-  if (v.depthComplexity !== undefined) text += `; ${v.depthComplexity} surfaces`;
-  if (v.depthTests !== undefined) text += `, ${v.depthTests} depth tests`;
+  if (v.depthComplexity !== undefined) text += tr({ en: `; ${v.depthComplexity} surfaces`, ru: `; поверхностей: ${v.depthComplexity}` });
+  if (v.depthTests !== undefined) text += tr({ en: `, ${v.depthTests} depth tests`, ru: `, тестов глубины: ${v.depthTests}` });
   return text;
 }
 
