@@ -473,7 +473,7 @@ private:
                           : tested > 0       ? "depth-test"
                           : tiles_culled > 0 ? "pyramid-test"
                                              : "rasterize";
-            char drawn[192];
+            char drawn[256];
             describe_drawn(tested, written, tiles, ru, drawn);
             if (!q.made) {
                 const bool sampled = stats.triangles_untested != b.triangles_untested;
@@ -517,7 +517,7 @@ private:
     }
 
     // "drawn: 37 pixels written, 12 rejected by the depth test", or that no pixel centre was covered.
-    static void describe_drawn(uint64_t tested, uint64_t written, const char* tiles, bool ru, char (&out)[192]) {
+    static void describe_drawn(uint64_t tested, uint64_t written, const char* tiles, bool ru, char (&out)[256]) {
         using hsr::sdk::russian_plural;
         const unsigned long long w = written, r = tested - written;
         if (tested == 0 && tiles[0] == '\0')

@@ -645,7 +645,7 @@ private:
         if (!projected) {
             hsr::sdk::Steps::Event event{"node-visited"};
             event.phase = "node-visit";
-            steps.step(event, ru ? "%s: заходит за ближнюю плоскость отсечения, обходим"
+            steps.step(event, ru ? "%s: выходит за ближнюю плоскость отсечения, обходим"
                                  : "%s: reaches in front of the near plane, visited", name);
             return;
         }
@@ -725,7 +725,7 @@ private:
                       : tested > 0       ? "depth-test"
                       : tiles_culled > 0 ? "pyramid-test"
                                          : "rasterize";
-        char drawn[192];
+        char drawn[256];
         const unsigned long long w = written, r = tested - written;
         if (tested == 0 && tiles[0] == '\0')
             std::snprintf(drawn, sizeof drawn, "%s",

@@ -1106,12 +1106,10 @@ private:
                                  passed = spans.written, failed = spans.tested - spans.written;
         if (ru) {
             steps.step(event,
-                       "строка %d: %llu %s %s, %llu %s %s, %llu %s; %s %llu %s (тест глубины пройден %llu %s, "
-                       "не пройден %llu %s)",
-                       int(y), edges, russian_plural(edges, "активное", "активных", "активных"),
-                       russian_plural(edges, "ребро", "ребра", "рёбер"), n,
-                       russian_plural(n, "активный", "активных", "активных"),
-                       russian_plural(n, "многоугольник", "многоугольника", "многоугольников"), count,
+                       "строка %d: в списке активных %llu %s (%llu %s), %llu %s; %s %llu %s; тест глубины пройден "
+                       "%llu %s, не пройден %llu %s",
+                       int(y), n, russian_plural(n, "многоугольник", "многоугольника", "многоугольников"), edges,
+                       russian_plural(edges, "ребро", "ребра", "рёбер"), count,
                        russian_plural(count, "интервал", "интервала", "интервалов"),
                        russian_plural(pixels, "записан", "записано", "записано"), pixels,
                        russian_plural(pixels, "пиксель", "пикселя", "пикселей"), passed,

@@ -425,7 +425,7 @@ private:
     std::vector<float> lines_;
     std::vector<uint32_t> roles_;
     std::vector<hsr_step_buffer> buffers_;
-    char text_[256] = {};
+    char text_[512] = {};  // a line of Russian (two bytes a letter in UTF-8) fits
     uint64_t count_ = 0;
 };
 
