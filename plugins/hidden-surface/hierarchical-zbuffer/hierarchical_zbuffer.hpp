@@ -393,22 +393,36 @@ private:
     void instance_step(Steps& steps, uint32_t k, uint32_t triangles, bool hidden) const {
         const PlacementBox& box = boxes_[k];
         const unsigned long long n = triangles;
+        const bool ru = steps.russian();
+        const char* const triangle_word = hsr::sdk::russian_plural(n, "треугольник", "треугольника", "треугольников");
         if (box.projectable) add_box(steps, box.x0, box.y0, box.x1, box.y1, HSR_STEP_REJECTED);
         pyramid_.add_step_buffers(steps);
         if (!hidden) {
-            steps.step({"instance-outside", HSR_NO_FACE, k},
-                       "instance %u: outside the view, its %llu triangles skipped", k, n);
+            hsr::sdk::Steps::Event event{"instance-outside", HSR_NO_FACE, k};
+            event.phase = "instance-cull";
+            if (ru)
+                steps.step(event, "экземпляр %u: вне области видимости, пропущен целиком (%llu %s)", k, n,
+                           triangle_word);
+            else
+                steps.step(event, "instance %u: outside the view, its %llu triangles skipped", k, n);
             return;
         }
         const int level = answering_level({box.x0, box.y0, box.x1, box.y1, box.nearest, true}, true);
         char where[64];
-        pyramid_.describe_level(level, where);
-        steps.step({"instance-culled", HSR_NO_FACE, k, uint32_t(level)},
-                   "instance %u: hidden behind the z-pyramid at %s, its %llu triangles skipped", k, where, n);
+        pyramid_.describe_level(level, where, ru);
+        hsr::sdk::Steps::Event event{"instance-culled", HSR_NO_FACE, k, uint32_t(level)};
+        event.phase = "instance-cull";
+        if (ru)
+            steps.step(event, "экземпляр %u: закрыт z-пирамидой на %s, пропущен целиком (%llu %s)", k, where, n,
+                       triangle_word);
+        else
+            steps.step(event, "instance %u: hidden behind the z-pyramid at %s, its %llu triangles skipped", k, where,
+                       n);
     }
 
     // The step of triangle t, from what drawing it counted (Stats, the geometry stage's counts)
-    // and gathered (step_).
+    // and gathered (step_). Its phase is the last line of the pseudocode it reached
+    // (docs/theory/en/hierarchical-zbuffer.md).
     template <class Steps>
     void triangle_step(Steps& steps, uint32_t t, uint32_t instance, const Stats& stats, const uint32_t* indices) {
         if constexpr (Steps::enabled) {
@@ -418,53 +432,101 @@ private:
             const raster::TriangleStats& before = step_.geometry_before;
             const uint64_t tested = stats.depth_tested - b.depth_tested, written = stats.written - b.written;
             const unsigned f = t;
+            const bool ru = steps.russian();
             const uint32_t* const corner = indices + 3 * size_t(t);
             pyramid_.add_step_buffers(steps);
             if (stats.triangles_culled != b.triangles_culled ||
                 (tested == 0 && stats.pieces_culled != b.pieces_culled)) {
                 const int level = answering_level(q, true);
                 char where[64];
-                pyramid_.describe_level(level, where);
+                pyramid_.describe_level(level, where, ru);
                 add_outline(steps, corner);
                 add_box(steps, q.x0, q.y0, q.x1, q.y1, HSR_STEP_REJECTED);
-                steps.step({"triangle", t, instance, uint32_t(level), 0, 0},
-                           "triangle %u: rejected by the z-pyramid at %s", f, where);
+                hsr::sdk::Steps::Event event{"triangle", t, instance, uint32_t(level), 0, 0};
+                event.phase = "pyramid-test";
+                steps.step(event, ru ? "треугольник %u: отброшен z-пирамидой на %s"
+                                     : "triangle %u: rejected by the z-pyramid at %s", f, where);
                 return;
             }
             if (after.backface_culled != before.backface_culled || after.outside != before.outside ||
                 after.degenerate != before.degenerate) {
-                raster::triangle_step(steps, before, after, t, instance, tested, written);
+                culled_triangle_step(steps, before, after, t, instance);
                 return;
             }
             add_outline(steps, corner);
             add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
-            char tiles[64] = "";
-            if (stats.tiles_tested != b.tiles_tested)
-                std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid",
-                              unsigned(stats.tiles_culled - b.tiles_culled),
-                              unsigned(stats.tiles_tested - b.tiles_tested));
-            const hsr::sdk::Steps::Event event{"triangle", t, instance,
-                                               q.made ? uint32_t(answering_level(q, false)) : HSR_NO_LEVEL, written,
-                                               tested - written};
-            char drawn[144];
-            describe_drawn(tested, written, tiles, drawn);
+            char tiles[96] = "";
+            const uint64_t tiles_culled = stats.tiles_culled - b.tiles_culled;
+            if (stats.tiles_tested != b.tiles_tested) {
+                const unsigned long long c = tiles_culled, n = stats.tiles_tested - b.tiles_tested;
+                if (ru)
+                    std::snprintf(tiles, sizeof tiles, "; z-пирамида отсекла %llu из %llu %s", c, n,
+                                  hsr::sdk::russian_plural(n, "плитки", "плиток", "плиток"));
+                else
+                    std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid", unsigned(c),
+                                  unsigned(n));
+            }
+            hsr::sdk::Steps::Event event{"triangle", t, instance,
+                                         q.made ? uint32_t(answering_level(q, false)) : HSR_NO_LEVEL, written,
+                                         tested - written};
+            event.phase = written > 0        ? "write"
+                          : tested > 0       ? "depth-test"
+                          : tiles_culled > 0 ? "pyramid-test"
+                                             : "rasterize";
+            char drawn[256];
+            describe_drawn(tested, written, tiles, ru, drawn);
             if (!q.made) {
-                steps.step(event, "triangle %u: not tested against the z-pyramid (%s), %s", f,
-                           stats.triangles_untested != b.triangles_untested ? "only sampled while few are culled"
-                                                                            : "none needed",
-                           drawn);
+                const bool sampled = stats.triangles_untested != b.triangles_untested;
+                if (ru)
+                    steps.step(event, "треугольник %u: не проверялся по z-пирамиде (%s), %s", f,
+                               sampled ? "пока отсечений мало, проверяется лишь каждый восьмой" : "проверка не нужна",
+                               drawn);
+                else
+                    steps.step(event, "triangle %u: not tested against the z-pyramid (%s), %s", f,
+                               sampled ? "only sampled while few are culled" : "none needed", drawn);
                 return;
             }
             char where[64];
-            pyramid_.describe_level(int(event.level), where);
-            steps.step(event, "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
+            pyramid_.describe_level(int(event.level), where, ru);
+            steps.step(event, ru ? "треугольник %u: не закрыт z-пирамидой на %s, %s"
+                                 : "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
+        }
+    }
+
+    // The step of a triangle that the geometry stage dropped: back-facing, outside, or too thin to
+    // cover a pixel centre.
+    template <class Steps>
+    static void culled_triangle_step(Steps& steps, const raster::TriangleStats& before,
+                                     const raster::TriangleStats& after, uint32_t t, uint32_t instance) {
+        hsr::sdk::Steps::Event event{"triangle", t, instance, HSR_NO_LEVEL, 0, 0};
+        const unsigned f = t;
+        const bool ru = steps.russian();
+        if (after.backface_culled != before.backface_culled) {
+            event.phase = "cull";
+            steps.step(event, ru ? "треугольник %u: нелицевая грань (обращена от камеры), отброшен"
+                                 : "triangle %u: culled, it faces away from the camera", f);
+        } else if (after.outside != before.outside) {
+            event.phase = "cull";
+            steps.step(event, ru ? "треугольник %u: вне области видимости, не рисуется"
+                                 : "triangle %u: outside the view, not drawn", f);
+        } else {
+            event.phase = "rasterize";
+            steps.step(event, ru ? "треугольник %u: не покрывает ни одного центра пикселя"
+                                 : "triangle %u: covers no pixel centre", f);
         }
     }
 
     // "drawn: 37 pixels written, 12 rejected by the depth test", or that no pixel centre was covered.
-    static void describe_drawn(uint64_t tested, uint64_t written, const char* tiles, char (&out)[144]) {
+    static void describe_drawn(uint64_t tested, uint64_t written, const char* tiles, bool ru, char (&out)[256]) {
+        using hsr::sdk::russian_plural;
+        const unsigned long long w = written, r = tested - written;
         if (tested == 0 && tiles[0] == '\0')
-            std::snprintf(out, sizeof out, "covers no pixel centre");
+            std::snprintf(out, sizeof out, "%s", ru ? "не покрывает ни одного центра пикселя" : "covers no pixel centre");
+        else if (ru)
+            std::snprintf(out, sizeof out, "нарисован: %s %llu %s, %s тестом глубины %llu%s",
+                          russian_plural(w, "записан", "записано", "записано"), w,
+                          russian_plural(w, "пиксель", "пикселя", "пикселей"),
+                          russian_plural(r, "отброшен", "отброшено", "отброшено"), r, tiles);
         else
             std::snprintf(out, sizeof out, "drawn: %u pixel%s written, %u rejected by the depth test%s",
                           unsigned(written), written == 1 ? "" : "s", unsigned(tested - written), tiles);
@@ -515,6 +577,15 @@ public:
 
     // render_steps (from StepwiseRemover) takes one step per input triangle in drawing order, and one
     // per instance skipped whole. Compiled in hierarchical_zbuffer_steps.cpp.
+    // A step names the last line of the pseudocode (docs/theory/en/hierarchical-zbuffer.md) it reached.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"instance-cull", "skip an instance outside the view or hidden behind the z-pyramid"},
+        {"cull", "cull a triangle that faces away or lies outside the view"},
+        {"pyramid-test", "test the triangle's box against the z-pyramid"},
+        {"rasterize", "find the pixel centres the triangle covers"},
+        {"depth-test", "compare the triangle's depth with the depth buffer"},
+        {"write", "write the nearer pixels and mark their pyramid cells"},
+    };
 
 private:
     friend class hsr::sdk::StepwiseRemover<HierarchicalZBuffer>;

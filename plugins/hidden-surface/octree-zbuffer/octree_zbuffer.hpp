@@ -50,6 +50,17 @@ public:
     // render_steps (from StepwiseRemover) takes steps in traversal order: each box test of a node (of
     // the instance hierarchy or of an octree), visited or culled, and each triangle of a visible
     // leaf; the whole image as one tile. Compiled in octree_zbuffer_steps.cpp.
+    // A step names the last line of the pseudocode (docs/theory/en/octree-zbuffer.md) it reached.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"node-outside", "skip a node whose box lies outside the view"},
+        {"node-hidden", "cull a node whose box is hidden behind the z-pyramid"},
+        {"node-visit", "visit a node that may show: its children front to back, or its triangles"},
+        {"cull", "cull a leaf's triangle that lies outside the view"},
+        {"pyramid-test", "test a leaf's triangle against the z-pyramid"},
+        {"rasterize", "find the pixel centres the triangle covers"},
+        {"depth-test", "compare the triangle's depth with the depth buffer"},
+        {"write", "write the nearer pixels and mark their pyramid cells"},
+    };
 
 private:
     friend class hsr::sdk::StepwiseRemover<OctreeZBuffer>;

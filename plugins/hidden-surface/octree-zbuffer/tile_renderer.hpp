@@ -24,6 +24,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -601,45 +602,68 @@ private:
             r = box.pixel_centres(raster::kBoxPixelMargin, width_, height_);
             nearest = float(box.nearest - raster::kBoxDepthMargin);
         }
-        char name[96];
-        if (node.depth == HSR_NO_LEVEL)
-            std::snprintf(name, sizeof name, "%s %u (%llu triangles)", node.what, node.index,
-                          (unsigned long long)triangles);
-        else
-            std::snprintf(name, sizeof name, "%s %u (depth %u, %llu triangles)", node.what, node.index, node.depth,
-                          (unsigned long long)triangles);
+        const bool ru = steps.russian();
+        const unsigned long long n = triangles;
+        char name[128];
+        if (ru) {
+            const bool octree = std::strcmp(node.what, "octree node") == 0;
+            const char* const triangle_word = hsr::sdk::russian_plural(n, "треугольник", "треугольника", "треугольников");
+            if (node.depth == HSR_NO_LEVEL)
+                std::snprintf(name, sizeof name, "%s %u (%llu %s)", octree ? "узел октодерева" : "узел иерархии экземпляров",
+                              node.index, n, triangle_word);
+            else
+                std::snprintf(name, sizeof name, "%s %u (глубина %u, %llu %s)",
+                              octree ? "узел октодерева" : "узел иерархии экземпляров", node.index, node.depth, n,
+                              triangle_word);
+        } else if (node.depth == HSR_NO_LEVEL) {
+            std::snprintf(name, sizeof name, "%s %u (%llu triangles)", node.what, node.index, n);
+        } else {
+            std::snprintf(name, sizeof name, "%s %u (depth %u, %llu triangles)", node.what, node.index, node.depth, n);
+        }
         pyramid_.add_step_buffers(steps);
         char where[64];
         switch (visibility) {
-            case BoxVisibility::kOutside:
+            case BoxVisibility::kOutside: {
                 if (projected) add_box(steps, r.x0, r.y0, r.x1, r.y1, HSR_STEP_REJECTED);
-                steps.step({"node-culled"}, "%s: outside the view, culled", name);
+                hsr::sdk::Steps::Event event{"node-culled"};
+                event.phase = "node-outside";
+                steps.step(event, ru ? "%s: вне области видимости, отсечён" : "%s: outside the view, culled", name);
                 return;
+            }
             case BoxVisibility::kHidden: {
                 const int level = pyramid_.answering_level(r.x0, r.y0, r.x1, r.y1, nearest, true);
-                pyramid_.describe_level(level, where);
+                pyramid_.describe_level(level, where, ru);
                 add_box(steps, r.x0, r.y0, r.x1, r.y1, HSR_STEP_REJECTED);
-                steps.step({"node-culled", HSR_NO_FACE, 0, uint32_t(level)},
-                           "%s: hidden behind the z-pyramid at %s, culled", name, where);
+                hsr::sdk::Steps::Event event{"node-culled", HSR_NO_FACE, 0, uint32_t(level)};
+                event.phase = "node-hidden";
+                steps.step(event, ru ? "%s: закрыт z-пирамидой на %s, отсечён"
+                                     : "%s: hidden behind the z-pyramid at %s, culled", name, where);
                 return;
             }
             case BoxVisibility::kVisible: break;
         }
         if (!projected) {
-            steps.step({"node-visited"}, "%s: reaches in front of the near plane, visited", name);
+            hsr::sdk::Steps::Event event{"node-visited"};
+            event.phase = "node-visit";
+            steps.step(event, ru ? "%s: выходит за ближнюю плоскость отсечения, обходим"
+                                 : "%s: reaches in front of the near plane, visited", name);
             return;
         }
         const int level = pyramid_.answering_level(r.x0, r.y0, r.x1, r.y1, nearest, false);
-        pyramid_.describe_level(level, where);
+        pyramid_.describe_level(level, where, ru);
         add_box(steps, r.x0, r.y0, r.x1, r.y1, HSR_STEP_SUBJECT);
-        steps.step({"node-visited", HSR_NO_FACE, 0, uint32_t(level)}, "%s: not hidden at z-pyramid %s, visited", name,
-                   where);
+        hsr::sdk::Steps::Event event{"node-visited", HSR_NO_FACE, 0, uint32_t(level)};
+        event.phase = "node-visit";
+        steps.step(event, ru ? "%s: не закрыт z-пирамидой на %s, обходим" : "%s: not hidden at z-pyramid %s, visited",
+                   name, where);
     }
 
     // The step of leaf-mesh triangle t (scene triangle `face`), from what drawing it counted
-    // (stats_, the geometry stage's counts) and gathered (step_).
+    // (stats_, the geometry stage's counts) and gathered (step_). Its phase is the last line of the
+    // pseudocode it reached (docs/theory/en/octree-zbuffer.md).
     template <class Steps>
     void triangle_step(Steps& steps, uint32_t t, uint32_t face, uint32_t instance) {
+        using hsr::sdk::russian_plural;
         const FrameStats& b = step_.before;
         const PyramidQuery& q = step_.query;
         const raster::TriangleStats after = geometry_->stats();
@@ -647,47 +671,80 @@ private:
         const uint64_t tested = stats_.pixels_tested - b.pixels_tested;
         const uint64_t written = stats_.pixels_written - b.pixels_written;
         const unsigned f = face;
+        const bool ru = steps.russian();
         const uint32_t* const corner = forest_.mesh.indices.data() + 3 * size_t(t);
         pyramid_.add_step_buffers(steps);
         char where[64];
         if (stats_.triangles_culled_before_setup != b.triangles_culled_before_setup ||
             stats_.triangles_culled_after_setup != b.triangles_culled_after_setup) {
             const int level = pyramid_.answering_level(q.x0, q.y0, q.x1, q.y1, q.nearest, true);
-            pyramid_.describe_level(level, where);
+            pyramid_.describe_level(level, where, ru);
             add_outline(steps, corner);
             add_box(steps, q.x0, q.y0, q.x1, q.y1, HSR_STEP_REJECTED);
-            steps.step({"triangle", face, instance, uint32_t(level)}, "triangle %u: rejected by the z-pyramid at %s",
-                       f, where);
+            hsr::sdk::Steps::Event event{"triangle", face, instance, uint32_t(level)};
+            event.phase = "pyramid-test";
+            steps.step(event, ru ? "треугольник %u: отброшен z-пирамидой на %s"
+                                 : "triangle %u: rejected by the z-pyramid at %s", f, where);
             return;
         }
         if (after.backface_culled != before.backface_culled || after.outside != before.outside ||
             after.degenerate != before.degenerate) {
-            raster::triangle_step(steps, before, after, face, instance, tested, written);
+            hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, written, tested - written};
+            if (after.backface_culled != before.backface_culled) {
+                event.phase = "cull";
+                steps.step(event, ru ? "треугольник %u: нелицевая грань (обращена от камеры), отброшен"
+                                     : "triangle %u: culled, it faces away from the camera", f);
+            } else if (after.outside != before.outside) {
+                event.phase = "cull";
+                steps.step(event, ru ? "треугольник %u: вне области видимости, не рисуется"
+                                     : "triangle %u: outside the view, not drawn", f);
+            } else {
+                event.phase = "rasterize";
+                steps.step(event, ru ? "треугольник %u: не покрывает ни одного центра пикселя"
+                                     : "triangle %u: covers no pixel centre", f);
+            }
             return;
         }
         add_outline(steps, corner);
         if (!step_.box.empty())
             add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
-        char tiles[64] = "";
-        if (stats_.tiles_tested != b.tiles_tested)
-            std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid",
-                          unsigned(stats_.tiles_culled - b.tiles_culled),
-                          unsigned(stats_.tiles_tested - b.tiles_tested));
+        char tiles[96] = "";
+        const uint64_t tiles_culled = stats_.tiles_culled - b.tiles_culled;
+        if (stats_.tiles_tested != b.tiles_tested) {
+            const unsigned long long c = tiles_culled, n = stats_.tiles_tested - b.tiles_tested;
+            if (ru)
+                std::snprintf(tiles, sizeof tiles, "; z-пирамида отсекла %llu из %llu %s", c, n,
+                              russian_plural(n, "плитки", "плиток", "плиток"));
+            else
+                std::snprintf(tiles, sizeof tiles, "; %u of %u tiles culled by the z-pyramid", unsigned(c), unsigned(n));
+        }
         const uint32_t level =
             q.made ? uint32_t(pyramid_.answering_level(q.x0, q.y0, q.x1, q.y1, q.nearest, false)) : HSR_NO_LEVEL;
-        const hsr::sdk::Steps::Event event{"triangle", face, instance, level, written, tested - written};
-        char drawn[144];
+        hsr::sdk::Steps::Event event{"triangle", face, instance, level, written, tested - written};
+        event.phase = written > 0        ? "write"
+                      : tested > 0       ? "depth-test"
+                      : tiles_culled > 0 ? "pyramid-test"
+                                         : "rasterize";
+        char drawn[256];
+        const unsigned long long w = written, r = tested - written;
         if (tested == 0 && tiles[0] == '\0')
-            std::snprintf(drawn, sizeof drawn, "covers no pixel centre");
+            std::snprintf(drawn, sizeof drawn, "%s",
+                          ru ? "не покрывает ни одного центра пикселя" : "covers no pixel centre");
+        else if (ru)
+            std::snprintf(drawn, sizeof drawn, "нарисован: %s %llu %s, %s тестом глубины %llu%s",
+                          russian_plural(w, "записан", "записано", "записано"), w,
+                          russian_plural(w, "пиксель", "пикселя", "пикселей"),
+                          russian_plural(r, "отброшен", "отброшено", "отброшено"), r, tiles);
         else
             std::snprintf(drawn, sizeof drawn, "drawn: %u pixel%s written, %u rejected by the depth test%s",
                           unsigned(written), written == 1 ? "" : "s", unsigned(tested - written), tiles);
         if (!q.made) {
-            steps.step(event, "triangle %u: %s", f, drawn);
+            steps.step(event, ru ? "треугольник %u: %s" : "triangle %u: %s", f, drawn);
             return;
         }
-        pyramid_.describe_level(int(level), where);
-        steps.step(event, "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
+        pyramid_.describe_level(int(level), where, ru);
+        steps.step(event, ru ? "треугольник %u: не закрыт z-пирамидой на %s, %s"
+                             : "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
     }
 
     TriangleStep step_;  // with steps only

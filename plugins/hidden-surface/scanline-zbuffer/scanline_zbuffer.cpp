@@ -138,6 +138,14 @@ public:
 
     // render_steps (from StepwiseRemover) takes one step per scanline, top to bottom, empty ones included:
     // step k leaves rows 0 .. k-1 drawn.
+    // A scanline's phase is the last line of the pseudocode (docs/theory/en/scanline-zbuffer.md) it
+    // needed: only the active list's update (no polygon on the row), spans that no other polygon
+    // covered, or spans whose depth tests settled an overlap.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"active-edges", "update the active list: polygons that start on the scanline join, finished ones leave"},
+        {"spans", "fill each active polygon's span between its edge pair"},
+        {"depth-test", "depth-test overlapping spans in the one-row depth buffer"},
+    };
 
 private:
     struct Stats {
@@ -1083,18 +1091,34 @@ private:
 
     template <class Steps>
     void scanline_step(Steps& steps, int32_t y, size_t polygons, const RowSpans& spans) const {
-        const hsr::sdk::Steps::Event event{"scanline", HSR_NO_FACE, 0, HSR_NO_LEVEL, spans.written,
-                                           spans.tested - spans.written};
+        using hsr::sdk::russian_plural;
+        hsr::sdk::Steps::Event event{"scanline", HSR_NO_FACE, 0, HSR_NO_LEVEL, spans.written,
+                                     spans.tested - spans.written};
+        const bool ru = steps.russian();
         if (polygons == 0) {
+            event.phase = "active-edges";
             steps.line(0.0f, float(y) + 0.5f, float(width_), float(y) + 0.5f, HSR_STEP_CONTEXT);
-            steps.step(event, "scanline %d: no active polygons", int(y));
+            steps.step(event, ru ? "строка %d: активных многоугольников нет" : "scanline %d: no active polygons", int(y));
             return;
         }
-        const unsigned long long n = polygons;
+        event.phase = spans.tested > spans.written ? "depth-test" : "spans";
+        const unsigned long long n = polygons, edges = 2 * n, count = spans.spans, pixels = spans.pixels,
+                                 passed = spans.written, failed = spans.tested - spans.written;
+        if (ru) {
+            steps.step(event,
+                       "строка %d: в списке активных %llu %s (%llu %s), %llu %s; %s %llu %s; тест глубины пройден "
+                       "%llu %s, не пройден %llu %s",
+                       int(y), n, russian_plural(n, "многоугольник", "многоугольника", "многоугольников"), edges,
+                       russian_plural(edges, "ребро", "ребра", "рёбер"), count,
+                       russian_plural(count, "интервал", "интервала", "интервалов"),
+                       russian_plural(pixels, "записан", "записано", "записано"), pixels,
+                       russian_plural(pixels, "пиксель", "пикселя", "пикселей"), passed,
+                       russian_plural(passed, "раз", "раза", "раз"), failed, russian_plural(failed, "раз", "раза", "раз"));
+            return;
+        }
         steps.step(event, "scanline %d: %llu active edges, %llu active polygons, %llu spans, %llu pixels written "
                           "(%llu depth tests passed, %llu failed)",
-                   int(y), 2 * n, n, (unsigned long long)spans.spans, (unsigned long long)spans.pixels,
-                   (unsigned long long)spans.written, (unsigned long long)(spans.tested - spans.written));
+                   int(y), edges, n, count, pixels, passed, failed);
     }
 
     // The depth test along a span [x0, x1] of the row buffer; returns the pixels won. A row-buffer

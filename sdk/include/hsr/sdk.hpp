@@ -96,6 +96,16 @@ inline bool wants_language(const char* asked, const char* code) {
     return asked != nullptr && code != nullptr && std::strcmp(asked, code) == 0;
 }
 
+// The Russian word form that agrees with the count n: `one` for 1, 21, 101 ("пиксель"), `few` for
+// 2-4, 22-24 ("пикселя"), `many` for 0, 5-20, 25-30, 111-114 ("пикселей").
+inline const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
+    const uint64_t last_two = n % 100, last = n % 10;
+    if (last_two >= 11 && last_two <= 14) return many;
+    if (last == 1) return one;
+    if (last >= 2 && last <= 4) return few;
+    return many;
+}
+
 // The validated values the host passed to create(), looked up by name. Asking for a name that is not
 // in the schema, or with the wrong type, throws (a plugin bug, reported as an internal error).
 class Params {
@@ -415,7 +425,7 @@ private:
     std::vector<float> lines_;
     std::vector<uint32_t> roles_;
     std::vector<hsr_step_buffer> buffers_;
-    char text_[256] = {};
+    char text_[512] = {};  // a line of Russian (two bytes a letter in UTF-8) fits
     uint64_t count_ = 0;
 };
 

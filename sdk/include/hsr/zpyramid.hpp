@@ -246,13 +246,14 @@ public:
                 if (!(cell(level, cx, cy) < nearest_depth)) return 0;
         return level;
     }
-    // "level 5 (32x32 cells)", or "level 0 (the depth buffer)", for a step's text.
-    void describe_level(int level, char (&out)[64]) const {
+    // "level 5 (32x32 cells)", or "level 0 (the depth buffer)", for a step's text; in Russian
+    // "уровне 5 (сетка 32×32)", to follow "на".
+    void describe_level(int level, char (&out)[64], bool russian = false) const {
         if (level <= 0)
-            std::snprintf(out, sizeof out, "level 0 (the depth buffer)");
+            std::snprintf(out, sizeof out, "%s", russian ? "уровне 0 (сам буфер глубины)" : "level 0 (the depth buffer)");
         else
-            std::snprintf(out, sizeof out, "level %d (%dx%d cells)", level, int(level_width_[level]),
-                          int(level_height_[level]));
+            std::snprintf(out, sizeof out, russian ? "уровне %d (сетка %d×%d)" : "level %d (%dx%d cells)", level,
+                          int(level_width_[level]), int(level_height_[level]));
     }
     // Hands every stored level, as it is (deferred marks not flushed), to steps.buffer() (an
     // hsr::sdk::Steps) as "z-pyramid-<level>"; valid until the pyramid changes.
