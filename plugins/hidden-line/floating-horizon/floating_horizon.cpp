@@ -48,6 +48,8 @@
 #include <utility>
 #include <vector>
 
+using hsr::sdk::russian_plural;
+
 namespace {
 
 using floating_horizon::CurveOrder;
@@ -63,15 +65,6 @@ using hsr::sdk::ParamSpec;
 // Visible or hidden pieces shorter than this in the image, in pixels, join their neighbours.
 constexpr double kSliverPx = 1e-3;
 constexpr double kMaxHorizonColumns = double(uint64_t(1) << 24);
-
-// The Russian noun after a count: 1 точка, 2-4 точки, 5-20 точек, 21 точка.
-const char* russian_plural(unsigned long long n, const char* one, const char* few, const char* many) {
-    const unsigned long long tens = n % 100, units = n % 10;
-    if (tens >= 11 && tens <= 14) return many;
-    if (units == 1) return one;
-    if (units >= 2 && units <= 4) return few;
-    return many;
-}
 
 class FloatingHorizon final : public hsr::sdk::HiddenLineRemover {
 public:

@@ -24,6 +24,8 @@
 #include <string>
 #include <vector>
 
+using hsr::sdk::russian_plural;
+
 namespace {
 
 namespace raster = hsr::raster;
@@ -180,15 +182,6 @@ private:
                 steps.step(event, "triangle %llu: %llu fragment%s into the pixels' lists; at pixel centres %llu written, "
                            "%llu rejected by the depth test", f, n, n == 1 ? "" : "s", w, r);
         }
-    }
-
-    // The Russian noun after a count: 1 фрагмент, 2-4 фрагмента, 5-20 фрагментов, 21 фрагмент.
-    static const char* russian_plural(unsigned long long n, const char* one, const char* few, const char* many) {
-        const unsigned long long tens = n % 100, units = n % 10;
-        if (tens >= 11 && tens <= 14) return many;
-        if (units == 1) return one;
-        if (units >= 2 && units <= 4) return few;
-        return many;
     }
 
     // One step per row of pixels: each list sorted front to back and its fragments merged as

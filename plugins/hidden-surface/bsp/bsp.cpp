@@ -31,6 +31,8 @@
 #include <new>
 #include <vector>
 
+using hsr::sdk::russian_plural;
+
 namespace {
 
 namespace raster = hsr::raster;
@@ -47,16 +49,6 @@ struct Rect {
 // A window coordinate held to [-1, size] as a pixel index (NaN: -1).
 inline int32_t pixel(double v, int32_t size) {
     return v >= -1.0 ? int32_t(std::min(v, double(size))) : -1;
-}
-
-// The Russian noun that goes with n: `one` after 1, 21, 31..., `few` after 2-4, 22-24...,
-// `many` after 0, 5-20, 25-30... (1 пиксель, 3 пикселя, 11 пикселей).
-const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
-    const uint64_t tens = n % 100, units = n % 10;
-    if (tens >= 11 && tens <= 14) return many;
-    if (units == 1) return one;
-    if (units >= 2 && units <= 4) return few;
-    return many;
 }
 
 struct FrameStats {

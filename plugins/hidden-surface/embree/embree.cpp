@@ -32,6 +32,8 @@
 #include <string>
 #include <vector>
 
+using hsr::sdk::russian_plural;
+
 namespace embree_plugin {
 
 using hsr::sdk::ParamSpec;
@@ -197,15 +199,6 @@ private:
                        russian_plural(hits, "попадание", "попадания", "попаданий"));
         else
             steps.step(event, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits", k, x0, y0, x1 - 1, y1 - 1, rays, hits);
-    }
-
-    // The Russian noun after a count: 1 луч, 2-4 луча, 5-20 лучей, 21 луч, 111 лучей.
-    static const char* russian_plural(unsigned long long n, const char* one, const char* few, const char* many) {
-        const unsigned long long tens = n % 100, units = n % 10;
-        if (tens >= 11 && tens <= 14) return many;
-        if (units == 1) return one;
-        if (units >= 2 && units <= 4) return few;
-        return many;
     }
 
     // ------------------------------------------------------------------------------------------ //

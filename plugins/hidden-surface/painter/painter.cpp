@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+using hsr::sdk::russian_plural;
+
 namespace {
 
 namespace raster = hsr::raster;
@@ -34,15 +36,6 @@ using painter::Polygon;
 
 constexpr uint32_t kNone = ~0u;
 
-// The Russian noun that goes with n: `one` after 1, 21, 31..., `few` after 2-4, 22-24...,
-// `many` after 0, 5-20, 25-30... (1 пиксель, 3 пикселя, 11 пикселей).
-const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
-    const uint64_t tens = n % 100, units = n % 10;
-    if (tens >= 11 && tens <= 14) return many;
-    if (units == 1) return one;
-    if (units >= 2 && units <= 4) return few;
-    return many;
-}
 // Pieces with more corners than this skip the separating-axis shortcut of test 6.
 constexpr uint32_t kMaxCorners = 32;
 

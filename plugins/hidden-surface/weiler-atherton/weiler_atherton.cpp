@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+using hsr::sdk::russian_plural;
+
 namespace {
 
 namespace raster = hsr::raster;
@@ -47,16 +49,6 @@ constexpr double kCoplanar = 1e-9;
 // A visible fragment is drawn as the pixels of its original triangle whose centres lie inside the
 // fragment widened by this many pixels (well above the 1/512 pixel that snapping moves a corner).
 constexpr double kWidening = 1.0 / 64.0;
-
-// The Russian noun that goes with n: `one` after 1, 21, 31..., `few` after 2-4, 22-24...,
-// `many` after 0, 5-20, 25-30... (1 пиксель, 3 пикселя, 11 пикселей).
-const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
-    const uint64_t tens = n % 100, units = n % 10;
-    if (tens >= 11 && tens <= 14) return many;
-    if (units == 1) return one;
-    if (units >= 2 && units <= 4) return few;
-    return many;
-}
 
 // An input polygon: the original triangle a fragment comes from.
 struct Source {
