@@ -2,6 +2,8 @@
 // overlay that draws what one step did over the picture: its lines coloured by role (hsr_step_role:
 // subject, written, rejected, context), its triangle's outline, and the pixels it wrote or rejected.
 
+import { drawLineStep, isLineStep, showLineStepKey } from './line_steps.js';
+
 export const ROLE_COLORS = ['#ffd400', '#34d058', '#ff4d4f', '#2fd3ff'];  // subject written rejected context
 const OUTLINE_COLOR = '#ffffff';
 const PLAY_ICON = '<svg viewBox="0 0 16 16" width="14" height="14" aria-hidden="true"><path d="M4 3v10l9-5z" fill="currentColor"/></svg>';
@@ -160,7 +162,12 @@ function typesText(target) {
 export function drawStepOverlay(canvas, steps) {
   const ctx = canvas.getContext('2d');
   ctx.clearRect(0, 0, canvas.width, canvas.height);
+  showLineStepKey(steps);
   if (!steps) return;
+  if (isLineStep(steps)) {
+    drawLineStep(canvas, steps);
+    return;
+  }
   // Lines are drawn one display pixel wide whatever the picture's scale on screen.
   const scale = canvas.width / Math.max(1, canvas.getBoundingClientRect().width || canvas.width);
   const dots = (points, color) => {
