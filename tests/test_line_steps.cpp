@@ -155,7 +155,7 @@ TEST_CASE("line steps: roberts names a front face of the hiding body and draws t
         }
         for (const nlohmann::json& p : loop) {
             bool found = false;
-            for (const glm::dvec2 c : corners) found = found || glm::length(c - glm::dvec2(p[0], p[1])) < 0.05;
+            for (const glm::dvec2 c : corners) found = found || glm::length(c - glm::dvec2(p[0].get<double>(), p[1].get<double>())) < 0.05;
             CHECK(found);
         }
         // The edge under test, whole.
@@ -164,7 +164,8 @@ TEST_CASE("line steps: roberts names a front face of the hiding body and draws t
         const nlohmann::json& line = figure["edge"]["lines"][0];
         const glm::dvec2 w0 = line_reference::to_window(setup.camera, vp, position(s, whole.edges.vertices[2 * e.edge]));
         const glm::dvec2 w1 = line_reference::to_window(setup.camera, vp, position(s, whole.edges.vertices[2 * e.edge + 1]));
-        CHECK(same_segment({line[0], line[1]}, {line[2], line[3]}, w0, w1, 0.05));
+        CHECK(same_segment(glm::dvec2(line[0].get<double>(), line[1].get<double>()),
+                           glm::dvec2(line[2].get<double>(), line[3].get<double>()), w0, w1, 0.05));
         ++checked;
     }
     CHECK(checked > 0);
