@@ -449,6 +449,7 @@ struct hsr::host::FrameRenderer::State {
                         add(a + float(e.t0) * (b - a), a + float(e.t1) * (b - a), HSR_STEP_REJECTED);
                 }
                 steps["figure"] = line_step_figure(scene, camera, drawing, e, style.background);
+                steps["figure"]["algorithm"] = q.algorithm;
                 // The face's outline is its polygon's, as the figure fills it.
                 if (const json& face = steps["figure"]["face"]; face.is_object())
                     for (const json& loop : face["loops"])
