@@ -89,14 +89,18 @@ export default async (h) => {
     return { painted, samples, thick, length, edge: figure.edge.index };
   });
 
-  await check('line steps: appel\'s QI change draws the edge under test thick, with its number', async () => {
-    const { browser, page, step } = await appelAtQiChange();
-    try {
+  // One page for the light theme (the first three checks), one for the dark.
+  let light = null;
+  try {
+    await check('line steps: appel\'s QI change draws the edge under test thick, with its number', async () => {
+      light = await appelAtQiChange({ colorScheme: 'light' });
+      const { page, step } = light;
       const stepText = await page.$eval('#step-text', (e) => e.textContent);
       assert(/QI \d+ to \d+/.test(stepText), `step ${step}: ${stepText}`);
       const state = await overlayState(page);
       assert(state.length > 10, `the edge is ${state.length} pixels long in the picture`);
-      assert(state.thick === state.samples, `the overlay is thick at ${state.thick} of ${state.samples} points along edge ${state.edge}`);
+      assert(state.thick === state.samples,
+        `the overlay is thick at ${state.thick} of ${state.samples} points along edge ${state.edge}`);
       const key = await page.$eval('#line-step-key', (e) => (e.hidden ? '' : e.textContent));
       for (const words of ['edge under test', 'contour line crossed', 'visible part, QI = 0', 'hidden part, QI > 0',
         'quantitative invisibility']) {
@@ -105,14 +109,11 @@ export default async (h) => {
       assert(await page.$eval('#steps .step-key', (e) => getComputedStyle(e).display === 'none'),
         'the general key (subject, written, ...) is still shown');
       await page.screenshot({ path: `${h.screenshotDir}/viewer-appel-step.png`, fullPage: true });
-    } finally {
-      await browser.close();
-    }
-  });
+    });
 
-  await check('line steps: face and edge numbers appear on the picture when asked for', async () => {
-    const { browser, page } = await appelAtQiChange();
-    try {
+    await check('line steps: face and edge numbers appear on the picture when asked for', async () => {
+      assert(light, 'no page at a QI change');
+      const { page } = light;
       const before = await overlayState(page);
       await page.check('#line-labels');
       const after = await overlayState(page);
@@ -121,30 +122,36 @@ export default async (h) => {
       assert(key.includes('face number'), `the key does not explain the numbers: ${key}`);
       await page.uncheck('#line-labels');
       assert((await overlayState(page)).painted === before.painted, 'unchecking did not take the numbers away');
-    } finally {
-      await browser.close();
-    }
-  });
+    });
 
-  for (const colorScheme of ['light', 'dark']) {
-    await check(`line steps: each colour of the key has 4.5:1 contrast on the picture (${colorScheme} theme)`, async () => {
-      const { browser, page } = await appelAtQiChange({ colorScheme });
+    // Each colour of the key against the picture's background, in the page's theme.
+    const checkContrast = async (page, colorScheme) => {
+      const found = await page.evaluate(() => ({
+        background: window.hsrView.lastResponse.steps.figure.background,
+        swatches: [...document.querySelectorAll('#line-step-key .swatch')]
+          .map((s) => [s.dataset.kind, s.style.getPropertyValue('--swatch')]),
+        dark: matchMedia('(prefers-color-scheme: dark)').matches,
+      }));
+      assert(found.dark === (colorScheme === 'dark'), `the page's theme is not ${colorScheme}`);
+      assert(found.swatches.length >= 4, `${found.swatches.length} colours in the key`);
+      for (const [kind, color] of found.swatches) {
+        const ratio = contrast(rgbOf(color), found.background);
+        assert(ratio >= 4.5, `${kind} ${color} on rgb(${found.background}): ${ratio.toFixed(2)}:1`);
+      }
+    };
+    await check('line steps: each colour of the key has 4.5:1 contrast on the picture (light theme)', async () => {
+      assert(light, 'no page at a QI change');
+      await checkContrast(light.page, 'light');
+    });
+    await check('line steps: each colour of the key has 4.5:1 contrast on the picture (dark theme)', async () => {
+      const dark = await appelAtQiChange({ colorScheme: 'dark' });
       try {
-        const found = await page.evaluate(() => ({
-          background: window.hsrView.lastResponse.steps.figure.background,
-          swatches: [...document.querySelectorAll('#line-step-key .swatch')]
-            .map((s) => [s.dataset.kind, s.style.getPropertyValue('--swatch')]),
-          dark: matchMedia('(prefers-color-scheme: dark)').matches,
-        }));
-        assert(found.dark === (colorScheme === 'dark'), `the page's theme is not ${colorScheme}`);
-        assert(found.swatches.length >= 4, `${found.swatches.length} colours in the key`);
-        for (const [kind, color] of found.swatches) {
-          const ratio = contrast(rgbOf(color), found.background);
-          assert(ratio >= 4.5, `${kind} ${color} on rgb(${found.background}): ${ratio.toFixed(2)}:1`);
-        }
+        await checkContrast(dark.page, 'dark');
       } finally {
-        await browser.close();
+        await dark.browser.close();
       }
     });
+  } finally {
+    await light?.browser.close();
   }
 };
