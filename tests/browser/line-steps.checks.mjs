@@ -81,7 +81,7 @@ export default async (h) => {
     for (let t = 0.15; t <= 0.85; t += 0.05) {
       const x = x0 + t * (x1 - x0), y = y0 + t * (y1 - y0);
       samples += 1;
-      // 2.5 display pixels to either side of the line's centre: inside a line 7 wide.
+      // 2.5 display pixels to either side of the line's centre: inside the edge's band, 11 wide.
       if (alpha(x + 2.5 * scale * nx, y + 2.5 * scale * ny) > 0 && alpha(x - 2.5 * scale * nx, y - 2.5 * scale * ny) > 0) {
         thick += 1;
       }

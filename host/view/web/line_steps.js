@@ -114,13 +114,16 @@ export function drawLineStep(canvas, steps) {
     ctx.stroke();
   }
   stroke(ofRole(3), colors.context, 2);
-  // The edge under test: the whole of it, thick, under its pieces.
-  const edgeLines = figure.edge ? figure.edge.lines : ofRole(0);
-  stroke(edgeLines, colors.edge, 7);
-  if (figure.edge) stroke(ofRole(0), colors.edge, 7);
+  // The edge under test: the whole of it as a wide band and a line along its middle, under its
+  // pieces, which stand out from the band by colour and dashes.
+  const edgeLines = figure.edge ? [...figure.edge.lines, ...ofRole(0)] : ofRole(0);
+  ctx.globalAlpha = 0.35;
+  stroke(edgeLines, colors.edge, 11);
+  ctx.globalAlpha = 1;
+  stroke(edgeLines, colors.edge, 2.5);
   ctx.lineCap = 'butt';
-  stroke(ofRole(1), colors.visible, 3);
-  stroke(ofRole(2), colors.hidden, 3, [7, 5]);
+  stroke(ofRole(1), colors.visible, 4);
+  stroke(ofRole(2), colors.hidden, 4, [7, 5]);
 
   const text = (words, x, y, color, size) => {
     ctx.font = `600 ${size * scale}px system-ui, sans-serif`;
