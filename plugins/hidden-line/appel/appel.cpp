@@ -433,8 +433,8 @@ private:
         const auto part = static_cast<unsigned long long>(seed_counts_.seeds);
         if (trace.russian() && first)
             trace.emit(event,
-                       "%zu контурных рёбер (между лицевой и нелицевой гранью); часть %llu: начальная вершина %u, "
-                       "её количественная невидимость, подсчитанная по всем граням, равна %d",
+                       "%zu контурных рёбер; часть %llu: в начальной вершине %u подсчёт по всем граням даёт "
+                       "количественную невидимость %d",
                        geometry_.contours.size(), part, seed, seed_qi_);
         else if (trace.russian())
             trace.emit(event, "часть %llu: начальная вершина %u, её количественная невидимость равна %d", part, seed,
