@@ -124,6 +124,24 @@ export default async (h) => {
       assert((await overlayState(page)).painted === before.painted, 'unchecking did not take the numbers away');
     });
 
+    await check('line steps: in Russian the key speaks of количественная невидимость', async () => {
+      assert(light, 'no page at a QI change');
+      const { page } = light;
+      await page.click('button[data-language="ru"]');
+      await page.waitForFunction(() => /количественная невидимость меняется/.test(
+        document.querySelector('#step-text').textContent), null, { timeout: 20_000 });
+      await settled(page, 0);
+      const key = await page.$eval('#line-step-key', (e) => e.textContent);
+      for (const words of ['проверяемое ребро', 'контурная линия', 'КН = 0', 'количественная невидимость']) {
+        assert(key.includes(words), `the key does not say «${words}»: ${key}`);
+      }
+      const stepText = await page.$eval('#step-text', (e) => e.textContent);
+      assert(/количественная невидимость меняется с \d+ на \d+/.test(stepText), `the step text: ${stepText}`);
+      await page.click('button[data-language="en"]');
+      await page.waitForFunction(() => /QI \d+ to \d+/.test(document.querySelector('#step-text').textContent), null,
+        { timeout: 20_000 });
+    });
+
     // Each colour of the key against the picture's background, in the page's theme.
     const checkContrast = async (page, colorScheme) => {
       const found = await page.evaluate(() => ({
