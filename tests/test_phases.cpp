@@ -41,6 +41,8 @@ std::vector<Case> cases_for(const std::string& plugin_name) {
         return cases;
     }
     for (const char* file : {"boxes.scene", "three-polygons.scene", "cube.obj"}) {
+        // Roberts takes closed convex bodies only: it refuses the open polygons.
+        if (plugin_name == "roberts" && std::string(file) == "three-polygons.scene") continue;
         const hsr::SceneData& data = model(file);
         cases.push_back({std::string(file) + " perspective", data.view(), orbit(data, 30.0f, 20.0f, 1.2f, false, 64, 48)});
         cases.push_back({std::string(file) + " orthographic", data.view(), orbit(data, -110.0f, -35.0f, 1.0f, true, 40, 48)});

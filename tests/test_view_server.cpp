@@ -496,6 +496,13 @@ TEST_CASE("view: roberts and appel steps send the plugin's lines with roles and 
             CHECK(line[4].get<int>() >= HSR_STEP_SUBJECT);
             CHECK(line[4].get<int>() <= HSR_STEP_CONTEXT);
         }
+        // The figure the page draws the step from: the edge under test, numbers for the labels.
+        REQUIRE(steps["figure"].is_object());
+        CHECK(steps["figure"]["algorithm"] == algorithm);
+        REQUIRE(steps["figure"]["edge"].is_object());
+        if (std::string(algorithm) == "roberts") CHECK(steps["figure"]["edge"]["index"] == 0);
+        CHECK(steps["figure"]["labels"]["edges"].size() == 12);
+        CHECK(steps["figure"]["background"] == json::array({255, 255, 255}));
         request["step"] = 1;
         const json first = s.post_json("/api/frame", request)["steps"];
         if (std::string(algorithm) == "appel") CHECK(first["text"].get<std::string>().find("contour edges") != std::string::npos);

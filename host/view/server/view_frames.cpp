@@ -4,6 +4,7 @@
 #include "view/server/view_frames.hpp"
 
 #include "common/options.hpp"
+#include "view/server/view_line_steps.hpp"
 #include "view/server/view_request.hpp"
 #include "view/server/view_steps.hpp"
 
@@ -475,12 +476,22 @@ struct hsr::host::FrameRenderer::State {
                     if (std::isfinite(e.t0) && std::isfinite(e.t1))
                         add(a + float(e.t0) * (b - a), a + float(e.t1) * (b - a), HSR_STEP_REJECTED);
                 }
-                if (e.face < scene.triangle_count) outline = triangle_outline(scene, camera, e.face, 0);
+                steps["figure"] = line_step_figure(scene, camera, drawing, e, style.background);
+                steps["figure"]["algorithm"] = q.algorithm;
+                // The face's outline is its polygon's, as the figure fills it.
+                if (const json& face = steps["figure"]["face"]; face.is_object())
+                    for (const json& loop : face["loops"])
+                        for (std::size_t k = 0; k < loop.size(); ++k) {
+                            const json& p = loop[k];
+                            const json& q = loop[(k + 1) % loop.size()];
+                            outline.push_back({p[0], p[1], q[0], q[1]});
+                        }
             } else {
                 steps["type"] = "";
                 steps["phase"] = nullptr;
                 steps["text"] = no_steps_text(true, q.language);
                 steps["face"] = nullptr;
+                steps["figure"] = nullptr;
             }
             steps["lines"] = std::move(lines);
             steps["outline"] = std::move(outline);

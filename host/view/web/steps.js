@@ -3,6 +3,7 @@
 // subject, written, rejected, context), its triangle's outline, and the pixels it wrote or rejected.
 
 import { tr } from './i18n.js';
+import { drawLineStep, isLineStep, showLineStepKey } from './line_steps.js';
 
 export const ROLE_COLORS = ['#ffd400', '#34d058', '#ff4d4f', '#2fd3ff'];  // subject written rejected context
 const OUTLINE_COLOR = '#ffffff';
@@ -174,7 +175,12 @@ function typesText(target) {
 export function drawStepOverlay(canvas, steps) {
   const ctx = canvas.getContext('2d');
   ctx.clearRect(0, 0, canvas.width, canvas.height);
+  showLineStepKey(steps);
   if (!steps) return;
+  if (isLineStep(steps)) {
+    drawLineStep(canvas, steps);
+    return;
+  }
   // Lines are drawn one display pixel wide whatever the picture's scale on screen.
   const scale = canvas.width / Math.max(1, canvas.getBoundingClientRect().width || canvas.width);
   const dots = (points, color) => {

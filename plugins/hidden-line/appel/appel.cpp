@@ -42,6 +42,8 @@ constexpr int32_t kUnknownQi = std::numeric_limits<int32_t>::min();
 constexpr uint32_t kNone = 0xFFFFFFFFu;
 // How many vertices of a component are tried as its seed.
 constexpr size_t kSeedCandidates = 16;
+// Neighbouring triangles whose unit normals agree this closely are one flat face (a polygon).
+constexpr double kCoplanarCosine = 0.999999;
 
 struct SeedCounts {
     uint64_t seeds = 0, seeds_ambiguous = 0, seed_face_tests = 0;
@@ -54,6 +56,15 @@ public:
         "appel", "1.0.0",
         "Appel (1967) quantitative invisibility: QI counted at one vertex per part, carried along the edges, "
         "changed behind contour edges"};
+    // The steps of Appel's method as a textbook gives them. The contour lines are found once, for
+    // the whole scene, and shown with the first part's start vertex; the vertex rule (faces at a
+    // vertex that hide an edge leaving it) is folded into the walk's first step.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"seed-qi", "find the contour lines; count the QI of a start vertex of each part directly"},
+        {"walk-edge", "walk the next edge from a vertex of known QI"},
+        {"qi-change", "QI changes where the edge passes behind a contour line or through a face"},
+        {"draw-visible", "draw the pieces of the edge whose QI is 0"},
+    };
     static inline const ParamSpec params[] = {
         ParamSpec::choice("prefilter", "grid", "grid|none",
                           "find the contour edges an edge may pass behind with a screen grid, or test every one"),
@@ -281,10 +292,30 @@ private:
                 const glm::dvec2 p = geometry_.window_at(from, to, t0), q = geometry_.window_at(from, to, t1);
                 trace.line(float(p.x), float(p.y), float(q.x), float(q.y), role);
             };
+            const std::vector<QiChange>& changes = edge_walk_.changes();
+            const bool russian = trace.russian();
+            // The walk's pieces up to `until` (a parameter along it), each as visible (QI 0) or
+            // hidden (QI > 0), after the whole edge as the subject of the step.
+            auto trace_pieces = [&](double until) {
+                trace_piece(0.0, 1.0, HSR_STEP_SUBJECT);
+                double from = 0.0;
+                int32_t piece_qi = qi_start;
+                for (const QiChange& change : changes) {
+                    if (from >= until) break;
+                    const double to = std::min(change.t, until);
+                    if (to > from) trace_piece(from, to, piece_qi <= 0 ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED);
+                    from = std::max(from, change.t);
+                    piece_qi = change.qi;
+                }
+                if (until > from) trace_piece(from, until, piece_qi <= 0 ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED);
+            };
             if (trace.enabled()) {
                 trace_piece(0.0, 1.0, HSR_STEP_SUBJECT);
-                trace.emit({"edge-begin", r, HSR_NO_FACE, object, std::max(qi_start, 0), param(0.0)},
-                           "edge %u: starts with QI %d", r, std::max(qi_start, 0));
+                trace.emit({.type = "edge-begin", .edge = r, .object = object, .qi = std::max(qi_start, 0),
+                            .t0 = param(0.0), .phase = "walk-edge"},
+                           russian ? "ребро %u: начинаем обход, количественная невидимость в начале равна %d"
+                                   : "edge %u: the walk starts with QI %d (the number of faces in front of it)",
+                           r, std::max(qi_start, 0));
             }
             double t0 = 0.0;
             int32_t qi = qi_start;
@@ -296,32 +327,83 @@ private:
                 if (reversed) std::swap(p, q);
                 segments.add(glm::vec2(p), glm::vec2(q), r, flags, shown);
             };
-            const std::vector<QiChange>& changes = edge_walk_.changes();
             for (size_t k = 0; k < changes.size(); ++k) {
                 const QiChange& change = changes[k];
                 piece(change.t);
                 if (trace.enabled()) {
-                    const uint32_t face_object = scene_->face_object != nullptr && change.face != HSR_NO_FACE
-                                                     ? scene_->face_object[change.face]
-                                                     : HSR_NO_OBJECT;
-                    // The piece before the change as context, the one after it as shown with the new QI.
-                    const double next = k + 1 < changes.size() ? changes[k + 1].t : 1.0;
-                    trace_piece(t0, change.t, HSR_STEP_CONTEXT);
-                    trace_piece(change.t, std::max(next, change.t), change.qi <= 0 ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED);
-                    trace.emit({"qi-change", r, change.face, face_object, std::max(change.qi, 0), param(change.t)},
-                               "edge %u: QI %d to %d at t %.4g (crossing a contour of face %u)", r, std::max(qi, 0),
-                               std::max(change.qi, 0), param(change.t), change.face);
+                    const uint32_t face = change.face != HSR_NO_FACE ? polygon_face(change.face) : HSR_NO_FACE;
+                    const uint32_t face_object =
+                        scene_->face_object != nullptr && face != HSR_NO_FACE ? scene_->face_object[face] : HSR_NO_OBJECT;
+                    // The edge, its pieces walked so far up to the next change, and the contour line
+                    // it passes behind.
+                    trace_pieces(k + 1 < changes.size() ? std::max(changes[k + 1].t, change.t) : 1.0);
+                    const bool behind_contour = change.contour != appel::kNoContour;
+                    if (behind_contour) {
+                        const appel::ContourEdge& c = geometry_.contours[change.contour];
+                        const glm::dvec2 p = geometry_.window[c.v0], q = geometry_.window[c.v1];
+                        trace.line(float(p.x), float(p.y), float(q.x), float(q.y), HSR_STEP_CONTEXT);
+                    }
+                    const int32_t before = std::max(qi, 0), after = std::max(change.qi, 0);
+                    if (russian)
+                        trace.emit({"qi-change", r, face, face_object, after, param(change.t), std::nan(""), "qi-change"},
+                                   behind_contour
+                                       ? "ребро %u: количественная невидимость меняется с %d на %d при t = %.4g — "
+                                         "ребро проходит за контурной линией грани %u"
+                                       : "ребро %u: количественная невидимость меняется с %d на %d при t = %.4g — "
+                                         "ребро пронзает грань %u",
+                                   r, before, after, param(change.t), face);
+                    else
+                        trace.emit({"qi-change", r, face, face_object, after, param(change.t), std::nan(""), "qi-change"},
+                                   behind_contour ? "edge %u: QI %d to %d at t %.4g (passing behind a contour line of face %u)"
+                                                  : "edge %u: QI %d to %d at t %.4g (passing through face %u)",
+                                   r, before, after, param(change.t), face);
                 }
                 t0 = std::max(t0, change.t);
                 qi = change.qi;
             }
             piece(1.0);
             if (trace.enabled()) {
-                trace_piece(0.0, 1.0, HSR_STEP_SUBJECT);
-                trace.emit({"edge-end", r, HSR_NO_FACE, object, std::max(qi_end, 0), param(1.0)},
-                           "edge %u: ends with QI %d", r, std::max(qi_end, 0));
+                trace_pieces(1.0);
+                trace.emit({.type = "edge-end", .edge = r, .object = object, .qi = std::max(qi_end, 0),
+                            .t0 = param(1.0), .phase = "draw-visible"},
+                           russian ? "ребро %u: в конце количественная невидимость %d; рисуем участки с невидимостью 0"
+                                   : "edge %u: ends with QI %d; its pieces of QI 0 are drawn",
+                           r, std::max(qi_end, 0));
             }
         }
+    }
+
+    // The face a person sees: the polygon of face f's object (its triangles joined across edges
+    // whose faces are coplanar), named by its lowest triangle, as the viewer numbers faces.
+    uint32_t polygon_face(uint32_t f) const {
+        const hsr_scene& s = *scene_;
+        if (s.edge_neighbors == nullptr || f >= s.triangle_count) return f;
+        auto normal = [&](uint32_t t) {
+            const glm::dvec3 a = geometry_.position[s.indices[3 * size_t(t)]];
+            const glm::dvec3 b = geometry_.position[s.indices[3 * size_t(t) + 1]];
+            const glm::dvec3 c = geometry_.position[s.indices[3 * size_t(t) + 2]];
+            const glm::dvec3 n = glm::cross(b - a, c - a);
+            const double length = glm::length(n);
+            return length > 0.0 ? n / length : n;
+        };
+        const glm::dvec3 n = normal(f);
+        polygon_stack_.assign(1, f);
+        polygon_seen_.assign(1, f);
+        uint32_t lowest = f;
+        while (!polygon_stack_.empty()) {
+            const uint32_t t = polygon_stack_.back();
+            polygon_stack_.pop_back();
+            for (int i = 0; i < 3; ++i) {
+                const int32_t u = s.edge_neighbors[3 * size_t(t) + i];
+                if (u == HSR_NO_NEIGHBOR || uint32_t(u) >= s.triangle_count) continue;
+                if (std::find(polygon_seen_.begin(), polygon_seen_.end(), uint32_t(u)) != polygon_seen_.end()) continue;
+                if (glm::dot(normal(uint32_t(u)), n) < kCoplanarCosine) continue;
+                polygon_seen_.push_back(uint32_t(u));
+                polygon_stack_.push_back(uint32_t(u));
+                lowest = std::min(lowest, uint32_t(u));
+            }
+        }
+        return lowest;
     }
 
     void trace_seed(uint32_t seed, const hsr::sdk::LineRequest& request, const hsr::sdk::Trace& trace) const {
@@ -346,13 +428,24 @@ private:
         const float cross = 4.0f;  // pixels: a cross marking the seed vertex
         trace.line(float(at.x) - cross, float(at.y), float(at.x) + cross, float(at.y), HSR_STEP_SUBJECT);
         trace.line(float(at.x), float(at.y) - cross, float(at.x), float(at.y) + cross, HSR_STEP_SUBJECT);
-        if (first)
-            trace.emit({"component-seed", edge, HSR_NO_FACE, object, seed_qi_, t},
-                       "%zu contour edges; part %llu starts at vertex %u with QI %d", geometry_.contours.size(),
-                       static_cast<unsigned long long>(seed_counts_.seeds), seed, seed_qi_);
+        const hsr::sdk::Trace::Event event{"component-seed", edge, HSR_NO_FACE, object, seed_qi_, t, std::nan(""),
+                                           "seed-qi"};
+        const auto part = static_cast<unsigned long long>(seed_counts_.seeds);
+        if (trace.russian() && first)
+            trace.emit(event,
+                       "%zu контурных рёбер; часть %llu: в начальной вершине %u подсчёт по всем граням даёт "
+                       "количественную невидимость %d",
+                       geometry_.contours.size(), part, seed, seed_qi_);
+        else if (trace.russian())
+            trace.emit(event, "часть %llu: начальная вершина %u, её количественная невидимость равна %d", part, seed,
+                       seed_qi_);
+        else if (first)
+            trace.emit(event,
+                       "%zu contour edges; part %llu starts at vertex %u with QI %d (faces counted between it and "
+                       "the eye)",
+                       geometry_.contours.size(), part, seed, seed_qi_);
         else
-            trace.emit({"component-seed", edge, HSR_NO_FACE, object, seed_qi_, t}, "part %llu starts at vertex %u with QI %d",
-                       static_cast<unsigned long long>(seed_counts_.seeds), seed, seed_qi_);
+            trace.emit(event, "part %llu starts at vertex %u with QI %d", part, seed, seed_qi_);
     }
 
     const bool use_grid_;
@@ -370,6 +463,7 @@ private:
     std::vector<uint8_t> walked_;
     int32_t seed_qi_ = 0;
     SeedCounts seed_counts_;
+    mutable std::vector<uint32_t> polygon_stack_, polygon_seen_;  // polygon_face's scratch (steps only)
 };
 
 }  // namespace

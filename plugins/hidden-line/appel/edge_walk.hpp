@@ -23,10 +23,13 @@ namespace {
 // edge passes behind the vertex of a contour, for example.
 constexpr double kSameParameter = 1e-9;
 
+inline constexpr uint32_t kNoContour = 0xFFFFFFFFu;
+
 struct QiChange {
     double t;    // along the walk, 0 at its first vertex
     int32_t qi;  // after the change
     uint32_t face;
+    uint32_t contour;  // the contour edge passed behind (ViewGeometry::contours), or kNoContour: a face pierced
 };
 
 struct WalkCounts {
@@ -82,7 +85,7 @@ public:
                 if (!(viewer_->distance(c0 + s * (c1 - c0)) < viewer_->distance(a + t * (b - a)))) return;
             }
             ++counts_.crossings;
-            crossings_.push_back({t, side_b > 0 ? c.weight : -c.weight, c.face});
+            crossings_.push_back({t, side_b > 0 ? c.weight : -c.weight, c.face, index});
         };
         next_stamp();  // one stamp per walk, for contour edges and faces alike
         if (use_grid_) {
@@ -116,7 +119,7 @@ public:
                 if (!line_meets_triangle(a, b, f)) continue;
                 ++counts_.piercings;
                 const double t = std::clamp(da / (da - db), 0.0, 1.0);
-                crossings_.push_back({t, hidden_b ? 1 : -1, f});
+                crossings_.push_back({t, hidden_b ? 1 : -1, f, kNoContour});
             }
         });
 
@@ -127,15 +130,16 @@ public:
         for (size_t k = 0; k < crossings_.size();) {
             const double t = crossings_[k].t;
             int32_t delta = 0;
-            uint32_t face = HSR_NO_FACE;
+            uint32_t face = HSR_NO_FACE, contour = kNoContour;
             for (; k < crossings_.size() && crossings_[k].t - t <= kSameParameter; ++k) {
                 delta += crossings_[k].delta;
                 face = crossings_[k].face;
+                contour = crossings_[k].contour;
             }
             if (delta == 0) continue;
             qi += delta;
             if (qi < 0) ++counts_.qi_conflicts;
-            changes_.push_back({t, qi, face});
+            changes_.push_back({t, qi, face, contour});
         }
         counts_.qi_changes += changes_.size();
         return qi;
@@ -150,6 +154,7 @@ private:
         double t;       // along the walk, 0 at its first vertex
         int32_t delta;  // change of QI
         uint32_t face;  // the face that starts or stops hiding the edge
+        uint32_t contour;
     };
 
     // Does the line through a and b pass through the inside of face f? Signed volumes of the line

@@ -124,6 +124,18 @@ public:
         "roberts", "1.0.0",
         "Roberts (1963): convex bodies as plane matrices, parametric visibility test, penetration lines"};
     static inline const std::array<hsr::sdk::ParamSpec, 0> params{};
+    // The steps of Roberts' method as a textbook gives them. The parametric test of one edge against
+    // one body (every plane's inequality solved, the interval t0..t1 where all hold) is one step; the
+    // penetration lines are found for all pairs of bodies at once, and each is then tested as an edge.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"back-faces", "remove each body's back faces (planes turned away from the eye)"},
+        {"own-body", "an edge between two back faces is hidden by its own body"},
+        {"edge", "take the next edge"},
+        {"pretest", "skip a body whose box or depth cannot hide the edge"},
+        {"hidden-interval", "find the interval t0..t1 of the edge a body hides"},
+        {"visible-pieces", "keep the visible pieces of the edge"},
+        {"penetration", "penetration lines where two bodies meet, tested as edges"},
+    };
 
     explicit Roberts(const hsr::sdk::Params&) {}
 
@@ -138,6 +150,7 @@ public:
         builder_.build(scene, set_);
         view_.load(camera);
         prepare_bodies(scene.raw());
+        russian_ = trace.russian();
         if (trace.enabled()) trace_bodies(scene.raw(), trace);
 
         Stats stats;
@@ -151,13 +164,19 @@ public:
             double t_begin, t_end;
             if (!view_.in_front(a, b, t_begin, t_end)) {
                 ++stats.edges_behind_eye;
-                if (trace.enabled()) trace.emit({.type = "edge-behind-eye", .edge = e, .object = object});
+                if (trace.enabled())
+                    trace.emit({.type = "edge-behind-eye", .edge = e, .object = object, .phase = "edge"},
+                               russian_ ? "ребро %u лежит позади наблюдателя и не рисуется"
+                                        : "edge %u lies behind the eye: it is not drawn",
+                               e);
                 continue;
             }
             if (trace.enabled()) {
                 trace_line(a, b - a, t_begin, t_end, HSR_STEP_SUBJECT, trace);
-                trace.emit({.type = "edge-begin", .edge = e, .object = object, .t0 = t_begin, .t1 = t_end},
-                           "edge %u of body %u: tested against the bodies nearest first", e, object);
+                trace.emit({.type = "edge-begin", .edge = e, .object = object, .t0 = t_begin, .t1 = t_end, .phase = "edge"},
+                           russian_ ? "ребро %u тела %u: проверяем его по всем телам, от ближних к дальним"
+                                    : "edge %u of body %u: tested against the bodies nearest first",
+                           e, object);
             }
             // Roberts' first step: an edge whose faces are all turned away is hidden by its own body.
             const bool back = plane_is_back_[set_.plane_of_triangle[face0]] &&
@@ -166,8 +185,11 @@ public:
                 ++stats.edges_back;
                 if (trace.enabled()) {
                     trace_line(a, b - a, t_begin, t_end, HSR_STEP_REJECTED, trace);
-                    trace.emit({.type = "back-edge", .edge = e, .face = face0, .object = object, .t0 = t_begin, .t1 = t_end},
-                               "edge %u: every face of it is turned away, so its own body hides it", e);
+                    trace.emit({.type = "back-edge", .edge = e, .face = set_.plane_face[set_.plane_of_triangle[face0]],
+                                .object = object, .t0 = t_begin, .t1 = t_end, .phase = "own-body"},
+                               russian_ ? "ребро %u: обе его грани нелицевые, ребро закрыто собственным телом"
+                                        : "edge %u: every face of it is turned away, so its own body hides it",
+                               e);
                 }
                 if (want_hidden) {
                     segments.add(window_at(a, b - a, t_begin), window_at(a, b - a, t_end), e, request.flags(e), -1);
@@ -175,7 +197,8 @@ public:
                 }
                 if (trace.enabled()) {
                     trace_line(a, b - a, t_begin, t_end, HSR_STEP_REJECTED, trace);
-                    trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = -1}, "edge %u: hidden", e);
+                    trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = -1, .phase = "own-body"},
+                               russian_ ? "ребро %u: невидимо" : "edge %u: hidden", e);
                 }
                 continue;
             }
@@ -183,8 +206,10 @@ public:
                 resolve(a, b - a, t_begin, t_end, e, request.flags(e), body, want_hidden, segments, trace, stats);
             if (trace.enabled()) {
                 trace_line(a, b - a, t_begin, t_end, visible ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED, trace);
-                trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = visible ? 0 : -1},
-                           visible ? "edge %u: done, visible in part or whole" : "edge %u: done, hidden", e);
+                trace.emit({.type = "edge-end", .edge = e, .object = object, .qi = visible ? 0 : -1, .phase = "visible-pieces"},
+                           russian_ ? (visible ? "ребро %u: готово, видимо целиком или частично" : "ребро %u: готово, невидимо")
+                                    : (visible ? "edge %u: done, visible in part or whole" : "edge %u: done, hidden"),
+                           e);
             }
         }
 
@@ -197,11 +222,16 @@ public:
             const bool in_front = view_.in_front(line.start, line.end, t_begin, t_end);
             if (trace.enabled()) {
                 if (in_front) trace_line(line.start, line.end - line.start, t_begin, t_end, HSR_STEP_SUBJECT, trace);
-                trace.emit({.type = "penetration-begin", .face = set_.plane_face[line.plane_a], .object = A.object},
-                           "penetration line: where body %u meets body %u", A.object, B.object);
+                trace.emit({.type = "penetration-begin", .face = set_.plane_face[line.plane_a], .object = A.object,
+                            .phase = "penetration"},
+                           russian_ ? "линия пересечения: здесь тело %u входит в тело %u"
+                                    : "penetration line: where body %u meets body %u",
+                           A.object, B.object);
                 if (in_front) trace_line(line.start, line.end - line.start, t_begin, t_end, HSR_STEP_SUBJECT, trace);
-                trace.emit({.type = "penetration-body", .face = set_.plane_face[line.plane_b], .object = B.object},
-                           "penetration line: on a face of body %u", B.object);
+                trace.emit({.type = "penetration-body", .face = set_.plane_face[line.plane_b], .object = B.object,
+                            .phase = "penetration"},
+                           russian_ ? "линия пересечения лежит на грани тела %u" : "penetration line: on a face of body %u",
+                           B.object);
             }
             bool visible = false;
             // A line that comes out as a point in the picture (a short one, or one seen end-on) is
@@ -218,8 +248,9 @@ public:
                 if (in_front)
                     trace_line(line.start, line.end - line.start, t_begin, t_end,
                                visible ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED, trace);
-                trace.emit({.type = "penetration-end", .qi = visible ? 0 : -1},
-                           visible ? "penetration line: visible in part or whole" : "penetration line: hidden");
+                trace.emit({.type = "penetration-end", .qi = visible ? 0 : -1, .phase = "penetration"},
+                           russian_ ? (visible ? "линия пересечения видима целиком или частично" : "линия пересечения невидима")
+                                    : (visible ? "penetration line: visible in part or whole" : "penetration line: hidden"));
             }
         }
 
@@ -438,8 +469,9 @@ private:
                         trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
                         trace_box(screens_[later].body, trace);
                         trace.emit({.type = "rejected-by-depth", .edge = edge,
-                                    .object = set_.bodies[screens_[later].body].object},
-                                   "body %u lies wholly behind the line: it cannot hide it",
+                                    .object = set_.bodies[screens_[later].body].object, .phase = "pretest"},
+                                   russian_ ? "тело %u целиком дальше ребра и закрыть его не может"
+                                            : "body %u lies wholly behind the line: it cannot hide it",
                                    set_.bodies[screens_[later].body].object);
                     }
                 }
@@ -452,8 +484,11 @@ private:
                 if (trace.enabled()) {
                     trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
                     trace_box(body, trace);
-                    trace.emit({.type = "rejected-by-bounds", .edge = edge, .object = set_.bodies[body].object},
-                               "body %u: its box in the picture misses the line", set_.bodies[body].object);
+                    trace.emit({.type = "rejected-by-bounds", .edge = edge, .object = set_.bodies[body].object,
+                                .phase = "pretest"},
+                               russian_ ? "тело %u: его габаритный прямоугольник на экране не задевает ребро"
+                                        : "body %u: its box in the picture misses the line",
+                               set_.bodies[body].object);
                 }
                 continue;
             }
@@ -481,11 +516,13 @@ private:
                                                                           0.5 * (hidden.t0 + hidden.t1));
                 trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
                 trace_line(start, direction, hidden.t0, hidden.t1, HSR_STEP_REJECTED, trace);
-                trace_box(body, trace);
-                trace.emit({.type = "hidden-by", .edge = edge,
-                            .face = exit == UINT32_MAX ? HSR_NO_FACE : set_.plane_face[exit], .object = object,
-                            .t0 = hidden.t0, .t1 = hidden.t1},
-                           "body %u hides t %.4g to %.4g of the line", object, hidden.t0, hidden.t1);
+                trace_front_polygons(body, trace);
+                const uint32_t face = exit == UINT32_MAX ? HSR_NO_FACE : set_.plane_face[exit];
+                trace.emit({.type = "hidden-by", .edge = edge, .face = face, .object = object, .t0 = hidden.t0,
+                            .t1 = hidden.t1, .phase = "hidden-interval"},
+                           russian_ ? "тело %u закрывает участок t = %.4g … %.4g (его грань %u ближе к наблюдателю)"
+                                    : "body %u hides t %.4g to %.4g of the line (its face %u lies in front)",
+                           object, hidden.t0, hidden.t1, face);
             }
             // Each piece loses what the body hides: at most two pieces are left of it.
             next_pieces_.clear();
@@ -514,8 +551,10 @@ private:
             if (trace.enabled()) {
                 trace_line(start, direction, t_begin, t_end, HSR_STEP_SUBJECT, trace);
                 trace_line(start, direction, piece.t0, piece.t1, HSR_STEP_WRITTEN, trace);
-                trace.emit({.type = "visible", .edge = edge, .qi = 0, .t0 = piece.t0, .t1 = piece.t1},
-                           "visible: t %.4g to %.4g of the line", piece.t0, piece.t1);
+                trace.emit({.type = "visible", .edge = edge, .qi = 0, .t0 = piece.t0, .t1 = piece.t1,
+                            .phase = "visible-pieces"},
+                           russian_ ? "видимый участок: t = %.4g … %.4g" : "visible: t %.4g to %.4g of the line",
+                           piece.t0, piece.t1);
             }
             hidden_from = piece.t1;
         }
@@ -545,33 +584,50 @@ private:
         trace.line(x1, y1, x0, y1, HSR_STEP_CONTEXT);
         trace.line(x0, y1, x0, y0, HSR_STEP_CONTEXT);
     }
-    // One "body" event per body, showing the edges of its triangles that face the eye (CONTEXT).
+    // The edges of a body's faces turned toward the eye, as lines of the next event (CONTEXT): the
+    // sides of its polygons, never the diagonals a triangulation added inside one.
+    void trace_front_polygons(uint32_t b, const hsr::sdk::Trace& trace) const {
+        const hsr_scene& s = *scene_;
+        for (uint32_t k = body_triangle_first_[b]; k < body_triangle_first_[b + 1]; ++k) {
+            const uint32_t t = body_triangles_[k];
+            const uint32_t plane = set_.plane_of_triangle[t];
+            if (plane_is_back_[plane]) continue;
+            for (int i = 0; i < 3; ++i) {
+                const int32_t n = s.edge_neighbors[3 * size_t(t) + i];
+                if (n != HSR_NO_NEIGHBOR) {
+                    const uint32_t other = set_.plane_of_triangle[uint32_t(n)];
+                    if (other == plane) continue;                                // a diagonal
+                    if (!plane_is_back_[other] && uint32_t(n) < t) continue;  // drawn from the other side
+                }
+                const glm::dvec3 a = position(s, s.indices[3 * size_t(t) + i]);
+                const glm::dvec3 c = position(s, s.indices[3 * size_t(t) + (i + 1) % 3]);
+                double t_begin, t_end;
+                if (view_.in_front(a, c, t_begin, t_end)) trace_line(a, c - a, t_begin, t_end, HSR_STEP_CONTEXT, trace);
+            }
+        }
+    }
+    // One "body" event per body, showing the sides of its faces that face the eye (CONTEXT).
     void trace_bodies(const hsr_scene& s, const hsr::sdk::Trace& trace) {
+        scene_ = &s;
         // The triangles of each body, grouped by a counting sort over the planes' bodies.
-        std::vector<uint32_t> body_of_plane(set_.planes.size(), 0), first(set_.bodies.size() + 1, 0), order(s.triangle_count);
+        std::vector<uint32_t> body_of_plane(set_.planes.size(), 0);
+        body_triangle_first_.assign(set_.bodies.size() + 1, 0);
+        body_triangles_.resize(s.triangle_count);
         for (uint32_t b = 0; b < set_.bodies.size(); ++b)
             for (uint32_t j = 0; j < set_.bodies[b].plane_count; ++j) body_of_plane[set_.bodies[b].first_plane + j] = b;
-        for (uint32_t t = 0; t < s.triangle_count; ++t) ++first[body_of_plane[set_.plane_of_triangle[t]] + 1];
-        for (size_t b = 0; b < set_.bodies.size(); ++b) first[b + 1] += first[b];
-        std::vector<uint32_t> next(first.begin(), first.end() - 1);
-        for (uint32_t t = 0; t < s.triangle_count; ++t) order[next[body_of_plane[set_.plane_of_triangle[t]]]++] = t;
+        for (uint32_t t = 0; t < s.triangle_count; ++t) ++body_triangle_first_[body_of_plane[set_.plane_of_triangle[t]] + 1];
+        for (size_t b = 0; b < set_.bodies.size(); ++b) body_triangle_first_[b + 1] += body_triangle_first_[b];
+        std::vector<uint32_t> next(body_triangle_first_.begin(), body_triangle_first_.end() - 1);
+        for (uint32_t t = 0; t < s.triangle_count; ++t) body_triangles_[next[body_of_plane[set_.plane_of_triangle[t]]]++] = t;
         for (uint32_t b = 0; b < set_.bodies.size(); ++b) {
             const roberts::Body& body = set_.bodies[b];
-            for (uint32_t k = first[b]; k < first[b + 1]; ++k) {
-                const uint32_t t = order[k];
-                if (plane_is_back_[set_.plane_of_triangle[t]]) continue;
-                glm::dvec3 corner[3];
-                bool in_front = true;
-                for (int c = 0; c < 3; ++c) {
-                    corner[c] = position(s, s.indices[3 * size_t(t) + c]);
-                    in_front = in_front && (!view_.perspective || view_.clip_w(corner[c]) > view_.near_w);
-                }
-                if (!in_front) continue;
-                for (int c = 0; c < 3; ++c) trace_line(corner[c], corner[(c + 1) % 3] - corner[c], 0.0, 1.0, HSR_STEP_CONTEXT, trace);
-            }
-            trace.emit({.type = "body", .face = set_.plane_face[body.first_plane], .object = body.object},
-                       "body %u: %u planes, %u of them facing the eye", body.object, body.plane_count,
-                       body_views_[b].exact.front_count);
+            trace_front_polygons(b, trace);
+            const uint32_t front = body_views_[b].exact.front_count;
+            trace.emit({.type = "body", .face = set_.plane_face[body.first_plane], .object = body.object,
+                        .phase = "back-faces"},
+                       russian_ ? "тело %u: %u граней; к наблюдателю обращены %u, остальные %u — нелицевые, их удаляем"
+                                : "body %u: %u planes, %u of them facing the eye; the %u back faces are removed",
+                       body.object, body.plane_count, front, body.plane_count - front);
         }
     }
 
@@ -593,6 +649,11 @@ private:
     std::vector<Screen> screens_;            // nearest body first
     std::vector<Interval> pieces_, next_pieces_;
     std::vector<roberts::PenetrationLine> penetration_lines_;
+    // Steps only: the language of their texts, and each body's triangles (body_triangles_ from
+    // body_triangle_first_[b] to body_triangle_first_[b + 1]).
+    bool russian_ = false;
+    const hsr_scene* scene_ = nullptr;
+    std::vector<uint32_t> body_triangle_first_, body_triangles_;
 };
 
 }  // namespace
