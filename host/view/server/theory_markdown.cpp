@@ -326,8 +326,9 @@ std::string hsr::host::flowchart_svg(const Flowchart& chart, bool russian) {
         const int d = std::clamp(n.depth, 0, 8);
         Box& b = boxes[i];
         if (n.kind == NodeKind::start || n.kind == NodeKind::finish) {
-            b.left = chart_width / 2 - 45;
-            b.right = chart_width / 2 + 45;
+            const double centre = (margin + chart_width - right_margin) / 2;
+            b.left = centre - 45;
+            b.right = centre + 45;
             texts[i] = {n.text};
         } else {
             b.left = margin + d * indent_left;
@@ -374,8 +375,8 @@ std::string hsr::host::flowchart_svg(const Flowchart& chart, bool russian) {
             const double lane = b.left - 9;
             const double out_y = e.from == e.to ? a.bottom - 6 : a.middle() + 4;
             path = fmt::format("M{} {}H{}V{}H{}", number(a.left), number(out_y), number(lane), number(b.middle() - 4), number(b.left));
-            label_x = lane + 2;
-            label_y = out_y - 3;
+            label_x = a.left + 4;  // in the gap below the source, clear of the lanes
+            label_y = a.bottom + 11;
         } else if (next_row && !(chart.nodes[static_cast<std::size_t>(e.from)].kind == NodeKind::decision && (e.label == "no" || e.label == "нет"))) {
             const double mid = a.bottom + gap / 2;
             path = fmt::format("M{} {}V{}H{}V{}", number(a.centre()), number(a.bottom), number(mid), number(b.centre()), number(b.top));
