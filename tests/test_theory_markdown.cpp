@@ -202,6 +202,8 @@ TEST_CASE("theory: links and figures resolve inside docs/", "[theory]") {
     CHECK_THAT(html, Catch::Contains("<a href=\"https://example.org/x\">web</a>"));
     CHECK(html.find("javascript:") == std::string::npos);
     CHECK_THAT(html, Catch::Contains("<a href=\"#idea\">here</a>"));
+    CHECK_THAT(render_page("## The `Z` buffer, again!\n## Где метод ошибается\n", {}),
+               Catch::Contains("<a id=\"the-z-buffer-again\"></a>\n<h2>") && Catch::Contains("<a id=\"где-метод-ошибается\"></a>"));
     CHECK_THAT(html, Catch::Contains("<img src=\"/docs/images/bench.svg\" alt=\"bench\""));
     CHECK(html.find("none.svg") == std::string::npos);
     CHECK(html.find("<b>") == std::string::npos);

@@ -476,7 +476,10 @@ std::string viewer_url(const std::string& url, const std::string& page) {
     const std::size_t cut = url.find_first_of("#?");
     const std::string path = url.substr(0, cut);
     const std::string fragment = cut == std::string::npos || url[cut] != '#' ? "" : url.substr(cut);
-    const std::string resolved = hsr::host::resolve_doc_path(page, path);
+    std::string resolved = hsr::host::resolve_doc_path(page, path);
+    // A Russian page's link to a theory page not yet written in Russian: the English one.
+    if (const std::string russian = "docs/theory/ru/"; resolved.rfind(russian, 0) == 0 && hsr::host::find_embedded_file(resolved) == nullptr)
+        resolved = "docs/theory/en/" + resolved.substr(russian.size());
     if (resolved.empty() || hsr::host::find_embedded_file(resolved) == nullptr) return {};
     return "/" + resolved + fragment;
 }
@@ -487,6 +490,25 @@ void replace_with_children(cmark_node* node) {
         cmark_node_insert_before(node, child);
     }
     cmark_node_free(node);
+}
+
+// GitHub's anchor of a heading: its text in lower case, punctuation dropped, spaces as '-'.
+std::string heading_anchor(cmark_node* heading) {
+    std::string text;
+    std::unique_ptr<cmark_iter, decltype(&cmark_iter_free)> iter(cmark_iter_new(heading), &cmark_iter_free);
+    for (cmark_event_type ev; (ev = cmark_iter_next(iter.get())) != CMARK_EVENT_DONE;) {
+        cmark_node* node = cmark_iter_get_node(iter.get());
+        const cmark_node_type type = cmark_node_get_type(node);
+        if (ev == CMARK_EVENT_ENTER && (type == CMARK_NODE_TEXT || type == CMARK_NODE_CODE))
+            if (const char* literal = cmark_node_get_literal(node)) text += literal;
+    }
+    std::string anchor;
+    for (const char c : lowercase_word(text)) {
+        const auto u = static_cast<unsigned char>(c);
+        if (u >= 0x80 || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_') anchor += c;
+        else if (c == ' ') anchor += '-';
+    }
+    return anchor;
 }
 
 cmark_node* raw_block(const std::string& html) {
@@ -507,7 +529,7 @@ std::string hsr::host::render_page(const std::string& markdown, const PageContex
     cmark_parser_feed(parser.get(), markdown.data(), markdown.size());
     std::unique_ptr<cmark_node, decltype(&cmark_node_free)> document(cmark_parser_finish(parser.get()), &cmark_node_free);
 
-    std::vector<cmark_node*> blocks, links;
+    std::vector<cmark_node*> blocks, links, headings;
     {
         std::unique_ptr<cmark_iter, decltype(&cmark_iter_free)> iter(cmark_iter_new(document.get()), &cmark_iter_free);
         for (cmark_event_type ev; (ev = cmark_iter_next(iter.get())) != CMARK_EVENT_DONE;) {
@@ -515,9 +537,14 @@ std::string hsr::host::render_page(const std::string& markdown, const PageContex
             cmark_node* node = cmark_iter_get_node(iter.get());
             const cmark_node_type type = cmark_node_get_type(node);
             if (type == CMARK_NODE_CODE_BLOCK) blocks.push_back(node);
+            else if (type == CMARK_NODE_HEADING) headings.push_back(node);
             else if (type == CMARK_NODE_LINK || type == CMARK_NODE_IMAGE) links.push_back(node);
         }
     }
+    // An anchor before each heading, as GitHub names it, for links to a section (#idea).
+    for (cmark_node* node : headings)
+        if (const std::string anchor = heading_anchor(node); !anchor.empty())
+            cmark_node_insert_before(node, raw_block("<a id=\"" + html_escaped(anchor) + "\"></a>\n"));
     for (cmark_node* node : links) {
         const char* url = cmark_node_get_url(node);
         const std::string target = viewer_url(url ? url : "", context.path);
