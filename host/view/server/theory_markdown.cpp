@@ -537,11 +537,11 @@ std::string hsr::host::render_page(const std::string& markdown, const PageContex
             cmark_node* node = cmark_iter_get_node(iter.get());
             const cmark_node_type type = cmark_node_get_type(node);
             if (type == CMARK_NODE_CODE_BLOCK) blocks.push_back(node);
-            else if (type == CMARK_NODE_HEADING) headings.push_back(node);
+            else if (type == CMARK_NODE_HEADING && cmark_node_get_heading_level(node) > 1) headings.push_back(node);
             else if (type == CMARK_NODE_LINK || type == CMARK_NODE_IMAGE) links.push_back(node);
         }
     }
-    // An anchor before each heading, as GitHub names it, for links to a section (#idea).
+    // An anchor before each section's heading, as GitHub names it, for links to it (#idea).
     for (cmark_node* node : headings)
         if (const std::string anchor = heading_anchor(node); !anchor.empty())
             cmark_node_insert_before(node, raw_block("<a id=\"" + html_escaped(anchor) + "\"></a>\n"));
