@@ -226,7 +226,10 @@ TEST_CASE("a-buffer: clip planes, steps and refusals", "[a-buffer]") {
     hsr::resolve_visibility(boxes.view(), camera, remover, plain);
     CHECK(stepped.face == plain.face);
     CHECK(stepped.depth == plain.depth);
-    CHECK(stepped.steps->taken == hsr::drawn_triangle_count(boxes.view()));
+    // A step per triangle, then one per row of pixels resolving the lists.
+    CHECK(stepped.steps->taken == hsr::drawn_triangle_count(boxes.view()) + camera.height);
+    CHECK(stepped.steps->last.type == "row");
+    CHECK(stepped.steps->last.phase == "resolve");
 
     CHECK_THROWS_WITH(resolve(boxes.view(), orbit(boxes, 35, 25, 1, false, 256), {{"max-fragments", "1024"}}),
                       Catch::Contains("a-buffer: the frame needs more than max-fragments=1024 fragments"));
@@ -261,4 +264,48 @@ TEST_CASE("a-buffer: the command line", "[a-buffer][cli]") {
     CHECK(run_hsr("render " + cube + " --opacity 0.5 -a a-buffer --width 32 --height 32 -o " + out, "opacity-ok").status == 0);
     const auto bad = cli::write_file("bad-opacity.scene", "mesh " + cube + "\n  opacity 2\n");
     require_one_line_error(run_hsr("render " + bad.string() + " -o " + out, "opacity-bad-scene"), "opacity must be within [0, 1]");
+}
+
+TEST_CASE("a-buffer: the resolve steps' coverage is the share of samples a ray finds a surface through",
+          "[a-buffer][steps]") {
+    const hsr::SceneData& boxes = model("boxes.scene");
+    const hsr_scene scene = boxes.view();
+    const hsr_camera camera = orbit(boxes, 35, 25, 1, false, 40, 30);
+    hsr::HiddenSurfaceRemover remover(plugin("a-buffer"), {});
+    hsr::Frame stepped;
+    // Stopped after the last step, whose buffers the host keeps: a step per triangle, then per row.
+    const uint64_t last_step = hsr::drawn_triangle_count(scene) + camera.height;
+    hsr::resolve_visibility_steps(scene, camera, remover, stepped, last_step);
+    REQUIRE(stepped.steps.has_value());
+    const hsr::StepRecord& last = stepped.steps->last;
+    CHECK(last.index == last_step);
+    CHECK(last.phase == "resolve");
+    REQUIRE(last.buffers.size() == 1);
+    const hsr::StepBuffer& coverage = last.buffers[0];
+    CHECK(coverage.name == "coverage");
+    REQUIRE(coverage.values.size() == size_t(camera.width) * camera.height);
+    constexpr double d = 0.002;
+    auto hits = [&](glm::dvec2 w) { return nearest(scene, camera, w).first != HSR_NO_FACE; };
+    uint64_t edge_pixels = 0, wrong = 0;
+    for (uint32_t y = 0; y < camera.height; ++y)
+        for (uint32_t x = 0; x < camera.width; ++x) {
+            int seen = 0, ambiguous = 0;
+            for (int k = 0; k < HSR_COVERAGE_SAMPLES; ++k) {
+                const glm::dvec2 w = sample_point(x, y, k);
+                const bool hit = hits(w);
+                if (hits(w + glm::dvec2(d, d)) != hit || hits(w - glm::dvec2(d, d)) != hit ||
+                    hits(w + glm::dvec2(d, -d)) != hit)
+                    ++ambiguous;
+                else
+                    seen += hit ? 1 : 0;
+            }
+            const double covered = coverage.values[size_t(y) * camera.width + x] * HSR_COVERAGE_SAMPLES;
+            INFO("pixel " << x << "," << y << ": " << covered << " samples covered, rays see " << seen << " (+"
+                          << ambiguous << " ambiguous)");
+            edge_pixels += covered > 0 && covered < HSR_COVERAGE_SAMPLES ? 1 : 0;
+            const bool agrees = covered >= seen && covered <= seen + ambiguous;
+            if (!agrees && wrong++ == 0) CHECK(agrees);  // the first disagreement, with its pixel
+        }
+    CHECK(edge_pixels > 0);  // the silhouettes are partly covered pixels
+    CHECK(wrong == 0);
 }

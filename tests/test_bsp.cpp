@@ -389,7 +389,8 @@ TEST_CASE("bsp: steps to the end equal render, a stop leaves a prefix of the dra
         CHECK(all.instance == plain.instance);
         CHECK(all.depth_tests == plain.depth_tests);
         const uint64_t steps = all.steps->taken;
-        CHECK(steps == counter(plain, "polygons-after-splits"));  // one step per node polygon
+        // One step for the tree, then one per node visited and per node polygon.
+        CHECK(steps == 1 + counter(plain, "nodes-visited") + counter(plain, "polygons-after-splits"));
         const bool front_to_back = std::string(order) == "front-to-back";
         hsr::Frame previous = run(1);
         for (uint64_t k = 2; k <= steps; k += std::max<uint64_t>(1, steps / 12)) {

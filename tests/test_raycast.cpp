@@ -453,7 +453,7 @@ TEST_CASE("raycast: clip planes cut as zbuffer's do, and hits behind a cut are f
     check_raycast(squares.view(), camera);
 }
 
-TEST_CASE("raycast: steps, one per tile, run to the end equal render", "[raycast][steps]") {
+TEST_CASE("raycast: steps, the hierarchy then one per tile, run to the end equal render", "[raycast][steps]") {
     test_models::require_fetched();
     const hsr::SceneData& data = model("monkey.obj");
     const hsr_scene scene = data.view();
@@ -461,23 +461,26 @@ TEST_CASE("raycast: steps, one per tile, run to the end equal render", "[raycast
     const Settings settings{{"tile-size", "16"}};
     const hsr::Frame plain = render("raycast", scene, camera, settings, true);
     const uint64_t tiles = 7 * 5;
-    for (uint64_t stop : {uint64_t(0), tiles, uint64_t(1), uint64_t(12)}) {
+    const uint64_t steps = 1 + tiles;  // the hierarchy, then the tiles
+    for (uint64_t stop : {uint64_t(0), steps, uint64_t(1), uint64_t(2), uint64_t(12)}) {
         INFO("stop after " << stop);
         hsr::HiddenSurfaceRemover remover(plugin("raycast"), settings);
         REQUIRE(remover.has_steps());
         hsr::Frame frame;
         hsr::resolve_visibility_steps(scene, camera, remover, frame, stop, true);
         REQUIRE(frame.steps.has_value());
-        const uint64_t taken = stop == 0 ? tiles : stop;
+        const uint64_t taken = stop == 0 ? steps : stop;
+        const uint64_t tiles_cast = taken - 1;
         CHECK(frame.steps->taken == taken);
-        CHECK(frame.steps->last.type == "tile");
+        CHECK(frame.steps->last.type == (taken == 1 ? "build" : "tile"));
+        CHECK(frame.steps->last.phase == (taken == 1 ? "build" : "cast"));
         CHECK(counter(frame, "rays") <= counter(plain, "rays"));
         // The tiles stepped through hold the plain render's pixels; the others are as cleared.
         for (uint32_t y = 0; y < camera.height; ++y)
             for (uint32_t x = 0; x < camera.width; ++x) {
                 const size_t p = size_t(y) * camera.width + x;
                 const uint64_t tile = (y / 16) * 7 + x / 16;
-                if (tile < taken) {
+                if (tile < tiles_cast) {
                     REQUIRE(frame.face[p] == plain.face[p]);
                     REQUIRE(std::memcmp(&frame.depth[p], &plain.depth[p], sizeof(float)) == 0);
                     REQUIRE(std::memcmp(&frame.bary[2 * p], &plain.bary[2 * p], 2 * sizeof(float)) == 0);
@@ -487,7 +490,7 @@ TEST_CASE("raycast: steps, one per tile, run to the end equal render", "[raycast
                     REQUIRE(frame.depth_tests[p] == 0);
                 }
             }
-        if (taken == tiles)
+        if (tiles_cast == tiles)
             for (const char* name : {"rays", "hits", "triangle-tests", "nodes-visited"})
                 CHECK(counter(frame, name) == counter(plain, name));
     }

@@ -735,3 +735,68 @@ TEST_CASE("view: the command line", "[view]") {
                                 "--limit upload-bytes: '0' is not a whole number of at least 1");
     cli::require_one_line_error(cli::run_hsr("view --listen 192.0.2.1:0", "view-address"), "cannot listen on 192.0.2.1:0");
 }
+
+TEST_CASE("view: scene_z of a pixel-camera scene is the scene's own z", "[view]") {
+    RunningServer s;
+    // models/zbuffer-exercise.scene on its 32 x 32 raster: a rectangle (10..25) x (5..25) at z = 10
+    // and a triangle through it; pixel (column, row from the top) has its centre at
+    // x = column + 0.5, y = 32 - row - 0.5 (y up).
+    json request = frame_request("1/zbuffer-exercise.scene", "zbuffer", 30);
+    request["buffers"] = json{{"names", {"scene_z", "depth"}}};
+    const FrameWithArrays answer = s.post_arrays("/api/frame", request);
+    CHECK(answer.body["pixel_camera"] == true);
+    REQUIRE(answer.body["width"] == 32);
+    REQUIRE(answer.body["height"] == 32);
+    REQUIRE(answer.body["buffers"]["scene_z"].is_object());
+    const std::vector<float> z = decode_array<float>(answer, answer.body["buffers"]["scene_z"]);
+    REQUIRE(z.size() == 32 * 32);
+
+    const double ax = 15, ay = 15, az = 15, bx = 30, by = 10, bz = 5, cx = 25, cy = 25, cz = 5;
+    // The triangle's plane z = az + gx (x - ax) + gy (y - ay), from its two edges from a.
+    const double ux = bx - ax, uy = by - ay, uz = bz - az, vx = cx - ax, vy = cy - ay, vz = cz - az;
+    const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    const double gx = -nx / nz, gy = -ny / nz;
+    // Where (x, y) lies in the triangle: its smallest barycentric weight (negative outside).
+    auto inside_triangle = [&](double x, double y) {
+        const double area = ux * vy - uy * vx;
+        const double wb = ((x - ax) * vy - (y - ay) * vx) / area, wc = (ux * (y - ay) - uy * (x - ax)) / area;
+        return std::min({wb, wc, 1.0 - wb - wc});
+    };
+    int rectangle_pixels = 0, triangle_pixels = 0, empty_pixels = 0;
+    for (int row = 0; row < 32; ++row) {
+        for (int column = 0; column < 32; ++column) {
+            const double x = column + 0.5, y = 32 - row - 0.5;
+            const float shown = z[std::size_t(row) * 32 + column];
+            INFO("pixel " << column << ", " << row << ": z " << shown);
+            const bool in_rectangle = x > 10 && x < 25 && y > 5 && y < 25;
+            const double weight = inside_triangle(x, y);
+            if (std::abs(weight) < 1e-6) continue;  // on the triangle's edge: the fill rule decides
+            const double plane_z = az + gx * (x - ax) + gy * (y - ay);
+            if (weight > 0 && in_rectangle && std::abs(plane_z - 10) < 1e-4) continue;  // a tie: either may win
+            if (weight > 0 && (!in_rectangle || plane_z > 10)) {
+                CHECK(shown == Approx(plane_z).margin(1e-4));
+                CHECK(shown >= 5);
+                CHECK(shown <= 15);
+                ++triangle_pixels;
+            } else if (in_rectangle) {
+                CHECK(shown == 10.0f);  // exactly: the exercise's number
+                ++rectangle_pixels;
+            } else {
+                CHECK(std::isinf(shown));
+                CHECK(shown < 0);
+                ++empty_pixels;
+            }
+        }
+    }
+    CHECK(rectangle_pixels > 200);
+    CHECK(triangle_pixels > 40);
+    CHECK(empty_pixels > 400);
+
+    // Other cameras have no scene z: the grid keeps the window depth.
+    json cube = frame_request("0/cube.obj", "zbuffer", 32);
+    cube["buffers"] = json{{"names", {"scene_z", "depth"}}};
+    const FrameWithArrays other = s.post_arrays("/api/frame", cube);
+    CHECK(other.body["pixel_camera"] == false);
+    CHECK(other.body["buffers"]["scene_z"].is_null());
+    CHECK(other.body["buffers"]["depth"].is_object());
+}

@@ -152,6 +152,7 @@ struct StepCollector {
     StepProgress* progress = nullptr;
     const hsr_visibility_buffer* keep_before_of = nullptr;  // set: copy it at step stop_after - 1
     bool has_phases = false;  // the plugin claims ABI 1.5: its events may name a phase
+    bool russian = false;     // the texts the host writes for a step without one are in Russian
     StepRun run;
 
     static uint32_t step(void* context, const hsr_step_event* event) {
@@ -165,7 +166,7 @@ struct StepCollector {
         if (event == nullptr || event->struct_size < offsetof(hsr_step_event, buffer_count) + sizeof(uint32_t)) {
             last.type = "step";
             last.phase.clear();
-            last.text = fmt::format("step {}", index);
+            last.text = self.russian ? fmt::format("шаг {}", index) : fmt::format("step {}", index);
             last.lines.clear();
             last.roles.clear();
             last.buffers.clear();
@@ -185,7 +186,7 @@ struct StepCollector {
         if (event->text != nullptr)
             last.text = printable(bounded(event->text, 1024), 300);
         else
-            last.text = describe_step(last);
+            last.text = describe_step(last, self.russian);
         const uint32_t lines = event->lines != nullptr ? std::min(event->line_count, max_step_lines) : 0;
         last.lines.assign(event->lines, event->lines + 4 * size_t(lines));
         last.roles.assign(lines, HSR_STEP_SUBJECT);
@@ -215,7 +216,16 @@ struct StepCollector {
         return state;
     }
 
-    static std::string describe_step(const StepRecord& step) {
+    // The text of a step whose plugin wrote none, from the event's fields.
+    static std::string describe_step(const StepRecord& step, bool russian) {
+        if (russian) {
+            std::string text = step.type == "step" ? fmt::format("шаг {}", step.index)
+                                                   : fmt::format("шаг {} ({})", step.index, step.type);
+            if (step.face != HSR_NO_FACE) text += fmt::format(": треугольник {}", step.face);
+            if (step.pixels_written != 0 || step.pixels_rejected != 0)
+                text += fmt::format("; записано пикселей: {}, отброшено: {}", step.pixels_written, step.pixels_rejected);
+            return text;
+        }
         std::string text = fmt::format("{} {}", step.type, step.index);
         if (step.face != HSR_NO_FACE) text += fmt::format(": triangle {}", step.face);
         if (step.pixels_written != 0 || step.pixels_rejected != 0)
@@ -252,6 +262,7 @@ void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, 
     if (progress != nullptr) progress->steps.store(0, std::memory_order_relaxed);
     if (keep_before) collector.keep_before_of = &target;
     collector.has_phases = remover.plugin().descriptor.abi_minor >= 5;
+    collector.russian = language == "ru";
     const hsr_step_sink steps{&collector, &StepCollector::step, language.empty() ? nullptr : language.c_str()};
     const auto start = Clock::now();
     remover.render_steps(scene, camera, target, &sink, steps);

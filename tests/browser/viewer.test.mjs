@@ -497,8 +497,8 @@ async function main() {
     await idle();
     const cells = await page.$$eval('#grid .cell', (all) => all.map((c) => c.textContent));
     assert(cells.length === 16 * 12, `${cells.length} cells`);
-    assert(cells.every((c) => c === '·' || /^\d*\.?\d+(e-?\d+)?$/.test(c)), `not a depth: ${cells.find((c) => c.includes(','))}`);
-    assert(cells.some((c) => c !== '·'), 'no depth in any cell');
+    assert(cells.every((c) => c === '∞' || /^\d*\.?\d+(e-?\d+)?$/.test(c)), `not a depth: ${cells.find((c) => c.includes(','))}`);
+    assert(cells.some((c) => c !== '∞'), 'no depth in any cell');
     await screenshot('grid');
     await page.fill('#width', '512');
     await page.press('#width', 'Tab');

@@ -106,6 +106,20 @@ struct ArrayBlock {
     }
 };
 
+// A `camera pixel` scene's own z at window depth `depth`: make_pixel_camera puts the eye on +z with
+// view space world space moved to the eye, and its orthographic projection maps view distances
+// near..far onto window depths 0..1, so the map is affine: z = eye.z - near - depth (far - near).
+// Nothing drawn (depth +inf) is -inf: behind everything.
+double pixel_camera_scene_z(const hsr_camera& camera, float depth) {
+    const double near_plane = camera.near_plane, far_plane = camera.far_plane;
+    return double(camera.eye[2]) - near_plane - double(depth) * (far_plane - near_plane);
+}
+
+bool is_pixel_camera_scene(const hsr::Renderer& renderer) {
+    const std::optional<hsr::SceneFile>& file = renderer.loaded().file();
+    return file && file->pixel_camera;
+}
+
 std::string png_data_url(uint32_t width, uint32_t height, std::span<const uint8_t> rgb) {
     const std::vector<uint8_t> png = hsr::encode_png(width, height, 3, rgb);
     return "data:image/png;base64," + hsr::host::base64(png.data(), png.size());
@@ -295,12 +309,14 @@ struct hsr::host::FrameRenderer::State {
         json response = picture_response("surface", frame.width, frame.height, frame.rgb, frame.counters,
                                          {frame.visibility_ms, frame.shading_ms}, hsr::drawn_triangle_count(scene),
                                          q.picture);
+        const bool pixel_camera = is_pixel_camera_scene(renderer);
+        response["pixel_camera"] = pixel_camera;
         if (q.step) {
             const hsr::StepRecord& last = frame.steps->last;
             const bool any = last.index > 0;
             steps["type"] = any ? last.type : "";
             steps["phase"] = any && !last.phase.empty() ? json(last.phase) : json(nullptr);
-            steps["text"] = any ? last.text : "no steps: the algorithm had nothing to do";
+            steps["text"] = any ? last.text : no_steps_text(false, q.language);
             steps["face"] = any && last.face != HSR_NO_FACE ? json(last.face) : json(nullptr);
             json lines = json::array();
             for (std::size_t k = 0; k < last.roles.size(); ++k)
@@ -326,7 +342,8 @@ struct hsr::host::FrameRenderer::State {
         json buffers = q.buffers_as_list ? json::array() : json(nullptr);
         arrays.bytes.reserve(arrays.bytes.size() + array_bytes(q, frame.face.size()));
         for (const BufferSpec& spec : q.buffers) {
-            json one = buffers_answer(spec, frame, scene, picture.depth_complexity.get(), arrays);
+            json one = buffers_answer(spec, frame, scene, picture.depth_complexity.get(),
+                                      pixel_camera ? &camera : nullptr, arrays);
             if (q.buffers_as_list) buffers.push_back(std::move(one));
             else buffers = std::move(one);
         }
@@ -365,8 +382,10 @@ struct hsr::host::FrameRenderer::State {
 
     // The arrays one BufferSpec asks for: each buffer named, over its region (clipped to the
     // picture), and null for the others and for those the frame does not have.
+    // `pixel_camera`: the camera of a `camera pixel` scene, whose depths have a scene_z; else null.
     static json buffers_answer(const BufferSpec& spec, const hsr::Frame& frame, const hsr_scene& scene,
-                               const hsr::DepthComplexity* complexity, ArrayBlock& arrays) {
+                               const hsr::DepthComplexity* complexity, const hsr_camera* pixel_camera,
+                               ArrayBlock& arrays) {
         std::array<uint32_t, 4> r = spec.region.value_or(std::array<uint32_t, 4>{0, 0, frame.width, frame.height});
         if (r[0] >= frame.width || r[1] >= frame.height)
             throw ViewError(400, "buffers.region", fmt::format("buffers.region: ({}, {}) lies outside the {}x{} picture",
@@ -384,6 +403,14 @@ struct hsr::host::FrameRenderer::State {
         if (wanted("depth_complexity") && complexity != nullptr)
             out["depth_complexity"] = arrays.add("uint32", complexity->count, complexity->width,
                                                  {r[0] - complexity->x, r[1] - complexity->y, r[2], r[3]});
+        if (wanted("scene_z") && pixel_camera != nullptr) {
+            std::vector<float> scene_z(std::size_t(r[2]) * r[3]);
+            for (uint32_t y = 0; y < r[3]; ++y)
+                for (uint32_t x = 0; x < r[2]; ++x)
+                    scene_z[std::size_t(y) * r[2] + x] =
+                        float(pixel_camera_scene_z(*pixel_camera, frame.depth[std::size_t(r[1] + y) * frame.width + r[0] + x]));
+            out["scene_z"] = arrays.add_all("float32", scene_z, r[2], r[3]);
+        }
         if (wanted("object")) {
             std::vector<uint32_t> object(std::size_t(r[2]) * r[3], HSR_NO_FACE);
             for (uint32_t y = 0; y < r[3]; ++y)
@@ -415,6 +442,7 @@ struct hsr::host::FrameRenderer::State {
         const hsr::Image image = hsr::draw_line_image(drawing, style);
         json response = picture_response("lines", image.width, image.height, image.pixels, drawing.counters,
                                          {drawing.lines_ms, 0.0}, scene.triangle_count, q.picture);
+        response["pixel_camera"] = is_pixel_camera_scene(renderer);
         json steps = nullptr;
         if (q.step) {
             steps = json{{"total", drawing.trace_events}, {"current", drawing.stopped_at ? drawing.stopped_at->index : 0}};
@@ -423,7 +451,7 @@ struct hsr::host::FrameRenderer::State {
                 const hsr::TraceEventRecord& e = *drawing.stopped_at;
                 steps["type"] = e.type;
                 steps["phase"] = e.phase.empty() ? json(nullptr) : json(e.phase);
-                steps["text"] = e.text.empty() ? describe_trace_event(e) : e.text;
+                steps["text"] = e.text.empty() ? describe_trace_event(e, q.language) : e.text;
                 steps["face"] = e.face < scene.triangle_count ? json(e.face) : json(nullptr);
                 for (std::size_t k = 0; k < e.roles.size(); ++k) {
                     const float* p = &e.lines[4 * k];
@@ -451,7 +479,7 @@ struct hsr::host::FrameRenderer::State {
             } else {
                 steps["type"] = "";
                 steps["phase"] = nullptr;
-                steps["text"] = "no steps: the plugin reported none";
+                steps["text"] = no_steps_text(true, q.language);
                 steps["face"] = nullptr;
             }
             steps["lines"] = std::move(lines);

@@ -96,7 +96,7 @@ hsr::host::BufferSpec buffer_spec(const json& spec) {
             if (known == std::end(hsr::host::kBufferNames))
                 throw ViewError(400, "buffers.names",
                                 fmt::format("buffers.names: {} is not a buffer (depth, face, instance, object, "
-                                            "depth_tests, depth_complexity)", hsr::printable(name.dump(), 40)));
+                                            "depth_tests, depth_complexity, scene_z)", hsr::printable(name.dump(), 40)));
             if (std::find(out.names.begin(), out.names.end(), *known) == out.names.end()) out.names.push_back(*known);
         }
     } else {

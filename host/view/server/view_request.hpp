@@ -24,7 +24,9 @@ namespace hsr::host {
 constexpr uint32_t view_max_image_side = 4096;
 
 // The per-pixel arrays a frame answer can carry (docs/viewer.md, POST /api/frame `buffers`).
-inline constexpr const char* kBufferNames[] = {"depth", "face", "instance", "object", "depth_tests", "depth_complexity"};
+// scene_z: a `camera pixel` scene's own z at each pixel (larger is nearer), null for other cameras.
+inline constexpr const char* kBufferNames[] = {"depth", "face", "instance", "object", "depth_tests", "depth_complexity",
+                                               "scene_z"};
 
 // Some of the buffers, over the whole picture or over a rectangle of it.
 struct BufferSpec {

@@ -119,17 +119,30 @@ hsr::host::StepPixels hsr::host::step_pixels(const hsr::Frame& before, const hsr
     return {as_json(written), tests ? as_json(rejected) : nlohmann::json(nullptr)};
 }
 
-std::string hsr::host::describe_trace_event(const hsr::TraceEventRecord& e) {
+std::string hsr::host::describe_trace_event(const hsr::TraceEventRecord& e, const std::string& language) {
     std::string text = e.type;
     std::vector<std::string> fields;
-    if (e.edge != HSR_NO_EDGE) fields.push_back(fmt::format("edge {}", e.edge));
-    if (e.face != HSR_NO_FACE) fields.push_back(fmt::format("face {}", e.face));
-    if (e.object != HSR_NO_OBJECT) fields.push_back(fmt::format("object {}", e.object));
-    if (e.qi >= 0) fields.push_back(fmt::format("qi {}", e.qi));
-    if (std::isfinite(e.t0) && std::isfinite(e.t1))
-        fields.push_back(fmt::format("t {:.4g} to {:.4g}", e.t0, e.t1));
-    else if (std::isfinite(e.t0))
-        fields.push_back(fmt::format("t {:.4g}", e.t0));
+    if (language == "ru") {
+        if (e.edge != HSR_NO_EDGE) fields.push_back(fmt::format("ребро {}", e.edge));
+        if (e.face != HSR_NO_FACE) fields.push_back(fmt::format("грань {}", e.face));
+        if (e.object != HSR_NO_OBJECT) fields.push_back(fmt::format("объект {}", e.object));
+        if (e.qi >= 0) fields.push_back(fmt::format("количественная невидимость {}", e.qi));
+        if (std::isfinite(e.t0) && std::isfinite(e.t1))
+            fields.push_back(fmt::format("t от {:.4g} до {:.4g}", e.t0, e.t1));
+    } else {
+        if (e.edge != HSR_NO_EDGE) fields.push_back(fmt::format("edge {}", e.edge));
+        if (e.face != HSR_NO_FACE) fields.push_back(fmt::format("face {}", e.face));
+        if (e.object != HSR_NO_OBJECT) fields.push_back(fmt::format("object {}", e.object));
+        if (e.qi >= 0) fields.push_back(fmt::format("qi {}", e.qi));
+        if (std::isfinite(e.t0) && std::isfinite(e.t1)) fields.push_back(fmt::format("t {:.4g} to {:.4g}", e.t0, e.t1));
+    }
+    if (!(std::isfinite(e.t0) && std::isfinite(e.t1)) && std::isfinite(e.t0)) fields.push_back(fmt::format("t {:.4g}", e.t0));
     for (std::size_t i = 0; i < fields.size(); ++i) text += (i == 0 ? ": " : ", ") + fields[i];
     return text;
+}
+
+std::string hsr::host::no_steps_text(bool plugin_reported_none, const std::string& language) {
+    if (language == "ru")
+        return plugin_reported_none ? "шагов нет: модуль не сообщил ни об одном" : "шагов нет: алгоритму нечего было делать";
+    return plugin_reported_none ? "no steps: the plugin reported none" : "no steps: the algorithm had nothing to do";
 }

@@ -32,7 +32,12 @@ struct StepPixels {
 };
 StepPixels step_pixels(const hsr::Frame& before, const hsr::Frame& after, std::size_t cap);
 
-// "edge-begin: edge 12, face 3, qi 1, t 0.25 to 0.5" from the fields the event has.
-std::string describe_trace_event(const hsr::TraceEventRecord& event);
+// "edge-begin: edge 12, face 3, qi 1, t 0.25 to 0.5" from the fields the event has, for an event
+// without a text of its own; language "ru" writes it in Russian, anything else in English.
+std::string describe_trace_event(const hsr::TraceEventRecord& event, const std::string& language = "en");
+
+// The step text of a step request that got no step: the plugin reported none (a hidden-line
+// plugin), or the algorithm had nothing to do (an empty picture). language as above.
+std::string no_steps_text(bool plugin_reported_none, const std::string& language);
 
 }  // namespace hsr::host

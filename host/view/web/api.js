@@ -1,6 +1,8 @@
 // The server's JSON API (docs/viewer.md, "The HTTP API"): every call resolves to the parsed body or
 // throws an ApiError carrying the server's one-line message and, if one field was at fault, its name.
 
+import { tr } from './i18n.js';
+
 export class ApiError extends Error {
   constructor(message, status, field) {
     super(message);
@@ -33,7 +35,7 @@ async function call(path, options) {
   try {
     response = await fetch(path, options);
   } catch (e) {
-    throw new ApiError(`the server does not answer (${e.message})`, 0, null);
+    throw new ApiError(tr({ en: `the server does not answer (${e.message})`, ru: `сервер не отвечает (${e.message})` }), 0, null);
   }
   if (response.ok && (response.headers.get('Content-Type') || '').startsWith(FRAME_WITH_ARRAYS)) {
     return decodeFrameAnswer(await response.arrayBuffer());
@@ -51,7 +53,7 @@ async function call(path, options) {
     throw new ApiError(message, response.status, body && body.field);
   }
   if (body === null || typeof body !== 'object') {
-    throw new ApiError(`${path}: the answer is not JSON`, response.status, null);
+    throw new ApiError(tr({ en: `${path}: the answer is not JSON`, ru: `${path}: ответ не в формате JSON` }), response.status, null);
   }
   return body;
 }

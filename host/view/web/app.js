@@ -5,16 +5,20 @@ import { getJson, postJson, postJsonAside, cancelFrame, getProgress, ApiError } 
 import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
-import { StepControls, drawStepOverlay } from './steps.js';
+import { StepControls, drawStepOverlay, fullRenderText, playLabel } from './steps.js';
 import {
   BUFFER_NAMES, VIEW_BUFFER, decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid, tileAround,
+  gridCells, cellsOfFont,
 } from './buffers.js';
+import { linkHash, readLink } from './link.js';
 import { compareRequest, showCompare, hideCompare } from './compare.js';
 import { renderStats } from './stats.js';
 import { LatestWins } from './scheduler.js';
 import { loadSettings, saveSettings } from './settings.js';
 import { TheoryPane } from './theory.js';
-import { onLanguageChange } from './i18n.js';
+import { tr, language, setLanguage, onLanguageChange, browserLanguage, numberText } from './i18n.js';
+import { applyPageTexts } from './page-texts.js';
+import { PresentationView } from './presentation.js';
 
 const $ = (id) => document.getElementById(id);
 const GRID_MAX_SIDE = 64;
@@ -68,7 +72,8 @@ function reportError(error) {
     placed = true;
   }
   showError(placed ? '' : message);
-  setStatus(placed ? 'not rendered: see the marked field' : 'not rendered');
+  setStatus(placed ? tr({ en: 'not rendered: see the marked field', ru: 'не отрисовано: см. отмеченное поле' })
+    : tr({ en: 'not rendered', ru: 'не отрисовано' }));
 }
 
 // ---- plugins and forms -------------------------------------------------------------------------
@@ -138,16 +143,34 @@ function smallImage(size) {
 
 const gridShown = (size) => smallImage(size) && settings.gridMode !== 'off';
 
+// The size of a `camera pixel` scene, which fixes it whatever the page asks: {model, width, height}.
+let sceneSize = null;
+const pictureSize = () => (sceneSize && sceneSize.model === settings.model ? sceneSize : settings);
+
+// The width and height fields show the size rendered: a scene that fixes its own shows it, read-only.
+function showSizeFields() {
+  const fixed = sceneSize && sceneSize.model === settings.model;
+  for (const side of ['width', 'height']) {
+    const field = $(side);
+    field.value = String(fixed ? sceneSize[side] : settings[side]);
+    field.disabled = Boolean(fixed);
+    field.title = fixed ? tr({ en: 'this scene (camera pixel) fixes its own size', ru: 'размер задан самой сценой (camera pixel)' }) : '';
+  }
+}
+
 // The buffers the page shows: a buffer view's buffer (and the grid's depths) over the whole
 // picture; for the readout, every buffer over the tile under the mouse (the whole of a small picture).
 function wantBuffers() {
   if (camera.dragging) return false;
   const whole = new Set();
   if (VIEW_BUFFER[settings.bufferView]) whole.add(VIEW_BUFFER[settings.bufferView]);
-  if (gridShown(settings) && settings.gridMode === 'depth') whole.add('depth');
-  if (hovering && smallImage(settings)) BUFFER_NAMES.forEach((name) => whole.add(name));
+  if (gridShown(pictureSize()) && settings.gridMode === 'depth') {
+    whole.add('depth');
+    whole.add('scene_z');
+  }
+  if (hovering && smallImage(pictureSize())) BUFFER_NAMES.forEach((name) => whole.add(name));
   const specs = whole.size ? [{ names: [...whole] }] : [];
-  if (hovering && pointer && !smallImage(settings)) specs.push({ names: BUFFER_NAMES, region: tileAround(pointer.x, pointer.y) });
+  if (hovering && pointer && !smallImage(pictureSize())) specs.push({ names: BUFFER_NAMES, region: tileAround(pointer.x, pointer.y) });
   return specs.length ? specs : false;
 }
 
@@ -174,6 +197,7 @@ function frameRequest() {
     height: settings.height,
     step: algorithm && algorithm.steps && !settings.compare ? steps.current : null,
     buffers: wantBuffers(),
+    language: language(),
   };
 }
 
@@ -186,6 +210,7 @@ function requestFrame() {
     reportError(e);
     return;
   }
+  updateLink();
   if (settings.compare && settings.compareAlgorithm) {
     scheduler.submit({ kind: 'compare', body: compareRequest(body, settings.compareAlgorithm) });
   } else {
@@ -231,18 +256,19 @@ async function runJob(job, isStale) {
     }
     clearFieldErrors();
     showError('');
-    setStatus(`rendered in ${Math.round(roundTrip)} ms`);
+    setStatus(tr({ en: `rendered in ${Math.round(roundTrip)} ms`, ru: `отрисовано за ${Math.round(roundTrip)} мс` }));
     canvas.dataset.state = 'ready';
   } catch (e) {
     if (isStale()) return;
     if (e instanceof ApiError && e.status === 409) {  // stopped with Stop
       canvas.dataset.state = 'ready';
-      setStatus('stopped');
+      setStatus(tr({ en: 'stopped', ru: 'остановлено' }));
       return;
     }
     canvas.dataset.state = 'error';
     if (!(e instanceof ApiError)) console.error(e);
-    reportError(e instanceof ApiError ? e : new Error(`could not show the frame: ${e.message}`));
+    reportError(e instanceof ApiError ? e
+      : new Error(tr({ en: `could not show the frame: ${e.message}`, ru: `не удалось показать кадр: ${e.message}` })));
     if (job.kind === 'frame' && job.body.step !== null && job.body.step !== undefined) steps.failed(e.message);
     else if (steps.playing) steps.setPlaying(false);
   }
@@ -277,18 +303,21 @@ const scheduler = new LatestWins(runJob, (busy) => {
   $('stop').hidden = true;
   if (busy) {
     $('canvas').dataset.state = 'loading';
-    setStatus('rendering…');
+    setStatus(tr({ en: 'rendering…', ru: 'отрисовка…' }));
     busyTimer = setInterval(async () => {
       const ms = scheduler.running();
       if (ms === null || ms < STOP_AFTER_MS) return;
       $('stop').hidden = false;
-      let text = `rendering… ${Math.floor(ms / 1000)} s`;
+      const seconds = Math.floor(ms / 1000);
+      let text = tr({ en: `rendering… ${seconds} s`, ru: `отрисовка… ${seconds} с` });
       try {
         const { progress } = await getProgress();
         if (progress && progress.total > 0) {
-          text = `step ${progress.steps.toLocaleString('en')} of ${progress.total.toLocaleString('en')}… ${Math.floor(ms / 1000)} s`;
+          const [k, total] = [numberText(progress.steps), numberText(progress.total)];
+          text = tr({ en: `step ${k} of ${total}… ${seconds} s`, ru: `шаг ${k} из ${total}… ${seconds} с` });
         } else if (progress) {
-          text = `counting the steps: ${progress.steps.toLocaleString('en')} so far… ${Math.floor(ms / 1000)} s`;
+          const k = numberText(progress.steps);
+          text = tr({ en: `counting the steps: ${k} so far… ${seconds} s`, ru: `подсчёт шагов: пока ${k}… ${seconds} с` });
         }
       } catch {
         // the status keeps its seconds
@@ -312,6 +341,10 @@ function showFrame(request, response, image, roundTrip) {
     isStep: request.step !== null && request.step !== undefined,
   };
   frameSerial += 1;
+  const fixesSize = response.pixel_camera === true;
+  if (fixesSize) sceneSize = { model: request.model, width: response.width, height: response.height };
+  else if (sceneSize?.model === request.model) sceneSize = null;
+  showSizeFields();
   steps.frameShown(response.steps, shown.isStep);
   theoryPane.setPhase(shown.isStep ? response.steps?.phase : null);
   updateBufferOptions();
@@ -361,7 +394,8 @@ function redraw() {
   } else {
     ctx.drawImage(shown.image, 0, 0);
     if (view !== 'frame') {
-      setStatus(shown.response.kind === 'lines' ? 'a line drawing has no buffers' : 'loading the buffers…');
+      setStatus(shown.response.kind === 'lines' ? tr({ en: 'a line drawing has no buffers', ru: 'у штрихового рисунка нет буферов' })
+        : tr({ en: 'loading the buffers…', ru: 'загрузка буферов…' }));
       askForBuffers();
     }
   }
@@ -370,12 +404,68 @@ function redraw() {
   const grid = $('grid');
   $('grid-control').hidden = !smallImage(shown.response);
   grid.hidden = !gridShown(shown.response);
+  $('grid-box').hidden = grid.hidden;
   if (!grid.hidden) {
-    if (settings.gridMode === 'depth' && !shown.frameBuffers?.whole.depth) askForBuffers();
-    drawGrid(grid, { width, height, rgba: shown.rgba, frameBuffers: shown.frameBuffers, mode: settings.gridMode,
-      steps: shown.isStep ? shown.response.steps : null });
+    const whole = shown.frameBuffers?.whole;
+    if (settings.gridMode === 'depth' && (!whole?.depth || (shown.response.pixel_camera && !whole.sceneZ))) askForBuffers();
+    const table = drawGrid(grid, { width, height, rgba: shown.rgba, frameBuffers: shown.frameBuffers,
+      mode: settings.gridMode, steps: shown.isStep ? shown.response.steps : null });
+    showGridCaption(table);
+    layoutGrid({ width, height }, table);
+  } else {
+    layoutGrid(null, null);
   }
+  updateLink();
   updatePixelInfo();
+}
+
+function showGridCaption(table) {
+  $('grid-label').textContent = table.label;
+  const written = $('grid-written');
+  const rejected = $('grid-rejected');
+  written.hidden = !table.marked;
+  rejected.hidden = !table.marked;
+  written.textContent = tr({ en: `written by this step: ${table.written}`, ru: `записано на этом шаге: ${table.written}` });
+  rejected.textContent = tr({ en: `rejected by the depth test: ${table.rejected}`,
+    ru: `отброшено тестом глубины: ${table.rejected}` });
+}
+
+// The grid beside the picture when the window has room for all of it with a readable font
+// (10 px, 8 px past 32 × 32), the picture taking what is left; else below the picture.
+const GRID_GAP = 12;
+const PICTURE_LEAST = 240;
+function layoutGrid(size, table) {
+  const centre = document.querySelector('.centre');
+  const stack = $('canvas').closest('.stack');
+  const grid = $('grid');
+  centre.classList.remove('with-grid');
+  centre.style.removeProperty('--grid-picture-width');
+  stack.style.maxWidth = '';
+  if (!size) return;
+  const smallest = size.width > 32 || size.height > 32 ? 8 : 10;
+  const comparing = Boolean(document.querySelector('.pictures.comparing'));
+  const top = document.querySelector('.viewbar').getBoundingClientRect().bottom + window.scrollY + GRID_GAP
+    + $('grid-caption').getBoundingClientRect().height + 6;
+  const base = { columns: size.width, rows: size.height, characters: table.characters, lines: table.lines };
+  // The picture keeps a third of the width if the grid fits beside it so, else PICTURE_LEAST.
+  const beside = (picture) => {
+    const room = { width: centre.clientWidth - picture - GRID_GAP - 4, height: window.innerHeight - top - 12 };
+    return room.width > 0 && room.height > 0 ? gridCells({ ...base, room, smallest }) : null;
+  };
+  let cells = comparing ? null : beside(Math.max(PICTURE_LEAST, centre.clientWidth / 3)) || beside(PICTURE_LEAST);
+  if (cells) {
+    centre.classList.add('with-grid');
+    const gridWidth = size.width * (cells.width + 1) + 3;
+    const pictureWidth = Math.max(PICTURE_LEAST, centre.clientWidth - gridWidth - GRID_GAP);
+    stack.style.maxWidth = `${pictureWidth}px`;
+    centre.style.setProperty('--grid-picture-width', `${pictureWidth}px`);
+  } else {
+    const below = gridCells({ ...base, room: { width: centre.clientWidth - 4, height: 1e9 }, smallest: 10 });
+    cells = below || cellsOfFont(10, table.characters, table.lines);
+  }
+  grid.style.setProperty('--cell-width', `${cells.width}px`);
+  grid.style.setProperty('--cell-height', `${cells.height}px`);
+  grid.style.fontSize = `${cells.font}px`;
 }
 
 function updateBufferOptions() {
@@ -406,15 +496,18 @@ function pixelUnder(event) {
 function updatePixelInfo() {
   const info = $('pixel-info');
   if (!pointer || !shown) {
-    info.textContent = 'hover the picture for a pixel\'s depth and face';
+    info.textContent = tr({ en: 'hover the picture for a pixel\'s depth and face',
+      ru: 'наведите указатель на изображение — появятся глубина и грань пикселя' });
     return;
   }
   if (shown.response.kind === 'lines') {
-    info.textContent = `${pointer.x}, ${pointer.y}: a line drawing has no depth buffer`;
+    info.textContent = tr({ en: `${pointer.x}, ${pointer.y}: a line drawing has no depth buffer`,
+      ru: `${pointer.x}, ${pointer.y}: у штрихового рисунка нет буфера глубины` });
   } else if (pixelInfo(shown.frameBuffers, pointer.x, pointer.y) !== null) {
     info.textContent = pixelInfo(shown.frameBuffers, pointer.x, pointer.y);
   } else {
-    info.textContent = `${pointer.x}, ${pointer.y}: ${hovering ? 'loading the buffers…' : 'rest the mouse for its depth'}`;
+    info.textContent = `${pointer.x}, ${pointer.y}: ${hovering ? tr({ en: 'loading the buffers…', ru: 'загрузка буферов…' })
+      : tr({ en: 'rest the mouse for its depth', ru: 'задержите указатель, чтобы узнать глубину' })}`;
     if (hovering) askForBuffers();
   }
 }
@@ -446,6 +539,7 @@ function setTheoryOpen(open) {
   $('theory-toggle').setAttribute('aria-pressed', String(open));
   if (open) loadTheory();
   saveSettings(settings);
+  updateLink();
   if (shown) redraw();
 }
 
@@ -466,6 +560,124 @@ function updateCli(body, response) {
   if (body.step) words.push(`--step ${body.step}`);
   words.push('-o', algorithm && algorithm.kind === 'hidden_line' ? 'drawing.png' : 'picture.png');
   $('cli').textContent = words.join(' ');
+}
+
+// ---- the state in the URL ----------------------------------------------------------------------------
+
+let linkReady = false;  // the link is written once the page has read the one it was opened with
+let linkTimer = null;
+let linkWritten = '';
+
+function linkState() {
+  return {
+    model: settings.model, algorithm: settings.algorithm, params: settings.params[settings.algorithm] || {},
+    lighting: settings.lighting, lightingParams: settings.lightingParams[settings.lighting] || {},
+    camera: settings.camera || camera.state, width: settings.width, height: settings.height,
+    step: currentAlgorithm()?.steps && !settings.compare ? steps.current : null,
+    view: settings.bufferView, grid: settings.gridMode, theory: settings.theoryOpen,
+    compare: settings.compare ? settings.compareAlgorithm : null,
+  };
+}
+
+// The URL follows the page as it changes: at once, but for at most 40 rewrites in 10 s (browsers
+// refuse history.replaceState called faster, as playing steps would); past that, every 250 ms.
+const LINK_WRITES = 40;
+const LINK_WINDOW_MS = 10_000;
+const linkWriteTimes = [];
+function writeLink() {
+  clearTimeout(linkTimer);
+  linkTimer = null;
+  const hash = linkHash(linkState());
+  if (hash === linkWritten) return;
+  linkWritten = hash;
+  linkWriteTimes.push(performance.now());
+  try {
+    history.replaceState(history.state, '', hash);
+  } catch {
+    // a page that may not rewrite its URL still works
+  }
+}
+
+function updateLink() {
+  if (!linkReady || linkTimer) return;
+  const now = performance.now();
+  while (linkWriteTimes.length && now - linkWriteTimes[0] > LINK_WINDOW_MS) linkWriteTimes.shift();
+  if (linkWriteTimes.length < LINK_WRITES) writeLink();
+  else linkTimer = setTimeout(writeLink, 250);
+}
+
+function showLinkMessage(text) {
+  const el = $('link-message');
+  el.textContent = text;
+  el.hidden = !text;
+}
+
+// The state a link gives, over the stored settings; what does not fit the server's lists or the
+// page's forms is left as it was, and said so.
+function applyLink(models) {
+  const link = readLink(window.location.hash, { maxImageSide: limits.max_image_side || 4096 });
+  if (!link) return;
+  const { state } = link;
+  const bad = [...link.bad];
+  const names = (kind) => (plugins[kind] || []).map((p) => p.name);
+  if (state.model !== undefined) {
+    if (models.some((m) => m.id === state.model)) settings.model = state.model;
+    else bad.push('model');
+  }
+  if (state.algorithm !== undefined) {
+    if ([...names('hidden_surface'), ...names('hidden_line')].includes(state.algorithm)) settings.algorithm = state.algorithm;
+    else bad.push('algorithm');
+  }
+  // Parameters the plugin does not have are dropped; a value it refuses shows at its field.
+  const known = (plugin, given, prefix) => {
+    const names = new Set((plugin?.params || []).map((p) => p.name));
+    const kept = {};
+    for (const [name, value] of Object.entries(given)) {
+      if (names.has(name)) kept[name] = value;
+      else bad.push(`${prefix}${name}`);
+    }
+    return kept;
+  };
+  if (state.params) settings.params[settings.algorithm] = known(pluginByName(settings.algorithm), state.params, 'p.');
+  if (state.lighting !== undefined) {
+    if (names('lighting').includes(state.lighting)) settings.lighting = state.lighting;
+    else bad.push('lighting');
+  }
+  if (state.lightingParams) {
+    settings.lightingParams[settings.lighting] = known(pluginByName(settings.lighting), state.lightingParams, 'l.');
+  }
+  if (state.camera) settings.camera = { ...(settings.camera || {}), ...state.camera };
+  for (const key of ['width', 'height']) if (state[key] !== undefined) settings[key] = state[key];
+  if (state.view !== undefined) settings.bufferView = state.view;
+  if (state.grid !== undefined) settings.gridMode = state.grid;
+  if (state.theory !== undefined) settings.theoryOpen = state.theory;
+  if (state.compare !== undefined) {
+    if (names('hidden_surface').includes(state.compare)) {
+      settings.compare = true;
+      settings.compareAlgorithm = state.compare;
+    } else {
+      bad.push('compare');
+    }
+  } else {
+    settings.compare = false;
+  }
+  if (bad.length) {
+    showLinkMessage(tr({ en: `the link's ${[...new Set(bad)].join(', ')} ignored: not a value this page knows`,
+      ru: `в ссылке пропущено: ${[...new Set(bad)].join(', ')} — таких значений страница не знает` }));
+  }
+  return state.step ?? null;
+}
+
+async function copyLink() {
+  writeLink();
+  const url = window.location.href;
+  try {
+    await navigator.clipboard.writeText(url);
+    showLinkMessage(tr({ en: 'link copied', ru: 'ссылка скопирована' }));
+  } catch {
+    showLinkMessage(tr({ en: `copy this link: ${url}`, ru: `скопируйте ссылку: ${url}` }));
+  }
+  $('copy-link').dataset.link = url;
 }
 
 // ---- models ------------------------------------------------------------------------------------------
@@ -493,6 +705,7 @@ function wire() {
   $('model').addEventListener('change', (e) => {
     settings.model = e.target.value;
     steps.current = null;
+    showSizeFields();
     changed({ resetSteps: true });
   });
   $('upload').addEventListener('change', (e) => {
@@ -543,6 +756,24 @@ function wire() {
     changed({});
   });
   $('theory-toggle').addEventListener('click', () => setTheoryOpen($('theory').hidden));
+  $('copy-link').addEventListener('click', () => copyLink());
+  const linkWords = () => {
+    $('copy-link').textContent = tr({ en: 'copy link', ru: 'скопировать ссылку' });
+    $('copy-link').title = tr({ en: 'copy a link to this picture and step', ru: 'скопировать ссылку на этот кадр и шаг' });
+  };
+  linkWords();
+  onLanguageChange(() => {
+    linkWords();
+    showSizeFields();
+    if (shown) redraw();
+  });
+  for (const button of document.querySelectorAll('.language-choice button')) {
+    button.addEventListener('click', () => {
+      settings.language = button.dataset.language;
+      saveSettings(settings);
+      languageChosen();
+    });
+  }
   $('stop').addEventListener('click', () => {
     if (steps.playing) steps.setPlaying(false);
     cancelFrame().catch(reportError);
@@ -564,8 +795,61 @@ function wire() {
     updatePixelInfo();
   });
   window.addEventListener('resize', () => redraw());
+  window.addEventListener('pagehide', () => {
+    if (linkReady) writeLink();
+  });
+  // A link pasted into this tab's address bar: the page opens what it says.
+  window.addEventListener('hashchange', () => {
+    if (window.location.hash !== linkWritten) window.location.reload();
+  });
   modelList.acceptDrops($('drop-target'));
 }
+
+// The plugin selects, grouped by kind; a plugin that steps is marked.
+function fillPluginSelects() {
+  const option = (p) => ({ value: p.name, text: p.steps ? tr({ en: `${p.name} (steps)`, ru: `${p.name} (по шагам)` }) : p.name });
+  const surfaces = tr({ en: 'hidden surface', ru: 'удаление невидимых поверхностей' });
+  settings.algorithm = fillSelect($('algorithm'), [
+    [surfaces, plugins.hidden_surface.map(option)],
+    [tr({ en: 'hidden line', ru: 'удаление невидимых линий' }), plugins.hidden_line.map(option)],
+  ], settings.algorithm);
+  settings.lighting = fillSelect($('lighting'), [[tr({ en: 'lighting', ru: 'освещение' }), plugins.lighting.map(option)]],
+    settings.lighting);
+  const others = plugins.hidden_surface.filter((p) => p.name !== settings.algorithm);
+  settings.compareAlgorithm = fillSelect($('compare-algorithm'), [[surfaces, plugins.hidden_surface.map(option)]],
+    settings.compareAlgorithm || others[0]?.name || settings.algorithm);
+}
+
+// ---- language and the presentation view -----------------------------------------------------------
+
+// The page's words in the language chosen (settings.language, null: the browser's): the static ones
+// at once, the rest with the frame asked for again (its step text comes from the server).
+function languageChosen() {
+  setLanguage(settings.language ?? browserLanguage());
+  for (const button of document.querySelectorAll('.language-choice button')) {
+    button.setAttribute('aria-pressed', String(button.dataset.language === language()));
+  }
+}
+
+onLanguageChange(() => {
+  applyPageTexts();
+  $('step-play').setAttribute('aria-label', playLabel(steps.playing));
+  if (steps.current === null) $('step-text').textContent = fullRenderText(steps.total);
+  updatePixelInfo();
+  if (!plugins.hidden_surface.length && !plugins.lighting.length) return;  // still starting
+  fillPluginSelects();
+  settings.model = modelList.set(modelList.models, settings.model);
+  paramForm.setSchema(currentAlgorithm()?.params || [], settings.params[settings.algorithm] || {});
+  lightingChosen();
+  if (shown) redraw();
+  requestFrame();
+});
+
+const presentation = new PresentationView($('presentation-toggle'), (on) => {
+  settings.presentation = on;
+  saveSettings(settings);
+  if (shown) redraw();
+});
 
 async function start() {
   // For scripts that drive the page (tests/browser): the last frame asked for and shown, whether
@@ -574,6 +858,10 @@ async function start() {
     lastRequest: null, lastResponse: null, idle: () => scheduler.idle(), camera: () => camera.request(),
   };
   wire();
+  languageChosen();
+  applyPageTexts();
+  setStatus(tr({ en: 'starting…', ru: 'запуск…' }));
+  presentation.set(settings.presentation);
   let info;
   let models;
   try {
@@ -581,7 +869,7 @@ async function start() {
     models = (await getJson('/api/models')).models || [];
   } catch (e) {
     reportError(e);
-    setStatus('the server did not answer');
+    setStatus(tr({ en: 'the server did not answer', ru: 'сервер не ответил' }));
     return;
   }
   for (const kind of ['hidden_surface', 'hidden_line', 'lighting']) {
@@ -593,17 +881,10 @@ async function start() {
   // command's model and chose another since.
   if (info.initial_model && info.initial_model !== settings.initialModel) settings.model = info.initial_model;
   settings.initialModel = info.initial_model || null;
+  const linkStep = applyLink(models);
   settings.model = modelList.set(models, settings.model);
 
-  const option = (p) => ({ value: p.name, text: p.steps ? `${p.name} (steps)` : p.name });
-  settings.algorithm = fillSelect($('algorithm'), [
-    ['hidden surface', plugins.hidden_surface.map(option)],
-    ['hidden line', plugins.hidden_line.map(option)],
-  ], settings.algorithm);
-  settings.lighting = fillSelect($('lighting'), [['lighting', plugins.lighting.map(option)]], settings.lighting);
-  const others = plugins.hidden_surface.filter((p) => p.name !== settings.algorithm);
-  settings.compareAlgorithm = fillSelect($('compare-algorithm'), [['hidden surface', plugins.hidden_surface.map(option)]],
-    settings.compareAlgorithm || others[0]?.name || settings.algorithm);
+  fillPluginSelects();
   $('compare-toggle').checked = settings.compare;
   $('step-speed').value = settings.speed;
   $('width').value = String(settings.width);
@@ -613,11 +894,16 @@ async function start() {
   camera.set(settings.camera);
   algorithmChosen();
   lightingChosen();
+  if (linkStep !== null && linkStep !== undefined && currentAlgorithm()?.steps && !settings.compare) steps.current = linkStep;
+  linkReady = true;
   setTheoryOpen(settings.theoryOpen);
   saveSettings(settings);
   if (!settings.model) {
-    showError('no models found: start hsr view with a model file, --models DIR, or drop a file here');
-    setStatus('no model');
+    showError(tr({
+      en: 'no models found: start hsr view with a model file, --models DIR, or drop a file here',
+      ru: 'модели не найдены: запустите hsr view с файлом модели или с --models КАТАЛОГ либо перетащите файл сюда',
+    }));
+    setStatus(tr({ en: 'no model', ru: 'нет модели' }));
     return;
   }
   requestFrame();

@@ -5,8 +5,9 @@
 // TILE × TILE pixels under the mouse for the readout.
 
 import { typedArray } from './api.js';
+import { tr } from './i18n.js';
 
-export const BUFFER_NAMES = ['depth', 'face', 'instance', 'object', 'depth_tests', 'depth_complexity'];
+export const BUFFER_NAMES = ['depth', 'face', 'instance', 'object', 'depth_tests', 'depth_complexity', 'scene_z'];
 // The buffer each view shows.
 export const VIEW_BUFFER = { 'depth': 'depth', 'depth-complexity': 'depth_complexity', 'depth-tests': 'depth_tests' };
 export const TILE = 64;
@@ -54,6 +55,7 @@ export function decodeFrameBuffers(buffers, width, height) {
       object: typedArray(answer.object, Uint32Array),
       depthTests: typedArray(answer.depth_tests, Uint32Array),
       depthComplexity: typedArray(answer.depth_complexity, Uint32Array),
+      sceneZ: typedArray(answer.scene_z, Float32Array),
     };
     if (x === 0 && y === 0 && w === width && h === height) {
       for (const [name, values] of Object.entries(arrays)) if (values) decoded.whole[name] = values;
@@ -112,14 +114,14 @@ export function bufferView(view, frameBuffers, stepBuffers) {
     const b = stepBuffers.find((s) => `step:${s.name}` === view);
     if (!b) return null;
     return { width: b.width, height: b.height,
-      ...falseColour(b.values, b.width, b.height, { title: `${b.name} (near → far)`, nearIsHigh: true }) };
+      ...falseColour(b.values, b.width, b.height, { title: tr({ en: `${b.name} (near → far)`, ru: `${b.name} (ближе → дальше)` }), nearIsHigh: true }) };
   }
   if (!frameBuffers) return null;
   const { width, height, whole } = frameBuffers;
   const pick = {
-    'depth': [whole.depth, { title: 'depth (near → far)', nearIsHigh: true }],
-    'depth-complexity': [whole.depthComplexity, { title: 'surfaces over the pixel', integer: true }],
-    'depth-tests': [whole.depthTests, { title: 'depth tests at the pixel', integer: true }],
+    'depth': [whole.depth, { title: tr({ en: 'depth (near → far)', ru: 'глубина (ближе → дальше)' }), nearIsHigh: true }],
+    'depth-complexity': [whole.depthComplexity, { title: tr({ en: 'surfaces over the pixel', ru: 'поверхностей в пикселе' }), integer: true }],
+    'depth-tests': [whole.depthTests, { title: tr({ en: 'depth tests at the pixel', ru: 'тестов глубины в пикселе' }), integer: true }],
   }[view];
   if (!pick || !pick[0]) return null;
   return { width, height, ...falseColour(pick[0], width, height, pick[1]) };
@@ -143,7 +145,7 @@ export function drawLegend(elements, legend) {
   elements.title.textContent = legend.title;
 }
 
-const idText = (v) => (v === undefined || v === null || v === EMPTY_ID ? 'none' : String(v));
+const idText = (v) => (v === undefined || v === null || v === EMPTY_ID ? tr({ en: 'none', ru: 'нет' }) : String(v));
 
 // Every buffer's value at pixel (x, y) from the tile that holds it, or null when no tile does.
 function valuesAt(frameBuffers, x, y) {
@@ -164,23 +166,38 @@ export function pixelInfo(frameBuffers, x, y) {
   const v = valuesAt(frameBuffers, x, y);
   if (!v) return null;
   if (!Number.isFinite(v.depth) && (v.face === undefined || v.face === EMPTY_ID)) {
-    return `${x}, ${y}: empty (no surface), depth ∞`;
+    return tr({ en: `${x}, ${y}: empty (no surface), depth ∞`, ru: `${x}, ${y}: пусто (нет поверхности), глубина ∞` });
   }
-  let text = `${x}, ${y}: depth ${formatValue(v.depth)}, face ${idText(v.face)}, object ${idText(v.object)}, `
-    + `instance ${idText(v.instance)}`;
-  if (v.depthComplexity !== undefined) text += `; ${v.depthComplexity} surfaces`;
-  if (v.depthTests !== undefined) text += `, ${v.depthTests} depth tests`;
+  const [depth, face, object, instance] = [formatValue(v.depth), idText(v.face), idText(v.object), idText(v.instance)];
+  let text = tr({
+    en: `${x}, ${y}: depth ${depth}, face ${face}, object ${object}, instance ${instance}`,
+    ru: `${x}, ${y}: глубина ${depth}, грань ${face}, объект ${object}, экземпляр ${instance}`,
+  });
+  if (Number.isFinite(v.sceneZ)) text += `, z ${formatValue(v.sceneZ)}`;
+  if (v.depthComplexity !== undefined) text += tr({ en: `; ${v.depthComplexity} surfaces`, ru: `; поверхностей: ${v.depthComplexity}` });
+  if (v.depthTests !== undefined) text += tr({ en: `, ${v.depthTests} depth tests`, ru: `, тестов глубины: ${v.depthTests}` });
   return text;
 }
 
-// The pixel grid: one cell per pixel with its depth (mode 'depth') or colour ('colour'), the cell
-// coloured like the picture; the pixels a step wrote or rejected are outlined.
+// The pixel grid as the textbook's table: one cell per pixel with its depth (mode 'depth') or its
+// colour ('colour', r g b on three lines), the cell coloured like the picture. Depth is the scene's
+// own z where the frame has it (a `camera pixel` scene: larger is nearer, nothing drawn is −∞), else
+// the window depth (0 to 1, smaller is nearer, nothing drawn is ∞). The pixels the step shown wrote
+// or rejected are outlined. Returns what the caption and the layout need: the label of the values,
+// the marked cells' counts, and the longest text (characters per line, lines).
 export function drawGrid(grid, { width, height, rgba, frameBuffers, mode, steps }) {
   const marks = new Map();
   for (const [x, y] of steps?.written || []) marks.set(y * width + x, 'written');
   for (const [x, y] of steps?.rejected || []) marks.set(y * width + x, 'rejected');
-  grid.style.gridTemplateColumns = `repeat(${width}, var(--cell))`;
+  const sceneZ = frameBuffers?.whole.sceneZ;
+  const depth = frameBuffers?.whole.depth;
+  const colour = mode === 'colour' || !(sceneZ || depth);
+  grid.style.gridTemplateColumns = `repeat(${width}, var(--cell-width, 2.6rem))`;
+  grid.classList.toggle('colour', colour);
   const cells = [];
+  let longest = 1;
+  let written = 0;
+  let rejected = 0;
   for (let y = 0; y < height; ++y) {
     for (let x = 0; x < width; ++x) {
       const i = y * width + x;
@@ -188,16 +205,52 @@ export function drawGrid(grid, { width, height, rgba, frameBuffers, mode, steps 
       const g = rgba[i * 4 + 1];
       const b = rgba[i * 4 + 2];
       let text;
-      if (mode === 'colour' || !frameBuffers?.whole.depth) text = `${r},${g},${b}`;
-      else {
-        const d = frameBuffers.whole.depth[i];
-        text = Number.isFinite(d) ? Number(d.toPrecision(3)).toString() : '·';
-      }
+      if (colour) text = `${r}<br>${g}<br>${b}`;
+      else if (sceneZ) text = Number.isFinite(sceneZ[i]) ? tableNumber(sceneZ[i]) : '−∞';
+      else text = Number.isFinite(depth[i]) ? tableNumber(depth[i]) : '∞';
+      if (!colour) longest = Math.max(longest, text.length);
       const dark = 0.299 * r + 0.587 * g + 0.114 * b < 128;
       const mark = marks.get(i);
-      cells.push(`<div class="cell${dark ? ' dark' : ''}${mark ? ` ${mark}` : ''}" `
+      if (mark === 'written') written += 1;
+      else if (mark === 'rejected') rejected += 1;
+      const empty = text === '−∞' || text === '∞';
+      cells.push(`<div class="cell${dark ? ' dark' : ''}${empty ? ' empty' : ''}${mark ? ` ${mark}` : ''}" `
         + `style="background:rgb(${r},${g},${b})" title="${x}, ${y}">${text}</div>`);
     }
   }
   grid.innerHTML = cells.join('');
+  let label;
+  if (colour) label = tr({ en: 'colour: red, green, blue (0–255)', ru: 'цвет: красный, зелёный, синий (0–255)' });
+  else if (sceneZ) label = tr({ en: 'z (larger is nearer); −∞: no surface', ru: 'z (больше — ближе); −∞: поверхности нет' });
+  else label = tr({ en: 'depth (smaller is nearer); ∞: no surface', ru: 'глубина (меньше — ближе); ∞: поверхности нет' });
+  return {
+    label, written, rejected, marked: Boolean(steps?.written || steps?.rejected),
+    characters: colour ? 3 : longest, lines: colour ? 3 : 1,
+  };
+}
+
+// A number as the table prints it: three significant digits, without trailing zeros.
+function tableNumber(v) {
+  return Number(v.toPrecision(3)).toString().replace(/^-/, '−');
+}
+
+// The size of the grid's cells and font for `columns` × `rows` cells of `characters` × `lines`
+// characters in `room` ({width, height} px), the font at most `largest` px; null when the font
+// would be smaller than `smallest` px. Monospaced digits are at most 0.62 em wide.
+export function gridCells({ columns, rows, characters, lines, room, smallest, largest = 14 }) {
+  const pad = 3;
+  const lineHeight = 1.15;
+  const byHeight = (room.height / rows - 1 - pad) / (lineHeight * lines);
+  const byWidth = (room.width / columns - 1 - pad) / (0.62 * characters);
+  const font = Math.floor(Math.min(largest, byHeight, byWidth) * 2) / 2;
+  if (!(font >= smallest)) return null;
+  return cellsOfFont(font, characters, lines);
+}
+
+export function cellsOfFont(font, characters, lines) {
+  return {
+    font,
+    width: Math.ceil(0.62 * characters * font + 3),
+    height: Math.ceil(1.15 * lines * font + 3),
+  };
 }

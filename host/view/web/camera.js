@@ -2,6 +2,8 @@
 // perspective or orthographic. Angles move in half degrees and zoom keeps three decimals, so that
 // every view the page shows is one `hsr render --yaw --pitch --zoom` reproduces exactly.
 
+import { tr } from './i18n.js';
+
 export const DEFAULT_CAMERA = Object.freeze({
   yaw: 30, pitch: 20, zoom: 1, projection: 'perspective', fov: 35, eye: '', target: '', up: '',
 });
@@ -133,7 +135,10 @@ export class Camera {
     };
     for (const key of ['eye', 'target', 'up']) {
       const v = parseVector(s[key]);
-      if (v === undefined) throw Object.assign(new Error(`${key}: expected x,y,z`), { field: `camera.${key}` });
+      if (v === undefined) {
+        const name = tr({ en: key, ru: { eye: 'глаз', target: 'цель', up: 'верх' }[key] });
+        throw Object.assign(new Error(tr({ en: `${name}: expected x,y,z`, ru: `${name}: ожидается x,y,z` })), { field: `camera.${key}` });
+      }
       camera[key] = v;
     }
     return camera;

@@ -2,6 +2,7 @@
 // beside the main picture with its stats and the diff image (b's picture dimmed, the pixels where
 // the two visibility results differ in magenta) and the count of differing pixels.
 
+import { numberText } from './i18n.js';
 import { renderStats } from './stats.js';
 
 export function compareRequest(frameRequest, algorithm) {
@@ -17,7 +18,7 @@ export function showCompare(el, response, names, roundTripMs) {
   el.diffImage.src = response.diff_png;
   el.captionA.textContent = names.a;
   el.captionB.textContent = names.b;
-  el.diffCount.textContent = Number(response.differing_pixels).toLocaleString('en-US');
+  el.diffCount.textContent = numberText(Number(response.differing_pixels));
   el.pictures.classList.add('comparing');
   renderStats(el.statsA, names.a, response.a.stats, roundTripMs);
   renderStats(el.statsB, names.b, response.b.stats, roundTripMs);

@@ -3,6 +3,8 @@
 // as the strings the CLI takes; only those that differ from the default are sent, so the request
 // reads like the shortest equivalent command line.
 
+import { tr } from './i18n.js';
+
 function colorToHex(text) {
   const t = String(text).trim();
   if (/^#[0-9a-f]{6}$/i.test(t)) return t.toLowerCase();
@@ -77,7 +79,7 @@ export class ParamForm {
     if (this.params.length === 0) {
       const none = document.createElement('p');
       none.className = 'hint';
-      none.textContent = 'no parameters';
+      none.textContent = tr({ en: 'no parameters', ru: 'нет параметров' });
       this.form.append(none);
       return;
     }
@@ -113,7 +115,7 @@ export class ParamForm {
     const reset = document.createElement('button');
     reset.type = 'button';
     reset.className = 'secondary small';
-    reset.textContent = 'defaults';
+    reset.textContent = tr({ en: 'defaults', ru: 'по умолчанию' });
     reset.addEventListener('click', () => {
       this.setSchema(this.params, {});
       this.onChange(this.values());

@@ -26,3 +26,18 @@ export function onLanguageChange(listener) {
 export function tr(texts) {
   return texts[current] ?? texts.en;
 }
+
+// The language the browser asks for: Russian when the first of navigator.languages that is English
+// or Russian is Russian, else English.
+export function browserLanguage(languages = navigator.languages?.length ? navigator.languages : [navigator.language]) {
+  for (const tag of languages) {
+    const base = String(tag || '').toLowerCase().split('-')[0];
+    if (LANGUAGES.includes(base)) return base;
+  }
+  return 'en';
+}
+
+// A count as the page's language writes it: 12,345 or 12 345.
+export function numberText(value) {
+  return value.toLocaleString(current === 'ru' ? 'ru-RU' : 'en-US');
+}

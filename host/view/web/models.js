@@ -3,9 +3,11 @@
 
 import { uploadModel } from './api.js';
 import { fillSelect } from './form.js';
+import { tr } from './i18n.js';
 
 const sizeText = (bytes) => (!bytes ? ''
-  : bytes < 1e6 ? ` (${Math.ceil(bytes / 1024)} KB)` : ` (${(bytes / 1e6).toFixed(1)} MB)`);
+  : bytes < 1e6 ? tr({ en: ` (${Math.ceil(bytes / 1024)} KB)`, ru: ` (${Math.ceil(bytes / 1024)} КБ)` })
+    : tr({ en: ` (${(bytes / 1e6).toFixed(1)} MB)`, ru: ` (${(bytes / 1e6).toFixed(1).replace('.', ',')} МБ)` }));
 
 export class ModelList {
   // select: the <select>; onUploaded(id) after an upload, onError(e), onStatus(text).
@@ -23,7 +25,7 @@ export class ModelList {
     const folders = new Map();
     for (const m of models) {
       const uploaded = m.id.startsWith('upload/');
-      const folder = uploaded ? 'uploaded' : 'models';
+      const folder = uploaded ? tr({ en: 'uploaded', ru: 'загруженные' }) : tr({ en: 'models', ru: 'модели' });
       if (!folders.has(folder)) folders.set(folder, []);
       folders.get(folder).push({ value: m.id, text: `${uploaded ? m.name : m.id.replace(/^\d+\//, '')}${sizeText(m.bytes)}` });
     }
@@ -31,7 +33,7 @@ export class ModelList {
   }
 
   async upload(file) {
-    this.onStatus(`uploading ${file.name}…`);
+    this.onStatus(tr({ en: `uploading ${file.name}…`, ru: `загрузка ${file.name}…` }));
     try {
       const { id } = await uploadModel(file);
       this.set([...this.models, { id, name: file.name, bytes: file.size }], id);

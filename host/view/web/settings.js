@@ -1,5 +1,5 @@
-// The viewer's settings (model, algorithm, lighting, parameters, camera, size, panels) kept in
-// localStorage between visits. A missing or unreadable store gives the defaults.
+// The viewer's settings (model, algorithm, lighting, parameters, camera, size, panels, language,
+// presentation view) kept in localStorage between visits. A missing or unreadable store gives the defaults.
 
 const KEY = 'hsr-view-settings';
 
@@ -9,6 +9,8 @@ export const DEFAULT_SETTINGS = Object.freeze({
   camera: null, width: 512, height: 512,
   bufferView: 'frame', gridMode: 'depth', speed: '1',
   compare: false, compareAlgorithm: null, theoryOpen: false,
+  language: null,                          // 'en' or 'ru'; null: the browser's (i18n.js)
+  presentation: false,                     // the presentation view (presentation.js)
   initialModel: null,                      // the model hsr view was started with, last visit
 });
 

@@ -1,6 +1,8 @@
 // The stats panel: the current frame's timings and the algorithm's counters (as `hsr render --stats`).
 
-const ms = (v) => (Number.isFinite(v) ? `${v.toFixed(1)} ms` : '–');
+import { tr, numberText } from './i18n.js';
+
+const ms = (v) => (Number.isFinite(v) ? tr({ en: `${v.toFixed(1)} ms`, ru: `${v.toFixed(1).replace('.', ',')} мс` }) : '–');
 
 export function renderStats(element, title, stats, roundTripMs) {
   element.replaceChildren();
@@ -13,18 +15,20 @@ export function renderStats(element, title, stats, roundTripMs) {
   const timings = document.createElement('p');
   timings.className = 'timings';
   timings.textContent = [
-    `visibility ${ms(stats.visibility_ms)}`, `shading ${ms(stats.shading_ms)}`,
-    `PNG ${ms(stats.encode_ms)}`, `round trip ${ms(roundTripMs)}`,
+    tr({ en: `visibility ${ms(stats.visibility_ms)}`, ru: `видимость ${ms(stats.visibility_ms)}` }),
+    tr({ en: `shading ${ms(stats.shading_ms)}`, ru: `закраска ${ms(stats.shading_ms)}` }),
+    tr({ en: `PNG ${ms(stats.encode_ms)}`, ru: `PNG ${ms(stats.encode_ms)}` }),
+    tr({ en: `round trip ${ms(roundTripMs)}`, ru: `запрос и ответ ${ms(roundTripMs)}` }),
   ].join(' · ');
   element.append(timings);
   const table = document.createElement('table');
   const rows = Object.entries(stats.counters || {});
-  if (Number.isFinite(stats.triangles)) rows.unshift(['triangles', stats.triangles]);
+  if (Number.isFinite(stats.triangles)) rows.unshift([tr({ en: 'triangles', ru: 'треугольники' }), stats.triangles]);
   for (const [name, value] of rows) {
     const tr = table.insertRow();
     tr.insertCell().textContent = name;
     const cell = tr.insertCell();
-    cell.textContent = typeof value === 'number' ? value.toLocaleString('en-US') : String(value);
+    cell.textContent = typeof value === 'number' ? numberText(value) : String(value);
     cell.className = 'number';
   }
   element.append(table);

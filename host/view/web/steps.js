@@ -2,6 +2,8 @@
 // overlay that draws what one step did over the picture: its lines coloured by role (hsr_step_role:
 // subject, written, rejected, context), its triangle's outline, and the pixels it wrote or rejected.
 
+import { tr } from './i18n.js';
+
 export const ROLE_COLORS = ['#ffd400', '#34d058', '#ff4d4f', '#2fd3ff'];  // subject written rejected context
 const OUTLINE_COLOR = '#ffffff';
 const PLAY_ICON = '<svg viewBox="0 0 16 16" width="14" height="14" aria-hidden="true"><path d="M4 3v10l9-5z" fill="currentColor"/></svg>';
@@ -68,7 +70,7 @@ export class StepControls {
   setPlaying(playing) {
     this.playing = playing;
     this.el.play.innerHTML = playing ? PAUSE_ICON : PLAY_ICON;
-    this.el.play.setAttribute('aria-label', playing ? 'pause' : 'play');
+    this.el.play.setAttribute('aria-label', playLabel(playing));
     this.el.play.classList.toggle('active', playing);
     if (playing) {
       if (this.current === null || (this.total !== null && this.current >= this.total)) this.current = 0;
@@ -101,8 +103,7 @@ export class StepControls {
     if (steps && Number.isFinite(steps.total)) this.total = steps.total;
     if (steps && isStepRequest && Number.isFinite(steps.current)) this.current = steps.current;
     this.shownStep = isStepRequest ? this.current : null;
-    this.el.text.textContent = steps && isStepRequest && steps.text ? `step ${steps.current}: ${steps.text}`
-      : (this.total !== null ? `the full render (${this.total} steps)` : 'the full render');
+    this.el.text.textContent = steps && isStepRequest && steps.text ? stepText(steps.current, steps.text) : fullRenderText(this.total);
     this.show();
     if (this.playing) {
       const wait = Math.max(0, 1000 / this.speed() - (performance.now() - this.lastAdvance));
@@ -114,7 +115,7 @@ export class StepControls {
   // The step count of the full render shown, learnt before any step is asked for.
   setTotal(total) {
     this.total = total;
-    if (this.current === null) this.el.text.textContent = `the full render (${total} steps)`;
+    if (this.current === null) this.el.text.textContent = fullRenderText(total);
     this.show();
   }
 
@@ -123,7 +124,7 @@ export class StepControls {
   failed(message) {
     this.setPlaying(false);
     this.current = this.shownStep;
-    this.el.text.textContent = `stepping stopped: ${message}`;
+    this.el.text.textContent = tr({ en: `stepping stopped: ${message}`, ru: `пошаговый показ остановлен: ${message}` });
     this.show();
   }
 
@@ -144,6 +145,19 @@ export class StepControls {
     number.value = this.current === null && this.total === null ? '' : String(shown);
     totalText.textContent = `/ ${this.total ?? '–'}`;
   }
+}
+
+// The step bar's text for step k (the plugin's text, or the host's, in the page's language) and for
+// the full render with its step count (null: not known yet).
+export function stepText(k, text) {
+  return tr({ en: `step ${k}: ${text}`, ru: `шаг ${k}: ${text}` });
+}
+
+export const playLabel = (playing) => (playing ? tr({ en: 'pause', ru: 'пауза' }) : tr({ en: 'play', ru: 'пуск' }));
+
+export function fullRenderText(total) {
+  if (total === null || total === undefined) return tr({ en: 'the full render', ru: 'полное изображение' });
+  return tr({ en: `the full render (${total} steps)`, ru: `полное изображение (шагов: ${total})` });
 }
 
 // Inputs that take no typing: the step keys act while one of them has the focus.

@@ -64,6 +64,15 @@ using hsr::sdk::ParamSpec;
 constexpr double kSliverPx = 1e-3;
 constexpr double kMaxHorizonColumns = double(uint64_t(1) << 24);
 
+// The Russian noun after a count: 1 точка, 2-4 точки, 5-20 точек, 21 точка.
+const char* russian_plural(unsigned long long n, const char* one, const char* few, const char* many) {
+    const unsigned long long tens = n % 100, units = n % 10;
+    if (tens >= 11 && tens <= 14) return many;
+    if (units == 1) return one;
+    if (units >= 2 && units <= 4) return few;
+    return many;
+}
+
 class FloatingHorizon final : public hsr::sdk::HiddenLineRemover {
 public:
     static constexpr hsr::sdk::PluginInfo info{
@@ -83,6 +92,16 @@ public:
         ParamSpec::integer("max-column-updates", "500000000", 1, 1e15,
                            "the most horizon columns the grid's edges may visit in one drawing, counted before any "
                            "is drawn (a few seconds' work at the default)"),
+    };
+    // ABI 1.5: the phases of the floating horizon, as Rogers writes it. The edges of a strip between
+    // two curves are compared, cut and added as the curves' are, in a phase of their own.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"sort", "order the curves from the nearest to the farthest"},
+        {"curve", "take the next curve"},
+        {"compare", "compare a segment of the curve with the upper and lower horizons"},
+        {"intersect", "find where the segment crosses a horizon"},
+        {"update", "raise the upper and lower the lower horizon along the curve"},
+        {"strip", "test and add the edges between this curve and the next"},
     };
 
     explicit FloatingHorizon(const hsr::sdk::Params& p)
@@ -106,6 +125,8 @@ private:
     uint64_t update_edge(uint32_t a, uint32_t b, uint32_t edge, hsr::sdk::Trace::Event& event);
     // For a step: curve j (SUBJECT) and both horizons (CONTEXT) as lines in the output image.
     void draw_curve_and_horizons(uint32_t j) const;
+    // The first step: the curves in their order, the nearest one as the subject.
+    void sort_step() const;
     uint32_t& request_of(Kind kind, uint32_t i, uint32_t j);
     // Refuses the drawing when its edges would visit more than max-column-updates horizon columns.
     void check_column_updates() const;
@@ -129,6 +150,7 @@ private:
     const hsr::sdk::LineRequest* request_ = nullptr;
     hsr::sdk::SegmentWriter* segments_ = nullptr;
     const hsr::sdk::Trace* trace_ = nullptr;
+    bool in_strip_ = false;  // the edges under way are a strip's, not a curve's (the phase of their steps)
     uint64_t crossings_ = 0, columns_updated_ = 0, column_tests_ = 0, drawn_ = 0;
 };
 
@@ -162,6 +184,7 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
     trace_ = &trace;
     crossings_ = columns_updated_ = column_tests_ = drawn_ = visible_pieces_ = 0;
     const uint32_t nI = order_.layout.along, nJ = order_.layout.curves;
+    if (trace.enabled()) sort_step();
     // A grid edge from (i0, j0) to (i1, j1), in the request's direction when requested.
     auto ends = [&](uint32_t edge, uint32_t i0, uint32_t j0, uint32_t i1, uint32_t j1) {
         if (edge != HSR_NO_EDGE) return std::pair{request.vertex(edge, 0), request.vertex(edge, 1)};
@@ -170,11 +193,17 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
 
     for (uint32_t n = 0; n < nJ; ++n) {
         const uint32_t j = order_.curves[n];
+        in_strip_ = false;
         if (trace.enabled()) {
             uint32_t first = HSR_NO_EDGE;
             for (uint32_t i = 0; i + 1 < nI && first == HSR_NO_EDGE; ++i) first = request_of(Kind::curve, i, j);
             draw_curve_and_horizons(j);
-            trace.emit({"curve-begin", first}, "curve %u of %u: tested against the horizons of the nearer ones", n + 1, nJ);
+            hsr::sdk::Trace::Event event{"curve-begin", first};
+            event.phase = "curve";
+            if (trace.russian())
+                trace.emit(event, "кривая %u из %u: сравнивается с горизонтами более близких кривых", n + 1, nJ);
+            else
+                trace.emit(event, "curve %u of %u: tested against the horizons of the nearer ones", n + 1, nJ);
         }
         const uint64_t visible_before = visible_pieces_;
         // The curve is tested against the horizons of what is nearer as a whole (no part of a curve
@@ -199,14 +228,20 @@ void FloatingHorizon::render_lines(const hsr::sdk::Scene& scene, const hsr_camer
         }
         if (last.type != nullptr) {
             draw_curve_and_horizons(j);
-            trace.emit(last, "curve %u of %u: %llu visible pieces; the horizons moved at %llu column values", n + 1,
-                       nJ, static_cast<unsigned long long>(visible_pieces_ - visible_before),
-                       static_cast<unsigned long long>(columns_changed));
+            const auto visible = static_cast<unsigned long long>(visible_pieces_ - visible_before);
+            const auto changed = static_cast<unsigned long long>(columns_changed);
+            if (trace.russian())
+                trace.emit(last, "кривая %u из %u: видимых участков — %llu; горизонты обновлены в %llu %s", n + 1, nJ,
+                           visible, changed, russian_plural(changed, "столбце", "столбцах", "столбцах"));
+            else
+                trace.emit(last, "curve %u of %u: %llu visible pieces; the horizons moved at %llu column values", n + 1,
+                           nJ, visible, changed);
         }
         if (n + 1 == nJ) break;
         // The strip between this curve and the next one: cross edges and diagonals, nearest first;
         // each is tested, then added, before the next.
         const uint32_t strip = std::min(j, order_.curves[n + 1]);
+        in_strip_ = true;
         for (const Element& element : order_.strip) {
             const uint32_t i = element.i;
             const bool cross = element.kind == Kind::cross;
@@ -375,16 +410,22 @@ void FloatingHorizon::classify_edge(uint32_t a, uint32_t b, uint32_t edge) {
     }
     const uint32_t flags = request_->flags(edge);
     const bool hidden_too = request_->want_hidden();
-    if (trace_->enabled())
-        trace_->emit({"edge-begin", edge, HSR_NO_FACE, HSR_NO_OBJECT, pieces_.front().visible ? 0 : -1, 0.0});
+    if (trace_->enabled()) {
+        hsr::sdk::Trace::Event event{"edge-begin", edge, HSR_NO_FACE, HSR_NO_OBJECT, pieces_.front().visible ? 0 : -1, 0.0};
+        event.phase = in_strip_ ? "strip" : "compare";
+        trace_->emit(event);
+    }
     for (size_t k = 0; k < pieces_.size(); ++k) {
         const Piece& piece = pieces_[k];
         const double t0 = along(piece.s0), t1 = along(piece.s1);
         if (k > 0) {
             ++crossings_;
-            if (trace_->enabled())
-                trace_->emit({piece.visible ? "visible-from" : "hidden-from", edge, HSR_NO_FACE, HSR_NO_OBJECT,
-                              piece.visible ? 0 : -1, t0});
+            if (trace_->enabled()) {
+                hsr::sdk::Trace::Event event{piece.visible ? "visible-from" : "hidden-from", edge, HSR_NO_FACE,
+                                             HSR_NO_OBJECT, piece.visible ? 0 : -1, t0};
+                event.phase = in_strip_ ? "strip" : "intersect";
+                trace_->emit(event);
+            }
         }
         if (piece.visible) {
             segments_->add(point(t0), point(t1), edge, flags, 0);
@@ -403,9 +444,36 @@ uint64_t FloatingHorizon::update_edge(uint32_t a, uint32_t b, uint32_t edge, hsr
     columns_updated_ += changed;
     if (changed > 0 && edge != HSR_NO_EDGE && trace_->enabled()) {
         auto along = [&](double s) { return (s / B.w) / ((1 - s) / A.w + s / B.w); };
-        event = {"horizon-update", edge, HSR_NO_FACE, HSR_NO_OBJECT, -1, along(s_lo), along(s_hi)};
+        event = {"horizon-update", edge, HSR_NO_FACE, HSR_NO_OBJECT, -1, along(s_lo), along(s_hi),
+                 in_strip_ ? "strip" : "update"};
     }
     return changed;
+}
+
+void FloatingHorizon::sort_step() const {
+    const CurveOrder& o = order_;
+    constexpr uint64_t kMostLines = uint64_t(1) << 16;  // of a dense grid, the nearest curves only
+    const uint32_t shown = uint32_t(std::min<uint64_t>(o.layout.curves, kMostLines / (o.layout.along - 1) + 1));
+    for (uint32_t n = 0; n < shown; ++n)
+        for (uint32_t i = 0; i + 1 < o.layout.along; ++i) {
+            const SpacePoint& a = window_[o.layout.vertex(i, o.curves[n])];
+            const SpacePoint& b = window_[o.layout.vertex(i + 1, o.curves[n])];
+            trace_->line(float(a.x), float(a.h), float(b.x), float(b.h), n == 0 ? HSR_STEP_SUBJECT : HSR_STEP_CONTEXT);
+        }
+    hsr::sdk::Trace::Event event{"sort"};
+    event.phase = "sort";
+    const unsigned long long curves = o.layout.curves, points = o.layout.along;
+    if (trace_->russian())
+        trace_->emit(event, "кривые упорядочены от ближней к дальней: %llu %s сетки, в каждой %llu %s; ближняя — %s %u",
+                     curves,
+                     o.layout.curves_are_rows ? russian_plural(curves, "строка", "строки", "строк")
+                                              : russian_plural(curves, "столбец", "столбца", "столбцов"),
+                     points, russian_plural(points, "точка", "точки", "точек"),
+                     o.layout.curves_are_rows ? "строка" : "столбец", o.curves.front());
+    else
+        trace_->emit(event, "curves ordered nearest first: %llu grid %s of %llu points; the nearest is %s %u", curves,
+                     o.layout.curves_are_rows ? "rows" : "columns", points, o.layout.curves_are_rows ? "row" : "column",
+                     o.curves.front());
 }
 
 // A point (x, height) of the horizons' space is a ray from the eye (a line along the view, for an

@@ -57,12 +57,19 @@ public:
         ParamSpec::integer("max-fragments", "8388608", 1024, 268435456,
                            "fragments a frame may keep before the plugin refuses it (memory: 28 bytes each)"),
     };
+    // ABI 1.5: the phases of Carpenter's A-buffer.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"rasterize", "rasterize a triangle into fragments with coverage masks, added to the pixels' lists"},
+        {"resolve", "sort each pixel's fragments front to back and merge their coverage"},
+    };
 
     explicit ABuffer(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_fragments_(uint64_t(p.integer("max-fragments"))) {}
 
-    // render_steps (from StepwiseRemover) takes one step per input triangle, as zbuffer: the
-    // visibility buffer at pixel centres.
+    // render_steps (from StepwiseRemover) takes one step per input triangle (phase "rasterize"): its
+    // fragments go to the pixels' lists, and the visibility buffer at pixel centres is filled as
+    // zbuffer fills it; then one step per row of pixels (phase "resolve"), whose lists are sorted and
+    // merged as render_fragments merges them, with the coverage so far as a step buffer.
 
     void render_fragments(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                           hsr::sdk::Counters& counters, hsr::sdk::FragmentWriter& fragments) {
@@ -79,11 +86,17 @@ private:
 
     friend class hsr::sdk::StepwiseRemover<ABuffer>;
 
-    // render() and render_steps(): the visibility buffer alone, no fragments.
+    // render(): the visibility buffer alone, no fragments. render_steps(): the same buffer, and the
+    // fragment lists made and resolved for the steps to show.
     template <class Steps>
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                      hsr::sdk::Counters& counters, Steps& steps) {
-        draw<false>(scene, camera, target, counters, steps);
+        if constexpr (Steps::enabled) {
+            draw<true>(scene, camera, target, counters, steps);
+            resolve_steps(scene, steps);
+        } else {
+            draw<false>(scene, camera, target, counters, steps);
+        }
     }
 
     template <bool kFragments, class Steps>
@@ -128,6 +141,7 @@ private:
             for (uint32_t t = placement.first_triangle; t < end; ++t) {
                 const raster::TriangleStats before = geometry_.stats();
                 const PixelStats pixels_before = pixels;
+                const size_t fragments_before = pool_.size();
                 geometry_.process(t, [&](const raster::TriangleSetup& s) {
                     raster::DepthTest<raster::DepthRule::kNearer, kCountTests> test(buffers, t, placement.instance);
                     raster::for_each_covered_pixel(s, [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); });
@@ -136,10 +150,95 @@ private:
                     if constexpr (kFragments) add_fragments(s, t, placement.instance);
                 });
                 if constexpr (Steps::enabled) geometry_.outline_lines(steps, indices + 3 * size_t(t));
-                raster::triangle_step(steps, before, geometry_.stats(), t, placement.instance,
-                                      pixels.depth_tested - pixels_before.depth_tested,
-                                      pixels.written - pixels_before.written);
+                triangle_step(steps, before, geometry_.stats(), t, placement.instance,
+                              pixels.depth_tested - pixels_before.depth_tested, pixels.written - pixels_before.written,
+                              pool_.size() - fragments_before);
             }
+        }
+    }
+
+    // The step of one triangle: what became of it, its fragments, and the pixel centres it won.
+    template <class Steps>
+    static void triangle_step(Steps& steps, const raster::TriangleStats& before, const raster::TriangleStats& after,
+                              uint32_t face, uint32_t instance, uint64_t tested, uint64_t written, uint64_t made) {
+        if constexpr (Steps::enabled) {
+            const hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, written, tested - written,
+                                               "rasterize"};
+            const unsigned long long f = face, n = made, w = written, r = tested - written;
+            const bool ru = steps.russian();
+            if (after.backface_culled != before.backface_culled)
+                steps.step(event, ru ? "треугольник %llu: отброшен, он повёрнут к камере нелицевой стороной"
+                                     : "triangle %llu: culled, it faces away from the camera", f);
+            else if (after.outside != before.outside)
+                steps.step(event, ru ? "треугольник %llu: вне поля зрения, не растеризуется"
+                                     : "triangle %llu: outside the view, not drawn", f);
+            else if (ru)
+                steps.step(event, "треугольник %llu: %llu %s в списки пикселей; тест глубины в центрах пикселей: "
+                           "записано %llu, отброшено %llu", f, n, russian_plural(n, "фрагмент", "фрагмента", "фрагментов"),
+                           w, r);
+            else
+                steps.step(event, "triangle %llu: %llu fragment%s into the pixels' lists; at pixel centres %llu written, "
+                           "%llu rejected by the depth test", f, n, n == 1 ? "" : "s", w, r);
+        }
+    }
+
+    // The Russian noun after a count: 1 фрагмент, 2-4 фрагмента, 5-20 фрагментов, 21 фрагмент.
+    static const char* russian_plural(unsigned long long n, const char* one, const char* few, const char* many) {
+        const unsigned long long tens = n % 100, units = n % 10;
+        if (tens >= 11 && tens <= 14) return many;
+        if (units == 1) return one;
+        if (units >= 2 && units <= 4) return few;
+        return many;
+    }
+
+    // One step per row of pixels: each list sorted front to back and its fragments merged as
+    // resolve() merges them (nothing is written: the steps have no fragment writer), with the
+    // fraction of every resolved pixel's samples covered as the "coverage" buffer.
+    template <class Steps>
+    void resolve_steps(const hsr::sdk::Scene& scene, Steps& steps) {
+        std::vector<float> coverage(size_t(width_) * height_, 0.0f);
+        std::vector<uint32_t> list;
+        for (uint32_t y = 0; y < height_; ++y) {
+            uint64_t lists = 0, kept = 0, hidden = 0, partial = 0, longest = 0;
+            for (uint32_t x = 0; x < width_; ++x) {
+                const size_t p = size_t(y) * width_ + x;
+                list.clear();
+                for (uint32_t f = head_[p]; f != kEndOfList; f = pool_[f].next) list.push_back(f);
+                if (list.empty()) continue;
+                ++lists;
+                longest = std::max<uint64_t>(longest, list.size());
+                std::stable_sort(list.begin(), list.end(), [&](uint32_t a, uint32_t b) {
+                    return pool_[a].depth < pool_[b].depth || (pool_[a].depth == pool_[b].depth && a < b);
+                });
+                uint32_t closed = 0, covered = 0;
+                for (uint32_t f : list) {
+                    const Fragment& g = pool_[f];
+                    if ((g.coverage & ~closed) == 0) {
+                        ++hidden;
+                        continue;
+                    }
+                    ++kept;
+                    covered |= g.coverage;
+                    if (scene.object_opacity(scene.face_object(g.face)) >= 1.0f) closed |= g.coverage;
+                }
+                partial += covered != kFullCoverage ? 1 : 0;
+                coverage[p] = float(std::popcount(covered)) / float(HSR_COVERAGE_SAMPLES);
+            }
+            steps.box(0.0f, float(y), float(width_), float(y + 1), HSR_STEP_SUBJECT);
+            steps.buffer("coverage", width_, height_, coverage.data());
+            const hsr::sdk::Steps::Event event{"row", HSR_NO_FACE, 0, HSR_NO_LEVEL, kept, hidden, "resolve"};
+            const unsigned long long row = y, n = lists, k = kept, h = hidden, e = partial, m = longest;
+            const bool ru = steps.russian();
+            if (lists == 0)
+                steps.step(event, ru ? "строка %llu: фрагментов нет" : "row %llu: no fragments", row);
+            else if (ru)
+                steps.step(event, "строка %llu: списков — %llu (до %llu %s); видимых фрагментов — %llu, закрытых — "
+                           "%llu; частично покрытых пикселей — %llu", row, n, m,
+                           russian_plural(m, "фрагмента", "фрагментов", "фрагментов"), k, h, e);
+            else
+                steps.step(event, "row %llu: %llu list%s sorted by depth (the longest: %llu); %llu fragment%s "
+                           "visible, %llu hidden by nearer ones; %llu pixel%s partly covered", row, n, n == 1 ? "" : "s",
+                           m, k, k == 1 ? "" : "s", h, e, e == 1 ? "" : "s");
         }
     }
 

@@ -49,6 +49,16 @@ inline int32_t pixel(double v, int32_t size) {
     return v >= -1.0 ? int32_t(std::min(v, double(size))) : -1;
 }
 
+// The Russian noun that goes with n: `one` after 1, 21, 31..., `few` after 2-4, 22-24...,
+// `many` after 0, 5-20, 25-30... (1 пиксель, 3 пикселя, 11 пикселей).
+const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
+    const uint64_t tens = n % 100, units = n % 10;
+    if (tens >= 11 && tens <= 14) return many;
+    if (units == 1) return one;
+    if (units >= 2 && units <= 4) return few;
+    return many;
+}
+
 struct FrameStats {
     uint64_t nodes_visited = 0;
     uint64_t polygons_drawn = 0;  // rasterized with at least one pixel centre in the image
@@ -117,6 +127,14 @@ public:
         ParamSpec::boolean("cull-backfaces", false, "skip polygons whose back faces the camera"),
     };
 
+    // The build is one step (it happens once per scene, before any frame); the walk takes a step
+    // at each node, where the eye's side of its plane decides the order, and one per polygon drawn.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"build", "build the tree: choose a splitter, split the polygons"},
+        {"traverse", "at a node: far subtree, node, near subtree"},
+        {"draw", "draw the node's polygons"},
+    };
+
     explicit Bsp(const hsr::sdk::Params& p)
         : front_to_back_(p.choice("order") == 1), cull_backfaces_(p.boolean("cull-backfaces")) {
         build_params_.choice = p.choice("split") == 1 ? bsp::SplitChoice::kFirst : bsp::SplitChoice::kFewestSplits;
@@ -124,7 +142,8 @@ public:
         build_params_.max_polygons = uint64_t(p.integer("max-polygons"));
     }
 
-    // render_steps (from StepwiseRemover) takes one step per node polygon, in drawing order.
+    // render_steps (from StepwiseRemover) takes one step for the tree, then in drawing order one per
+    // node visited and one per node polygon.
 
 private:
     friend class hsr::sdk::StepwiseRemover<Bsp>;
@@ -134,11 +153,13 @@ private:
                      hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
 
-        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
+        bool built = false;
+        hsr::sdk::timed_build(counters, [&] { return built = prepare(scene); });
 
         begin_frame(camera, target);
         stats_ = FrameStats{};
         try {
+            if constexpr (Steps::enabled) build_step(built, steps);
             if (!tree_.nodes.empty()) draw(steps);
         } catch (const hsr::sdk::StepLimitReached&) {
             report(counters);
@@ -200,6 +221,73 @@ private:
         if (front_to_back_) covered_.assign(size_t(width_) * size_t(height_), 0);  // keeps its capacity
     }
 
+    template <class Steps>
+    void build_step(bool built, Steps& steps) const {
+        const bsp::BuildStats& b = tree_.stats;
+        const unsigned long long in = b.polygons_in, split = b.polygons_split, pieces = b.polygons_after_splits,
+                                 nodes = tree_.nodes.size(), depth = b.depth;
+        hsr::sdk::Steps::Event event{"build"};
+        event.phase = "build";
+        if (steps.russian())
+            steps.step(event, "BSP-дерево %s: %llu %s, рассечено %llu; частей %llu, узлов %llu, глубина %llu",
+                       built ? "построено" : "взято готовым (построено для этой сцены раньше)", in,
+                       russian_plural(in, "многоугольник", "многоугольника", "многоугольников"), split, pieces, nodes,
+                       depth);
+        else
+            steps.step(event, "BSP tree %s: %llu polygon%s, %llu split; %llu pieces in %llu nodes, depth %llu",
+                       built ? "built" : "reused (built for this scene before)", in, in == 1 ? "" : "s", split,
+                       pieces, nodes, depth);
+    }
+
+    // At a node: the order its subtrees and polygons are drawn in, from the eye's side of its plane.
+    template <bool kFrontToBack, class Steps>
+    void node_step(uint32_t index, bool eye_in_front, Steps& steps) const {
+        const bsp::Node& node = tree_.nodes[index];
+        for (uint32_t k = 0; k < node.polygon_count; ++k)
+            outline_piece(steps, tree_.polygons[node.first_polygon + k], HSR_STEP_SUBJECT);
+        // The side drawn first: back to front the far one, front to back the near one.
+        const bool front_first = kFrontToBack == eye_in_front;
+        const bool first_empty = (front_first ? node.front : node.back) == bsp::kNoNode;
+        const bool last_empty = (front_first ? node.back : node.front) == bsp::kNoNode;
+        const unsigned n = index, count = node.polygon_count;
+        hsr::sdk::Steps::Event event{"node"};
+        event.phase = "traverse";
+        if (steps.russian()) {
+            const char* first = front_first ? "переднее" : "заднее";
+            const char* last = front_first ? "заднее" : "переднее";
+            steps.step(event, "узел %u: наблюдатель %s его плоскостью; порядок: %s поддерево%s, %u %s узла, %s%s",
+                       n, eye_in_front ? "перед" : "за", first, first_empty ? " (пусто)" : "", count,
+                       russian_plural(count, "многоугольник", "многоугольника", "многоугольников"), last,
+                       last_empty ? " (пусто)" : "");
+        } else {
+            const char* first = front_first ? "front" : "back";
+            const char* last = front_first ? "back" : "front";
+            steps.step(event, "node %u: the eye is %s its plane; order: %s subtree%s, the node's %u polygon%s, %s%s",
+                       n, eye_in_front ? "in front of" : "behind", first, first_empty ? " (empty)" : "", count,
+                       count == 1 ? "" : "s", last, last_empty ? " (empty)" : "");
+        }
+    }
+
+    // The outline of a node polygon, when it lies in front of the eye and near the image.
+    template <class Steps>
+    void outline_piece(Steps& steps, const bsp::Polygon& polygon, hsr_step_role role) const {
+        const int count = int(polygon.corner_count);
+        glm::dvec3 window[raster::kMaxPieceVertices];
+        for (int k = 0; k < count; ++k) {
+            const glm::dvec4 clip = view_projection_ * glm::dvec4(tree_.corners[polygon.first_corner + k], 1.0);
+            if (!(clip.w > 0.0)) return;
+            window[k] = geometry_.viewport().project(clip);
+            if (!(window[k].x >= -1.0 && window[k].x <= width_ + 1.0 && window[k].y >= -1.0 &&
+                  window[k].y <= height_ + 1.0))
+                return;
+        }
+        for (int k = 0; k < count; ++k) {
+            const glm::dvec3& a = window[k];
+            const glm::dvec3& b = window[k + 1 == count ? 0 : k + 1];
+            steps.line(float(a.x), float(a.y), float(b.x), float(b.y), role);
+        }
+    }
+
     // Signed: positive where the eye (or, orthographic, the viewer at infinity) is in front of the plane.
     double eye_side(const glm::dvec4& plane) const {
         const glm::dvec3 normal(plane);
@@ -245,6 +333,7 @@ private:
             ++stats_.nodes_visited;
             // The eye on the plane: neither side hides the other, either order is right.
             const bool eye_in_front = eye_side(node.plane) >= 0.0;
+            if constexpr (Steps::enabled) node_step<kFrontToBack>(visit.node, eye_in_front, steps);
             const uint32_t near = eye_in_front ? node.front : node.back;
             const uint32_t far = eye_in_front ? node.back : node.front;
             // Last in, first out: push in the reverse of the drawing order.
@@ -267,9 +356,16 @@ private:
         if (cull_backfaces_ &&
             !raster::is_front_facing(corners[0].position, corners[1].position, corners[2].position)) {
             ++stats_.polygons_culled;
-            if constexpr (Steps::enabled)
-                steps.step({"polygon", triangle.face, triangle.instance},
-                           "node %u, piece of triangle %u: culled, it faces away from the camera", node, triangle.face);
+            if constexpr (Steps::enabled) {
+                hsr::sdk::Steps::Event event{"polygon", triangle.face, triangle.instance};
+                event.phase = "draw";
+                if (steps.russian())
+                    steps.step(event, "узел %u, часть треугольника %u отброшена: нелицевая, обращена от камеры", node,
+                               triangle.face);
+                else
+                    steps.step(event, "node %u, piece of triangle %u: culled, it faces away from the camera", node,
+                               triangle.face);
+            }
             return;
         }
         // The piece's pixel bounds, a pixel wider than its corners (all of them in front of the eye).
@@ -319,34 +415,28 @@ private:
     template <bool kFrontToBack, class Steps>
     void polygon_step(Steps& steps, const bsp::Polygon& polygon, const bsp::Triangle& triangle, uint32_t node,
                       const Rect& box, uint64_t painted, uint64_t skipped) {
-        const int count = int(polygon.corner_count);
-        bool outline = true;
-        glm::dvec3 window[raster::kMaxPieceVertices];
-        for (int k = 0; k < count && outline; ++k) {
-            const glm::dvec4 clip = view_projection_ * glm::dvec4(tree_.corners[polygon.first_corner + k], 1.0);
-            outline = clip.w > 0.0;
-            if (outline) window[k] = geometry_.viewport().project(clip);
-            outline = outline && window[k].x >= -1.0 && window[k].x <= width_ + 1.0 && window[k].y >= -1.0 &&
-                      window[k].y <= height_ + 1.0;
-        }
-        if (outline)
-            for (int k = 0; k < count; ++k) {
-                const glm::dvec3& a = window[k];
-                const glm::dvec3& b = window[k + 1 == count ? 0 : k + 1];
-                steps.line(float(a.x), float(a.y), float(b.x), float(b.y), HSR_STEP_SUBJECT);
-            }
+        outline_piece(steps, polygon, HSR_STEP_SUBJECT);
         if (!box.empty())
             raster::pixel_box_lines(steps, box.x0, box.y0, box.x1, box.y1, width_, height_,
                                     painted > 0 ? HSR_STEP_WRITTEN : HSR_STEP_REJECTED);
         const unsigned f = triangle.face, n = node;
         const unsigned long long w = painted, s = skipped;
-        const hsr::sdk::Steps::Event event{"polygon", triangle.face, triangle.instance, HSR_NO_LEVEL, painted, skipped};
+        hsr::sdk::Steps::Event event{"polygon", triangle.face, triangle.instance, HSR_NO_LEVEL, painted, skipped};
+        event.phase = "draw";
+        const char* pixels = russian_plural(w, "пиксель", "пикселя", "пикселей");
         if (kFrontToBack) {
             steps.buffer("coverage", uint32_t(width_), uint32_t(height_), covered_view_.data());
-            steps.step(event, "node %u, piece of triangle %u: %llu pixel%s written, %llu skipped as covered", n, f, w,
-                       w == 1 ? "" : "s", s);
+            if (steps.russian())
+                steps.step(event, "узел %u, часть треугольника %u: записано %llu %s, пропущено как уже закрытые: %llu",
+                           n, f, w, pixels, s);
+            else
+                steps.step(event, "node %u, piece of triangle %u: %llu pixel%s written, %llu skipped as covered", n, f,
+                           w, w == 1 ? "" : "s", s);
         } else {
-            steps.step(event, "node %u, piece of triangle %u: %llu pixel%s painted", n, f, w, w == 1 ? "" : "s");
+            if (steps.russian())
+                steps.step(event, "узел %u, часть треугольника %u: закрашено %llu %s", n, f, w, pixels);
+            else
+                steps.step(event, "node %u, piece of triangle %u: %llu pixel%s painted", n, f, w, w == 1 ? "" : "s");
         }
     }
 

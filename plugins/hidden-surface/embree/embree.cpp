@@ -59,6 +59,11 @@ public:
         ParamSpec::integer("tile-size", "16", 1, 4096, "side in pixels of the square tiles the threads take"),
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
     };
+    // ABI 1.5: the phases of ray casting through Embree's hierarchy.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"build", "let Embree build its bounding volume hierarchy"},
+        {"cast", "cast a ray through each pixel centre and keep its nearest hit"},
+    };
 
     explicit Embree(const hsr::sdk::Params& p)
         : threads_(uint32_t(p.integer("threads"))),
@@ -74,8 +79,8 @@ public:
     Embree(const Embree&) = delete;
     Embree& operator=(const Embree&) = delete;
 
-    // render_steps (from StepwiseRemover) takes one step per tile, tiles in rows from the top left,
-    // all cast on the calling thread.
+    // render_steps (from StepwiseRemover) takes a step for the hierarchy (phase "build"), then one step
+    // per tile (phase "cast"), tiles in rows from the top left, all cast on the calling thread.
 
     // The intersection filter: passes over hits outside the view volume, cut away, or facing away.
     static void filter(const RTCFilterFunctionNArguments* args) {
@@ -108,7 +113,8 @@ private:
     void render_with(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target,
                      hsr::sdk::Counters& counters, Steps& steps) {
         hsr::raster::validate_frame(info.name, scene.raw(), camera, target.raw());
-        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
+        bool built = false;
+        hsr::sdk::timed_build(counters, [&] { return built = prepare(scene); });
 
         begin_frame(scene, camera, target);
         TileStats total;
@@ -118,16 +124,13 @@ private:
         };
         if constexpr (Steps::enabled) {
             try {
+                build_step(steps, built);
                 for (uint32_t k = 0; k < tiles().count(); ++k) {
                     TileStats tile;
                     cast_tile(k, tile);
                     total.rays += tile.rays;
                     total.hits += tile.hits;
-                    uint32_t x0, y0, x1, y1;
-                    tiles().rect(k, x0, y0, x1, y1);
-                    steps.box(float(x0), float(y0), float(x1), float(y1), HSR_STEP_SUBJECT);
-                    steps.step({"tile", HSR_NO_FACE, 0, HSR_NO_LEVEL, tile.hits, 0}, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits",
-                               k, x0, y0, x1 - 1, y1 - 1, (unsigned long long)tile.rays, (unsigned long long)tile.hits);
+                    tile_step(steps, k, tile);
                 }
             } catch (const hsr::sdk::StepLimitReached&) {
                 report();
@@ -137,6 +140,72 @@ private:
             cast_all(total);
         }
         report();
+    }
+
+    // ------------------------------------------------------------------------------------------ //
+    // Steps (ABI 1.3; phases and languages, ABI 1.5)
+
+    // The hierarchy Embree built (or kept from the last frame of the same scene), drawn as the screen
+    // rectangle of the scene's bounds.
+    template <class Steps>
+    void build_step(Steps& steps, bool built) const {
+        if (top_ != nullptr) {
+            RTCBounds b;
+            rtcGetSceneBounds(top_, &b);
+            float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+            bool in_front = true;
+            for (int c = 0; c < 8 && in_front; ++c) {
+                const glm::dvec4 clip = view_projection_ * glm::dvec4((c & 1) ? b.upper_x : b.lower_x,
+                                                                      (c & 2) ? b.upper_y : b.lower_y,
+                                                                      (c & 4) ? b.upper_z : b.lower_z, 1.0);
+                in_front = clip.w > 0.0;
+                const float x = float((clip.x / clip.w + 1.0) * 0.5 * width_);
+                const float y = float((1.0 - clip.y / clip.w) * 0.5 * height_);
+                x0 = std::min(x0, x);
+                x1 = std::max(x1, x);
+                y0 = std::min(y0, y);
+                y1 = std::max(y1, y);
+            }
+            if (in_front && std::isfinite(x0 + x1 + y0 + y1)) steps.box(x0, y0, x1, y1, HSR_STEP_CONTEXT);
+        }
+        unsigned long long triangles = 0;
+        for (const auto& entry : object_of_range_) triangles += entry.first[1];
+        const unsigned long long objects = objects_.size(), instances = placed_.size();
+        const hsr::sdk::Steps::Event event{"build", HSR_NO_FACE, 0, HSR_NO_LEVEL, 0, 0, "build"};
+        if (steps.russian())
+            steps.step(event, "иерархия Embree %s: %llu %s в %llu %s, %llu %s на сцене",
+                       built ? "построена" : "взята с прошлого кадра", triangles,
+                       russian_plural(triangles, "треугольник", "треугольника", "треугольников"), objects,
+                       russian_plural(objects, "иерархии объекта", "иерархиях объектов", "иерархиях объектов"),
+                       instances, russian_plural(instances, "экземпляр", "экземпляра", "экземпляров"));
+        else
+            steps.step(event, "Embree's hierarchy %s: %llu triangle%s in %llu object hierarch%s, %llu instance%s placed",
+                       built ? "built" : "kept from the last frame", triangles, triangles == 1 ? "" : "s", objects,
+                       objects == 1 ? "y" : "ies", instances, instances == 1 ? "" : "s");
+    }
+
+    template <class Steps>
+    void tile_step(Steps& steps, uint32_t k, const TileStats& tile) const {
+        uint32_t x0, y0, x1, y1;
+        tiles().rect(k, x0, y0, x1, y1);
+        steps.box(float(x0), float(y0), float(x1), float(y1), HSR_STEP_SUBJECT);
+        const hsr::sdk::Steps::Event event{"tile", HSR_NO_FACE, 0, HSR_NO_LEVEL, tile.hits, 0, "cast"};
+        const unsigned long long rays = tile.rays, hits = tile.hits;
+        if (steps.russian())
+            steps.step(event, "тайл %u (%u,%u)–(%u,%u): %llu %s, %llu %s", k, x0, y0, x1 - 1, y1 - 1, rays,
+                       russian_plural(rays, "луч", "луча", "лучей"), hits,
+                       russian_plural(hits, "попадание", "попадания", "попаданий"));
+        else
+            steps.step(event, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits", k, x0, y0, x1 - 1, y1 - 1, rays, hits);
+    }
+
+    // The Russian noun after a count: 1 луч, 2-4 луча, 5-20 лучей, 21 луч, 111 лучей.
+    static const char* russian_plural(unsigned long long n, const char* one, const char* few, const char* many) {
+        const unsigned long long tens = n % 100, units = n % 10;
+        if (tens >= 11 && tens <= 14) return many;
+        if (units == 1) return one;
+        if (units >= 2 && units <= 4) return few;
+        return many;
     }
 
     // ------------------------------------------------------------------------------------------ //

@@ -33,6 +33,16 @@ using painter::ClipVertex;
 using painter::Polygon;
 
 constexpr uint32_t kNone = ~0u;
+
+// The Russian noun that goes with n: `one` after 1, 21, 31..., `few` after 2-4, 22-24...,
+// `many` after 0, 5-20, 25-30... (1 пиксель, 3 пикселя, 11 пикселей).
+const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
+    const uint64_t tens = n % 100, units = n % 10;
+    if (tens >= 11 && tens <= 14) return many;
+    if (units == 1) return one;
+    if (units >= 2 && units <= 4) return few;
+    return many;
+}
 // Pieces with more corners than this skip the separating-axis shortcut of test 6.
 constexpr uint32_t kMaxCorners = 32;
 
@@ -65,12 +75,22 @@ public:
                            "refuse a frame that needs more polygons than this, counting split pieces"),
     };
 
+    // The steps of the depth sort, as a textbook gives them: the list sorted once, then for its
+    // head P either Q moved ahead (tests 1-6 failed), a cycle split, or P painted. The six tests
+    // have no step of their own: their outcome is what the next step does.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"sort", "sort the polygons by farthest depth"},
+        {"reorder", "P may hide Q: move Q ahead of P"},
+        {"split", "a cycle: split a polygon of it"},
+        {"paint", "P hides none of the others: paint it"},
+    };
+
     explicit Painter(const hsr::sdk::Params& p)
         : newell_(p.choice("mode") == 0), key_mid_(p.choice("naive-key") == 1),
           cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}
 
-    // render_steps (from StepwiseRemover) takes one step per polygon painted, per reordering and per
-    // split, in the order they happen.
+    // render_steps (from StepwiseRemover) takes one step for the sort, then one per polygon painted,
+    // per reordering and per split, in the order they happen.
 
 private:
     // Sort order: farther key first, then lower polygon index (scene order).
@@ -270,6 +290,7 @@ private:
     template <bool kCountPaints, class Steps>
     void paint_all(hsr::sdk::VisibilityBuffer& target, Steps& steps) {
         const raster::PixelBuffers buffers(target);
+        if constexpr (Steps::enabled) sort_step(steps);
         if (!newell_) {
             std::vector<Key> order;
             for (uint32_t k = 0; k < store_.polygons.size(); ++k) {
@@ -463,17 +484,41 @@ private:
         ++stats_.splits;
         if constexpr (Steps::enabled) {
             for (uint32_t k = first_piece; k < end; ++k) outline(k, HSR_STEP_SUBJECT, steps);
-            const hsr::sdk::Steps::Event event{"split", original.face, original.instance};
+            hsr::sdk::Steps::Event event{"split", original.face, original.instance};
+            event.phase = "split";
+            const unsigned cut_face = original.face;
             if (c.by != kNone) {
                 outline(c.by, HSR_STEP_CONTEXT, steps);
-                steps.step(event, "cycle: triangle %u split by the plane of triangle %u", unsigned(original.face),
-                           unsigned(store_.polygons[c.by].face));
+                const unsigned by_face = store_.polygons[c.by].face;
+                if (steps.russian())
+                    steps.step(event, "цикл: треугольник %u рассечён плоскостью треугольника %u", cut_face, by_face);
+                else
+                    steps.step(event, "cycle: triangle %u split by the plane of triangle %u", cut_face, by_face);
             } else {
                 outline(c.by_edge_of, HSR_STEP_CONTEXT, steps);
-                steps.step(event, "cyclic overlap: triangle %u cut along the outline of triangle %u",
-                           unsigned(original.face), unsigned(store_.polygons[c.by_edge_of].face));
+                const unsigned by_face = store_.polygons[c.by_edge_of].face;
+                if (steps.russian())
+                    steps.step(event, "циклическое перекрытие: треугольник %u разрезан по контуру треугольника %u",
+                               cut_face, by_face);
+                else
+                    steps.step(event, "cyclic overlap: triangle %u cut along the outline of triangle %u", cut_face,
+                               by_face);
             }
         }
+    }
+
+    template <class Steps>
+    void sort_step(Steps& steps) {
+        const unsigned long long count = stats_.polygons_sorted;
+        hsr::sdk::Steps::Event event{"sort"};
+        event.phase = "sort";
+        if (steps.russian())
+            steps.step(event, "многоугольники упорядочены по %s глубине, дальние первыми: %llu %s",
+                       newell_ || !key_mid_ ? "наибольшей" : "средней", count,
+                       russian_plural(count, "многоугольник", "многоугольника", "многоугольников"));
+        else
+            steps.step(event, "%llu polygon%s sorted by %s depth, the farthest first", count, count == 1 ? "" : "s",
+                       newell_ || !key_mid_ ? "farthest" : "mid");
     }
 
     template <class Steps>
@@ -481,9 +526,16 @@ private:
         const Polygon& q = store_.polygons[blocker];
         outline(head, HSR_STEP_CONTEXT, steps);
         outline(blocker, HSR_STEP_SUBJECT, steps);
-        steps.step(hsr::sdk::Steps::Event{"reorder", q.face, q.instance},
-                   "triangle %u may hide triangle %u (all six tests failed): %u moves ahead",
-                   unsigned(store_.polygons[head].face), unsigned(q.face), unsigned(q.face));
+        hsr::sdk::Steps::Event event{"reorder", q.face, q.instance};
+        event.phase = "reorder";
+        const unsigned p_face = store_.polygons[head].face, q_face = q.face;
+        if (steps.russian())
+            steps.step(event, "треугольник %u может заслонять треугольник %u (ни одна из шести проверок не прошла): "
+                              "%u рисуется раньше",
+                       p_face, q_face, q_face);
+        else
+            steps.step(event, "triangle %u may hide triangle %u (all six tests failed): %u moves ahead", p_face,
+                       q_face, q_face);
     }
 
     // Lines of a step: the outline of polygon `id` in window coordinates, unless it reaches far off
@@ -525,9 +577,16 @@ private:
         stats_.pixels_painted += written;
         if constexpr (Steps::enabled) {
             outline(id, HSR_STEP_SUBJECT, steps);
-            steps.step(hsr::sdk::Steps::Event{"polygon", face, instance, HSR_NO_LEVEL, written, 0},
-                       "%s %u painted: %llu pixel%s", p.cut_count != 0 ? "piece of triangle" : "triangle", unsigned(face),
-                       (unsigned long long)written, written == 1 ? "" : "s");
+            hsr::sdk::Steps::Event event{"polygon", face, instance, HSR_NO_LEVEL, written, 0};
+            event.phase = "paint";
+            const bool piece = p.cut_count != 0;
+            if (steps.russian())
+                steps.step(event, "%s %u нарисован%s: %llu %s", piece ? "часть треугольника" : "треугольник",
+                           unsigned(face), piece ? "а" : "", (unsigned long long)written,
+                           russian_plural(written, "пиксель", "пикселя", "пикселей"));
+            else
+                steps.step(event, "%s %u painted: %llu pixel%s", piece ? "piece of triangle" : "triangle",
+                           unsigned(face), (unsigned long long)written, written == 1 ? "" : "s");
         }
     }
 

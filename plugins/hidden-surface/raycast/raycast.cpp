@@ -104,6 +104,11 @@ public:
         ParamSpec::integer("leaf-triangles", "4", 1, 256, "a hierarchy node with at most this many triangles is a leaf"),
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
     };
+    // ABI 1.5: the phases of ray casting, as a textbook writes it.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"build", "build the bounding volume hierarchy over the triangles"},
+        {"cast", "cast a ray through each pixel centre and keep its nearest hit"},
+    };
 
     explicit Raycast(const hsr::sdk::Params& p)
         : double_precision_(p.choice("precision") == 0),
@@ -112,8 +117,8 @@ public:
           leaf_triangles_(uint32_t(p.integer("leaf-triangles"))),
           cull_backfaces_(p.boolean("cull-backfaces")) {}
 
-    // render_steps (from StepwiseRemover) takes one step per tile, tiles in rows from the top left, all
-    // cast on the calling thread.
+    // render_steps (from StepwiseRemover) takes a step for the hierarchy (phase "build"), then one step
+    // per tile (phase "cast"), tiles in rows from the top left, all cast on the calling thread.
 
 private:
     friend class hsr::sdk::StepwiseRemover<Raycast>;
@@ -123,7 +128,8 @@ private:
                      hsr::sdk::Counters& counters, Steps& steps) {
         hsr::raster::validate_frame(info.name, scene.raw(), camera, target.raw());
 
-        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
+        bool built = false;
+        hsr::sdk::timed_build(counters, [&] { return built = prepare(scene); });
         counters.set("bvh-nodes", nodes_.size() + top_nodes_.size());
 
         begin_frame(camera, target);
@@ -136,6 +142,7 @@ private:
         };
         if constexpr (Steps::enabled) {
             try {
+                build_step(steps, built);
                 for (uint32_t k = 0; k < tiles().count(); ++k) {
                     RayStats tile;
                     cast_tile(k, tile);
@@ -460,17 +467,72 @@ private:
     }
 
     // ------------------------------------------------------------------------------------------ //
-    // Steps (ABI 1.3)
+    // Steps (ABI 1.3; phases and languages, ABI 1.5)
+
+    // The hierarchy just built (or kept from the last frame of the same scene): the screen rectangle
+    // of each placed object's box, the leaves of the top level.
+    template <class Steps>
+    void build_step(Steps& steps, bool built) const {
+        constexpr size_t kMostBoxes = 1024;
+        for (size_t k = 0; k < placed_.size() && k < kMostBoxes; ++k) {
+            const Node& root = nodes_[placed_[k].root];
+            float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+            bool in_front = true;
+            for (int c = 0; c < 8 && in_front; ++c) {
+                const glm::dvec4 clip =
+                    clip_from_object_[k] * glm::dvec4((c & 1) ? root.box.hi[0] : root.box.lo[0],
+                                                      (c & 2) ? root.box.hi[1] : root.box.lo[1],
+                                                      (c & 4) ? root.box.hi[2] : root.box.lo[2], 1.0);
+                in_front = clip.w > 0.0;
+                const float x = float((clip.x / clip.w + 1.0) * 0.5 * width_);
+                const float y = float((1.0 - clip.y / clip.w) * 0.5 * height_);
+                x0 = std::min(x0, x);
+                x1 = std::max(x1, x);
+                y0 = std::min(y0, y);
+                y1 = std::max(y1, y);
+            }
+            if (in_front && std::isfinite(x0 + x1 + y0 + y1)) steps.box(x0, y0, x1, y1, HSR_STEP_CONTEXT);
+        }
+        const hsr::sdk::Steps::Event event{"build", HSR_NO_FACE, 0, HSR_NO_LEVEL, 0, 0, "build"};
+        const unsigned long long nodes = nodes_.size() + top_nodes_.size(), triangles = triangles_.size(),
+                                 objects = placed_.size();
+        if (steps.russian())
+            steps.step(event, "иерархия ограничивающих объёмов %s: %llu %s, %llu %s в листьях, %llu %s на сцене",
+                       built ? "построена" : "взята с прошлого кадра", nodes, russian_plural(nodes, "узел", "узла", "узлов"),
+                       triangles, russian_plural(triangles, "треугольник", "треугольника", "треугольников"), objects,
+                       russian_plural(objects, "объект", "объекта", "объектов"));
+        else
+            steps.step(event, "bounding volume hierarchy %s: %llu node%s, %llu triangle%s in its leaves, %llu object%s placed",
+                       built ? "built" : "kept from the last frame", nodes, nodes == 1 ? "" : "s", triangles,
+                       triangles == 1 ? "" : "s", objects, objects == 1 ? "" : "s");
+    }
 
     template <class Steps>
     void tile_step(Steps& steps, uint32_t k, const RayStats& tile) const {
         uint32_t x0, y0, x1, y1;
         tiles().rect(k, x0, y0, x1, y1);
         steps.box(float(x0), float(y0), float(x1), float(y1), HSR_STEP_SUBJECT);
-        const hsr::sdk::Steps::Event event{"tile", HSR_NO_FACE, 0, HSR_NO_LEVEL, tile.hits, 0};
-        steps.step(event, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits, %llu ray/triangle tests, %llu nodes visited",
-                   k, x0, y0, x1 - 1, y1 - 1, (unsigned long long)tile.rays, (unsigned long long)tile.hits,
-                   (unsigned long long)tile.triangle_tests, (unsigned long long)tile.nodes_visited);
+        const hsr::sdk::Steps::Event event{"tile", HSR_NO_FACE, 0, HSR_NO_LEVEL, tile.hits, 0, "cast"};
+        const unsigned long long rays = tile.rays, hits = tile.hits, tests = tile.triangle_tests,
+                                 nodes = tile.nodes_visited;
+        if (steps.russian())
+            steps.step(event, "тайл %u (%u,%u)–(%u,%u): %llu %s, %llu %s, %llu %s «луч — треугольник», %llu %s иерархии",
+                       k, x0, y0, x1 - 1, y1 - 1, rays, russian_plural(rays, "луч", "луча", "лучей"), hits,
+                       russian_plural(hits, "попадание", "попадания", "попаданий"), tests,
+                       russian_plural(tests, "проверка", "проверки", "проверок"), nodes,
+                       russian_plural(nodes, "узел", "узла", "узлов"));
+        else
+            steps.step(event, "tile %u (%u,%u)-(%u,%u): %llu rays, %llu hits, %llu ray/triangle tests, %llu nodes visited",
+                       k, x0, y0, x1 - 1, y1 - 1, rays, hits, tests, nodes);
+    }
+
+    // The Russian noun after a count: 1 луч, 2-4 луча, 5-20 лучей, 21 луч, 111 лучей.
+    static const char* russian_plural(unsigned long long n, const char* one, const char* few, const char* many) {
+        const unsigned long long tens = n % 100, units = n % 10;
+        if (tens >= 11 && tens <= 14) return many;
+        if (units == 1) return one;
+        if (units >= 2 && units <= 4) return few;
+        return many;
     }
 
     // Parameters

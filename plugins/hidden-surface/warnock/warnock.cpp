@@ -83,6 +83,19 @@ struct WindowStats {
 
 constexpr uint32_t kNone = ~0u;
 
+// The Russian noun that goes with n: `one` after 1, 21, 31..., `few` after 2-4, 22-24...,
+// `many` after 0, 5-20, 25-30... (1 пиксель, 3 пикселя, 11 пикселей).
+const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
+    const uint64_t tens = n % 100, units = n % 10;
+    if (tens >= 11 && tens <= 14) return many;
+    if (units == 1) return one;
+    if (units >= 2 && units <= 4) return few;
+    return many;
+}
+
+const char* russian_polygons(uint64_t n) { return russian_plural(n, "многоугольник", "многоугольника", "многоугольников"); }
+const char* russian_pixels(uint64_t n) { return russian_plural(n, "пиксель", "пикселя", "пикселей"); }
+
 class Warnock final : public hsr::sdk::StepwiseRemover<Warnock> {
 public:
     static constexpr hsr::sdk::PluginInfo info{
@@ -91,6 +104,15 @@ public:
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
         ParamSpec::integer("max-polygons", "4000000", 1, 100000000,
                            "refuse a scene drawing more triangles (each polygon keeps its setup and bounds, ~225 bytes)"),
+    };
+
+    // Each step is one window decided; its phase is the case that decided it.
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"empty", "no polygon in the window: background"},
+        {"one-polygon", "one polygon in the window: draw it"},
+        {"surrounder", "a surrounding polygon in front of all: fill"},
+        {"pixel", "one pixel: the nearest polygon"},
+        {"subdivide", "not simple: split the window in four"},
     };
 
     explicit Warnock(const hsr::sdk::Params& p)
@@ -255,16 +277,25 @@ private:
         const unsigned long long count = list.size();
         if (list.empty()) {
             ++stats_.empty;
-            window_step(steps, w, level, HSR_STEP_CONTEXT, HSR_NO_FACE, 0, 0, "empty: background");
+            if (Steps::enabled && steps.russian())
+                window_step(steps, "empty", w, level, HSR_STEP_CONTEXT, HSR_NO_FACE, 0, 0,
+                            "ни одного многоугольника: фон");
+            else
+                window_step(steps, "empty", w, level, HSR_STEP_CONTEXT, HSR_NO_FACE, 0, 0, "empty: background");
             return;
         }
         if (list.size() == 1) {
             ++stats_.one_polygon;
             const Polygon& p = polygons_[list[0]];
             const uint64_t written = draw<false>(p, w);
-            window_step(steps, w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
-                        "one polygon (face %u): %llu pixel%s drawn", p.face, (unsigned long long)written,
-                        written == 1 ? "" : "s");
+            if (Steps::enabled && steps.russian())
+                window_step(steps, "one-polygon", w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
+                            "один многоугольник (грань %u): закрашено %llu %s", p.face, (unsigned long long)written,
+                            russian_pixels(written));
+            else
+                window_step(steps, "one-polygon", w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
+                            "one polygon (face %u): %llu pixel%s drawn", p.face, (unsigned long long)written,
+                            written == 1 ? "" : "s");
             return;
         }
         if (w.one_pixel()) {
@@ -284,22 +315,36 @@ private:
             if (buffers_.tests != nullptr)
                 buffers_.tests[size_t(w.y0) * buffers_.stride + size_t(w.x0)] += uint32_t(list.size()) - 1;
             write(*nearest, w.x0, w.y0, w.x0 - nearest->setup.min_x, w.y0 - nearest->setup.min_y);
-            window_step(steps, w, level, HSR_STEP_WRITTEN, nearest->face, nearest->instance, 1,
-                        "one pixel, %llu polygons: face %u nearest", count, nearest->face);
+            if (Steps::enabled && steps.russian())
+                window_step(steps, "pixel", w, level, HSR_STEP_WRITTEN, nearest->face, nearest->instance, 1,
+                            "один пиксель, %llu %s: ближайшая — грань %u", count, russian_polygons(count),
+                            nearest->face);
+            else
+                window_step(steps, "pixel", w, level, HSR_STEP_WRITTEN, nearest->face, nearest->instance, 1,
+                            "one pixel, %llu polygons: face %u nearest", count, nearest->face);
             return;
         }
         if (surrounder != kNone && in_front_of_all(list, w, surrounder, surrounder_far)) {
             ++stats_.surrounder_in_front;
             const Polygon& p = polygons_[surrounder];
             const uint64_t written = draw<true>(p, w);
-            window_step(steps, w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
-                        "face %u surrounds the window in front of %llu other%s: %llu pixels filled", p.face,
-                        count - 1, count == 2 ? "" : "s", (unsigned long long)written);
+            if (Steps::enabled && steps.russian())
+                window_step(steps, "surrounder", w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
+                            "грань %u охватывает окно и ближе всех остальных (%llu): залито %llu %s", p.face,
+                            count - 1, (unsigned long long)written, russian_pixels(written));
+            else
+                window_step(steps, "surrounder", w, level, HSR_STEP_WRITTEN, p.face, p.instance, written,
+                            "face %u surrounds the window in front of %llu other%s: %llu pixels filled", p.face,
+                            count - 1, count == 2 ? "" : "s", (unsigned long long)written);
             return;
         }
         ++stats_.subdivided;
-        window_step(steps, w, level, HSR_STEP_SUBJECT, HSR_NO_FACE, 0, 0, "%llu polygons, none simple: subdivided",
-                    count);
+        if (Steps::enabled && steps.russian())
+            window_step(steps, "subdivide", w, level, HSR_STEP_SUBJECT, HSR_NO_FACE, 0, 0,
+                        "%llu %s, простого случая нет: окно делится на четыре", count, russian_polygons(count));
+        else
+            window_step(steps, "subdivide", w, level, HSR_STEP_SUBJECT, HSR_NO_FACE, 0, 0,
+                        "%llu polygons, none simple: subdivided", count);
         const int32_t mid_x = w.x0 + (w.x1 - w.x0) / 2, mid_y = w.y0 + (w.y1 - w.y0) / 2;
         const Window quarters[4] = {{w.x0, w.y0, mid_x, mid_y},
                                     {mid_x + 1, w.y0, w.x1, mid_y},
@@ -313,19 +358,24 @@ private:
         }
     }
 
-    // The step of a decided window: its box (with `role`) and what was decided, as text.
+    // The step of a decided window: its box (with `role`), the phase that decided it and what was
+    // decided, as text.
     template <class Steps, class... Args>
-    void window_step(Steps& steps, const Window& w, uint32_t level, hsr_step_role role, uint32_t face,
-                     uint32_t instance, uint64_t written, const char* what, Args... args) {
+    void window_step(Steps& steps, const char* phase, const Window& w, uint32_t level, hsr_step_role role,
+                     uint32_t face, uint32_t instance, uint64_t written, const char* what, Args... args) {
         if constexpr (Steps::enabled) {
             raster::pixel_box_lines(steps, w.x0, w.y0, w.x1, w.y1, width_, height_, role);
-            char text[160];
+            char text[200];
             if constexpr (sizeof...(Args) == 0)
                 std::snprintf(text, sizeof text, "%s", what);
             else
                 std::snprintf(text, sizeof text, what, args...);
-            const hsr::sdk::Steps::Event event{"window", face, instance, level, written, 0};
-            steps.step(event, "level %u window x %d..%d, y %d..%d: %s", level, w.x0, w.x1, w.y0, w.y1, text);
+            hsr::sdk::Steps::Event event{"window", face, instance, level, written, 0};
+            event.phase = phase;
+            if (steps.russian())
+                steps.step(event, "уровень %u, окно x %d..%d, y %d..%d: %s", level, w.x0, w.x1, w.y0, w.y1, text);
+            else
+                steps.step(event, "level %u window x %d..%d, y %d..%d: %s", level, w.x0, w.x1, w.y0, w.y1, text);
         }
     }
 

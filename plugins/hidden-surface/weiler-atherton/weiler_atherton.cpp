@@ -48,6 +48,16 @@ constexpr double kCoplanar = 1e-9;
 // fragment widened by this many pixels (well above the 1/512 pixel that snapping moves a corner).
 constexpr double kWidening = 1.0 / 64.0;
 
+// The Russian noun that goes with n: `one` after 1, 21, 31..., `few` after 2-4, 22-24...,
+// `many` after 0, 5-20, 25-30... (1 пиксель, 3 пикселя, 11 пикселей).
+const char* russian_plural(uint64_t n, const char* one, const char* few, const char* many) {
+    const uint64_t tens = n % 100, units = n % 10;
+    if (tens >= 11 && tens <= 14) return many;
+    if (units == 1) return one;
+    if (units >= 2 && units <= 4) return few;
+    return many;
+}
+
 // An input polygon: the original triangle a fragment comes from.
 struct Source {
     uint32_t face;
@@ -77,11 +87,18 @@ public:
                            "refuse a frame needing more input polygons and fragments than this (about 400 bytes each)"),
     };
 
+    static inline const hsr::sdk::PhaseSpec phases[] = {
+        {"sort", "sort the polygons by nearest depth"},
+        {"clip", "clip against the front polygon: inside and outside lists"},
+        {"recurse", "pieces in front of it: subdivide within its area"},
+        {"draw", "draw the visible fragments"},
+    };
+
     explicit WeilerAtherton(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_fragments_(uint64_t(p.integer("max-fragments"))) {}
 
-    // render_steps (from StepwiseRemover) takes one step per clip polygon, then one per visible fragment
-    // rasterized.
+    // render_steps (from StepwiseRemover) takes one step for the sort, one per clip polygon and per
+    // recursive subdivision, then one per visible fragment rasterized.
 
 private:
     struct Stats {
@@ -132,6 +149,7 @@ private:
         clip_stack_.clear();  // a frame stopped part way may have left it
         try {
             gather(scene);
+            if constexpr (Steps::enabled) sort_step(steps);
             sort_areas(steps);
             rasterize(target, steps);
         } catch (const hsr::sdk::StepLimitReached&) {
@@ -527,6 +545,7 @@ private:
         if (depth >= kMaxRecursion)
             throw hsr::sdk::Unsupported("weiler-atherton: polygons in front of one another nest deeper than " +
                                         std::to_string(kMaxRecursion) + " levels");
+        if constexpr (Steps::enabled) recurse_step(c, front, steps);
         clip_stack_.push_back(fragments_[c].source);
         sort_areas(front, depth + 1, steps);
         clip_stack_.pop_back();
@@ -562,11 +581,55 @@ private:
             const Fragment& f = fragments_[c];
             outline(steps, corners_.data() + f.first, int(f.count), HSR_STEP_SUBJECT);
             const Source& s = sources_[f.source];
-            const hsr::sdk::Steps::Event event{"clip-polygon", s.face, s.instance, HSR_NO_LEVEL, 0, 0};
-            steps.step(event, "clip polygon of triangle %llu: %llu polygons near it, %llu pieces hidden, %llu outside, %llu in front",
-                       (unsigned long long)s.face, (unsigned long long)clipped, (unsigned long long)hidden,
-                       (unsigned long long)outside, (unsigned long long)front);
+            hsr::sdk::Steps::Event event{"clip-polygon", s.face, s.instance, HSR_NO_LEVEL, 0, 0};
+            event.phase = "clip";
+            const unsigned long long nearby = clipped;
+            if (steps.russian())
+                steps.step(event, "отсекающий многоугольник — треугольник %llu; рядом %llu %s; частей скрыто: %llu, "
+                                  "вне его: %llu, перед ним: %llu",
+                           (unsigned long long)s.face, nearby,
+                           russian_plural(nearby, "многоугольник", "многоугольника", "многоугольников"),
+                           (unsigned long long)hidden, (unsigned long long)outside, (unsigned long long)front);
+            else
+                steps.step(event, "clip polygon of triangle %llu: %llu polygons near it, %llu pieces hidden, %llu outside, %llu in front",
+                           (unsigned long long)s.face, nearby, (unsigned long long)hidden, (unsigned long long)outside,
+                           (unsigned long long)front);
         }
+    }
+
+    template <class Steps>
+    void sort_step(Steps& steps) {
+        const unsigned long long count = fragments_.size();
+        hsr::sdk::Steps::Event event{"sort"};
+        event.phase = "sort";
+        if (steps.russian())
+            steps.step(event, "многоугольники упорядочены по наименьшей глубине, ближние первыми: %llu %s", count,
+                       russian_plural(count, "многоугольник", "многоугольника", "многоугольников"));
+        else
+            steps.step(event, "%llu polygon%s sorted by nearest depth, the nearest first", count, count == 1 ? "" : "s");
+    }
+
+    // Pieces lie in front of clip polygon c somewhere: they are sorted again, within c's area.
+    template <class Steps>
+    void recurse_step(uint32_t c, const std::vector<uint32_t>& front, Steps& steps) {
+        const Fragment& f = fragments_[c];
+        outline(steps, corners_.data() + f.first, int(f.count), HSR_STEP_CONTEXT);
+        for (uint32_t id : front) {
+            const Fragment& piece = fragments_[id];
+            outline(steps, corners_.data() + piece.first, int(piece.count), HSR_STEP_SUBJECT);
+        }
+        const Source& s = sources_[f.source];
+        hsr::sdk::Steps::Event event{"recurse", s.face, s.instance};
+        event.phase = "recurse";
+        const unsigned long long count = front.size(), face = s.face;
+        if (steps.russian())
+            steps.step(event, "перед отсекающим многоугольником (треугольник %llu) %s %llu %s: рекурсивное "
+                              "разбиение внутри его области",
+                       face, count % 10 == 1 && count % 100 != 11 ? "лежит" : "лежат", count,
+                       russian_plural(count, "часть", "части", "частей"));
+        else
+            steps.step(event, "%llu piece%s in front of the clip polygon of triangle %llu: sorted again within its area",
+                       count, count == 1 ? "" : "s", face);
     }
 
     template <class Steps>
@@ -625,10 +688,16 @@ private:
             stats_.pixels_written += test.written;
             if constexpr (Steps::enabled) {
                 outline(steps, corners_.data() + f.first, int(f.count), HSR_STEP_WRITTEN);
-                const hsr::sdk::Steps::Event event{"fragment", s.face, s.instance, HSR_NO_LEVEL, test.written,
-                                                   test.tested - test.written};
-                steps.step(event, "visible fragment of triangle %llu: %llu pixels written",
-                           (unsigned long long)s.face, (unsigned long long)test.written);
+                hsr::sdk::Steps::Event event{"fragment", s.face, s.instance, HSR_NO_LEVEL, test.written,
+                                             test.tested - test.written};
+                event.phase = "draw";
+                const unsigned long long written = test.written;
+                if (steps.russian())
+                    steps.step(event, "видимый фрагмент треугольника %llu: записано %llu %s", (unsigned long long)s.face,
+                               written, russian_plural(written, "пиксель", "пикселя", "пикселей"));
+                else
+                    steps.step(event, "visible fragment of triangle %llu: %llu pixels written",
+                               (unsigned long long)s.face, written);
             }
         }
     }
