@@ -5,6 +5,7 @@
 // server of this module's own.
 
 import { spawn } from 'node:child_process';
+import fs from 'node:fs';
 import path from 'node:path';
 import readline from 'node:readline';
 
@@ -43,24 +44,36 @@ async function brokenParts(page, root) {
 export default async function theoryChecks(h) {
   const { page, check, assert } = h;
 
-  await check('theory: zbuffer\'s page in the pane, no broken figure or link, tables as tables', async () => {
+  // zbuffer's page, and every theory page there is (docs/theory/en), as the pane shows them.
+  const written = fs.existsSync(path.join(h.sourceDir, 'docs', 'theory', 'en'))
+    ? fs.readdirSync(path.join(h.sourceDir, 'docs', 'theory', 'en')).filter((f) => f.endsWith('.md')).map((f) => f.slice(0, -3)) : [];
+  const offered = await page.$$eval('#algorithm option', (os) => os.map((o) => o.value));
+  const names = [...new Set(['zbuffer', ...written])].filter((n) => offered.includes(n));
+  await check(`theory: the pane's pages (${names.join(', ')}): no broken figure or link, tables as tables`, async () => {
     const before = await page.$eval('#algorithm', (s) => s.value);
-    if (before !== 'zbuffer') await h.andFrame(() => page.selectOption('#algorithm', 'zbuffer'));
     await page.click('#theory-toggle');
     try {
-      await page.waitForSelector('#theory:not([hidden]) h1', { timeout: 20_000 });
-      assert((await h.text('#theory h1')).startsWith('zbuffer'), `heading ${await h.text('#theory h1')}`);
-      const { broken, links } = await brokenParts(page, '#theory');
-      assert(broken.length === 0, broken.join('; '));
-      assert(links > 0, 'the page links nowhere (the implementation notes at least)');
-      const text = await h.text('#theory');
-      assert(!text.includes('| ---') && !text.includes('|---'), 'a table shown as text');
-      const markdownTables = await page.$$eval('#theory table', (t) => t.length);
-      const pipes = await page.$$eval('#theory p', (ps) => ps.filter((p) => /^\s*\|.*\|\s*$/m.test(p.textContent)).length);
-      assert(pipes === 0, `${pipes} paragraphs look like tables (${markdownTables} tables)`);
+      for (const name of names) {
+        // The pane's page, whatever the frame of that algorithm does on this scene.
+        await page.selectOption('#algorithm', name);
+        await page.waitForFunction((n) => document.querySelector('#theory')?.dataset.page === n
+          && document.querySelector('#theory h1'), name, { timeout: 20_000 })
+          .catch(() => { throw new Error(`${name}: the pane shows no page`); });
+        assert((await h.text('#theory h1')).startsWith(name), `${name}: heading ${await h.text('#theory h1')}`);
+        const { broken, links } = await brokenParts(page, '#theory');
+        assert(broken.length === 0, `${name}: ${broken.join('; ')}`);
+        assert(links > 0, `${name}: the page links nowhere (the implementation notes at least)`);
+        const pipes = await page.$$eval('#theory p', (ps) => ps.filter((p) => /^\s*\|.*\|\s*$/m.test(p.textContent)).length);
+        assert(pipes === 0, `${name}: ${pipes} paragraphs are tables shown as text`);
+        if (written.includes(name)) {
+          assert(await page.$$eval('#theory ol.pseudocode li', (l) => l.length) > 0, `${name}: no pseudocode`);
+          assert(await page.$$eval('#theory svg.flowchart g.flow-node', (g) => g.length) > 2, `${name}: no flowchart`);
+        }
+      }
     } finally {
       await page.click('#theory-toggle');
-      if (before !== 'zbuffer') await h.andFrame(() => page.selectOption('#algorithm', before));
+      await h.idle();
+      if (await page.$eval('#algorithm', (s) => s.value) !== before) await h.andFrame(() => page.selectOption('#algorithm', before));
     }
   });
 
