@@ -127,6 +127,13 @@ TEST_CASE("theory: if and else, and return", "[theory]") {
     CHECK_THAT(flowchart_svg(chart, true), Catch::Contains(">да</text>"));
 }
 
+TEST_CASE("theory: a step with lines indented under it runs them next", "[theory]") {
+    const Flowchart chart = make_flowchart(parse_algorithm("procedure P(W)\n    x\n    y\nP(all)\n"), false);
+    REQUIRE(chart.nodes.size() == 6);
+    const std::set<EdgeKey> expected = {{0, 2, "", false}, {2, 3, "", false}, {3, 4, "", false}, {4, 5, "", false}, {5, 1, "", false}};
+    CHECK(edges_of(chart) == expected);
+}
+
 TEST_CASE("theory: odd layouts never crash and stay consistent", "[theory]") {
     const char* const blocks[] = {
         "",

@@ -164,8 +164,9 @@ struct Wiring {
                     break;
                 }
                 default:
-                    edge(node, follow, "");
-                    wire(body, follow);  // lines indented under a step: run after it
+                    // Lines indented under a step (a procedure's body) run next, then what follows it.
+                    edge(node, first(body, follow), "");
+                    wire(body, follow);
                     break;
             }
         }
