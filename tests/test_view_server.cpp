@@ -8,6 +8,7 @@
 
 #include "view/server/view_server.hpp"
 #include "view_test_server.hpp"
+#include "view/server/theory_markdown.hpp"
 #include "view/server/view_theory.hpp"
 
 #include "hsr/camera.hpp"
@@ -651,10 +652,42 @@ TEST_CASE("view: nothing outside the served folders is read", "[view]") {
 TEST_CASE("view: theory pages", "[view]") {
     RunningServer s;
     const json zbuffer = s.get_json("/api/theory/zbuffer");
-    const std::string markdown = cli::slurp(fs::path(HSR_SOURCE_DIR) / "docs/algorithms/zbuffer.md");
-    REQUIRE(markdown.rfind("# `zbuffer`: ", 0) == 0);
-    CHECK(zbuffer["title"] == "zbuffer: " + markdown.substr(13, markdown.find('\n') - 13));
+    // docs/theory/en/zbuffer.md, or the page made from the plugin while there is none
+    const fs::path page = fs::path(HSR_SOURCE_DIR) / "docs/theory/en/zbuffer.md";
+    if (fs::exists(page)) {
+        const std::string markdown = cli::slurp(page);
+        REQUIRE(markdown.rfind("# ", 0) == 0);
+        std::string title = markdown.substr(2, markdown.find('\n') - 2);
+        std::erase(title, '`');
+        CHECK(zbuffer["title"] == title);
+        CHECK(zbuffer["source"] == "built-in");
+    } else {
+        CHECK(zbuffer["title"] == "zbuffer");
+        CHECK(zbuffer["source"] == "generated");
+        // The generated page links to the implementation notes, served by the viewer.
+        CHECK_THAT(zbuffer["html"].get<std::string>(), Catch::Contains("href=\"/docs/algorithms/zbuffer.md\""));
+    }
     CHECK_THAT(zbuffer["html"].get<std::string>(), Catch::StartsWith("<h1>"));
+    CHECK(zbuffer["language"] == "en");
+    const json russian = s.get_json("/api/theory/zbuffer?lang=ru");
+    CHECK(russian["language"] == (fs::exists(fs::path(HSR_SOURCE_DIR) / "docs/theory/ru/zbuffer.md") || !fs::exists(page) ? "ru" : "en"));
+    // The docs the pages link to: a Markdown page as HTML, a figure as it is, nothing outside docs/.
+    httplib::Result notes = s.get("/docs/algorithms/zbuffer.md");
+    REQUIRE(notes);
+    CHECK(notes->status == 200);
+    CHECK_THAT(notes->get_header_value("Content-Type"), Catch::StartsWith("text/html"));
+    CHECK_THAT(notes->body, Catch::Contains("<table>"));
+    httplib::Result figure = s.get("/docs/images/bench.svg");
+    REQUIRE(figure);
+    CHECK(figure->status == 200);
+    CHECK(figure->get_header_value("Content-Type") == "image/svg+xml");
+    for (const char* bad : {"/docs/../README.md", "/docs/%2e%2e/README.md", "/docs/algorithms/../../README.md", "/docs/nothing.md",
+                            "/docs//etc/passwd", "/docs/./abi.md"}) {
+        httplib::Result r = s.get(bad);
+        REQUIRE(r);
+        INFO(bad << " -> " << r->status);
+        CHECK((r->status == 404 || r->status == 400));
+    }
     // A plugin without a page: one made from its description and parameters.
     const json made = s.get_json("/api/theory/throwing");
     CHECK(made["title"] == "throwing");
@@ -672,7 +705,7 @@ TEST_CASE("view: theory pages", "[view]") {
     CHECK_THAT(beside["html"].get<std::string>(), Catch::Contains("Every pixel, "));
     CHECK(beside["html"].get<std::string>().find("<b>") == std::string::npos);
     // Safe mode: raw HTML and javascript: links are dropped.
-    const std::string html = hsr::host::markdown_to_html("a <script>alert(1)</script> [x](javascript:alert(1))\n");
+    const std::string html = hsr::host::render_page("a <script>alert(1)</script> [x](javascript:alert(1))\n", {});
     CHECK(html.find("<script>") == std::string::npos);
     CHECK(html.find("javascript:") == std::string::npos);
 }

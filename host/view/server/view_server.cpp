@@ -9,6 +9,7 @@
 #include "view/server/view_assets.hpp"
 #include "view/server/view_models.hpp"
 #include "view/server/view_request.hpp"
+#include "view/server/view_theory.hpp"
 #include "view/server/view_workers.hpp"
 
 #include "hsr/abi.h"
@@ -235,6 +236,13 @@ struct hsr::host::ViewServer::State {
         server.Get(R"(/static/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] { serve_file(req.matches[1].str(), res); });
         });
+        // The docs built in (theory pages, implementation notes, figures), which the theory pages link to.
+        server.Get(R"(/docs/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
+            guarded(res, [&] {
+                hsr::host::DocFile doc = hsr::host::doc_file(req.matches[1].str());
+                res.set_content(std::move(doc.body), doc.content_type);
+            });
+        });
         server.Get("/api/info", [this](const httplib::Request&, httplib::Response& res) {
             guarded(res, [&] { send_json(res, 200, info()); });
         });
@@ -253,7 +261,8 @@ struct hsr::host::ViewServer::State {
         server.Get(R"(/api/theory/([^/]+))", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
                 const std::string name = req.matches[1].str();
-                send(res, workers.call({{"op", "theory"}, {"name", name}}, "",
+                const std::string language = req.get_param_value("lang") == "ru" ? "ru" : "en";
+                send(res, workers.call({{"op", "theory"}, {"name", name}, {"language", language}}, "",
                                        fmt::format("making the page of '{}'", hsr::printable(name))));
             });
         });

@@ -206,7 +206,7 @@ Answer run_job(const json& job, JobModels& models, hsr::host::FrameRenderer& fra
     if (op == "frame") return frame_answer(frames.frame(job.at("request")));
     if (op == "compare") return frame_answer(frames.compare(job.at("request")));
     if (op == "plugins") return hsr::host::json_answer(200, describe_plugins(registry, job.value("skip", json::array())));
-    if (op == "theory") return hsr::host::json_answer(200, hsr::host::theory_page(registry, job.at("name").get<std::string>()));
+    if (op == "theory") return hsr::host::json_answer(200, hsr::host::theory_page(registry, job.at("name").get<std::string>(), job.value("language", "en")));
     return hsr::host::error_answer(500, fmt::format("a worker got a job it does not know ('{}')", hsr::printable(op)));
 }
 

@@ -15,6 +15,7 @@ import { compareRequest, showCompare, hideCompare } from './compare.js';
 import { renderStats } from './stats.js';
 import { LatestWins } from './scheduler.js';
 import { loadSettings, saveSettings } from './settings.js';
+import { TheoryPane } from './theory.js';
 import { tr, language, setLanguage, onLanguageChange, browserLanguage, numberText } from './i18n.js';
 import { applyPageTexts } from './page-texts.js';
 import { PresentationView } from './presentation.js';
@@ -31,7 +32,6 @@ const HOVER_REST_MS = 250;
 let pointer = null;          // the pixel under the mouse
 let frameSerial = 0;         // frames shown
 let upgradeAskedFor = '';    // the frame (and tile) whose buffers were last asked for
-const theoryCache = new Map();
 
 // What is on screen: the last frame's request, response and decoded data.
 let shown = null;
@@ -346,6 +346,7 @@ function showFrame(request, response, image, roundTrip) {
   else if (sceneSize?.model === request.model) sceneSize = null;
   showSizeFields();
   steps.frameShown(response.steps, shown.isStep);
+  theoryPane.setPhase(shown.isStep ? response.steps?.phase : null);
   updateBufferOptions();
   redraw();
   updateCli(request, response);
@@ -524,16 +525,11 @@ function restHover() {
 
 // ---- theory --------------------------------------------------------------------------------------
 
-async function loadTheory() {
-  const name = settings.algorithm;
-  const pane = $('theory');
-  try {
-    if (!theoryCache.has(name)) theoryCache.set(name, await getJson(`/api/theory/${encodeURIComponent(name)}`));
-    if (name !== settings.algorithm) return;
-    pane.innerHTML = theoryCache.get(name).html;
-  } catch (e) {
-    pane.textContent = `no theory page: ${e.message}`;
-  }
+const theoryPane = new TheoryPane($('theory'), getJson);
+onLanguageChange(() => { if (!$('theory').hidden) theoryPane.reload(); });
+
+function loadTheory() {
+  theoryPane.show(settings.algorithm);
 }
 
 function setTheoryOpen(open) {
