@@ -70,8 +70,8 @@ void check_page(const hsr::Plugin& plugin, const std::string& language, const He
     }
     if (hsr::host::find_embedded_file(where) == nullptr) problems.push_back(where + ": not built into hsr");
     const std::vector<std::string> lines = lines_of(read(path));
-    if (lines.empty() || lines[0].rfind(headings.title, 0) != 0 || lines[0].find(name) == std::string::npos)
-        problems.push_back(where + ": does not start with the title \"# " + name + ": ...\"");
+    if (lines.empty() || lines[0].rfind(headings.title, 0) != 0 || lines[0].find(": ") == std::string::npos)
+        problems.push_back(where + ": does not start with a title \"# <the algorithm's name>: <what it is>\"");
     const std::set<std::string> present(lines.begin(), lines.end());
     for (const std::string& heading : headings.others)
         if (present.count(heading) == 0) problems.push_back(where + ": no heading \"" + heading + "\"");

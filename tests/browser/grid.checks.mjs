@@ -72,8 +72,11 @@ export default async (h) => {
     assert(l.canvas.width >= 200, `${what}: the picture is ${l.canvas.width} px wide`);
     assert(l.clipped === 0, `${what}: ${l.clipped} cells clip their text`);
   };
-  const modelId = (name) => page.$eval('#model', (s, n) => [...s.options].map((o) => o.value)
-    .find((v) => v.endsWith(`/${n}`)), name);
+  const modelId = async (name) => {
+    await page.waitForFunction((n) => [...document.querySelector('#model').options].some((o) => o.value.endsWith(`/${n}`)),
+      name, { timeout: 10_000 }).catch(() => {});
+    return page.$eval('#model', (s, n) => [...s.options].map((o) => o.value).find((v) => v.endsWith(`/${n}`)), name);
+  };
 
   try {
     await idleOn(page);

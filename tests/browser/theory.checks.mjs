@@ -59,7 +59,9 @@ export default async function theoryChecks(h) {
         await page.waitForFunction((n) => document.querySelector('#theory')?.dataset.page === n
           && document.querySelector('#theory h1'), name, { timeout: 20_000 })
           .catch(() => { throw new Error(`${name}: the pane shows no page`); });
-        assert((await h.text('#theory h1')).startsWith(name), `${name}: heading ${await h.text('#theory h1')}`);
+        const source = path.join(h.sourceDir, 'docs', 'theory', 'en', `${name}.md`);
+        const title = fs.existsSync(source) ? fs.readFileSync(source, 'utf8').split('\n')[0].replace(/^# /, '').replaceAll('`', '') : name;
+        assert((await h.text('#theory h1')).startsWith(title), `${name}: heading ${await h.text('#theory h1')}, the page's is ${title}`);
         const { broken, links } = await brokenParts(page, '#theory');
         assert(broken.length === 0, `${name}: ${broken.join('; ')}`);
         assert(links > 0, `${name}: the page links nowhere (the implementation notes at least)`);
