@@ -320,7 +320,7 @@ function showOutline() {
     fillWorkedExample($('theory'), null, {});
     return;
   }
-  if (steps.total === null) steps.setTotal(current.total);
+  if (steps.total !== current.total) steps.setTotal(current.total);
   if (outlineBar.outline !== current) outlineBar.setOutline(current);
   fillWorkedExample($('theory'), current, {
     modelName: settings.model.replace(/^\d+\//, ''),

@@ -199,8 +199,9 @@ function button(id, text) {
 }
 
 // Fills each empty worked-example block of the theory pane (div.worked-example) from the outline:
-// the model, its triangles, the picture's size, the steps, and a table of the phases with each
-// one's steps and first step, a button on which shows that step; then the first step's text.
+// the model, its triangles, the picture's size, the steps, and a table of the phases (of the kinds
+// of step, for a plugin without phases) with each one's steps and first step, a button on which
+// shows that step; then the first step's text.
 export function fillWorkedExample(pane, outline, { modelName, phases, goToStep }) {
   for (const block of pane.querySelectorAll('div.worked-example')) {
     block.replaceChildren();
@@ -212,25 +213,30 @@ export function fillWorkedExample(pane, outline, { modelName, phases, goToStep }
       ru: `На модели «${modelName}» (треугольников: ${n(outline.triangles)}) при изображении ${outline.width}×${outline.height} пикселей алгоритм делает шагов: ${n(outline.total)}.`,
     });
     block.append(intro);
+    // A row for each phase; for a plugin that names no phases, one for each type of step.
+    const byPhase = outline.phases.length > 0;
+    const column = byPhase ? 3 : 2;
     const counts = new Map();
-    for (const [, count, , phase] of outline.runs) if (phase !== null) counts.set(phase, (counts.get(phase) ?? 0) + count);
-    const listed = phases.filter((phase) => counts.has(phase.name) || outline.firsts[`phase:${phase.name}`]);
-    for (const phase of outline.phases) if (!listed.some((p) => p.name === phase)) listed.push({ name: phase, title: phase });
-    if (listed.length) {
+    for (const run of outline.runs) if (run[column] !== null) counts.set(run[column], (counts.get(run[column]) ?? 0) + run[1]);
+    const rows = byPhase ? phases.filter((phase) => counts.has(phase.name)) : [];
+    for (const name of counts.keys()) if (!rows.some((row) => row.name === name)) rows.push({ name, title: name });
+    if (rows.length) {
       const table = document.createElement('table');
       const head = table.createTHead().insertRow();
-      for (const text of [tr({ en: 'phase', ru: 'этап' }), tr({ en: 'steps', ru: 'шагов' }), tr({ en: 'first step', ru: 'первый шаг' })]) {
+      const titles = [byPhase ? tr({ en: 'phase', ru: 'этап' }) : tr({ en: 'kind of step', ru: 'вид шага' }),
+        tr({ en: 'steps', ru: 'шагов' }), tr({ en: 'first step', ru: 'первый шаг' })];
+      for (const text of titles) {
         const th = document.createElement('th');
         th.textContent = text;
         head.append(th);
       }
       const body = table.createTBody();
-      for (const phase of listed) {
-        const row = body.insertRow();
-        row.insertCell().textContent = phase.title || phase.name;
-        row.insertCell().textContent = counts.has(phase.name) ? n(counts.get(phase.name)) : '—';
-        const cell = row.insertCell();
-        const first = outline.firsts[`phase:${phase.name}`];
+      for (const row of rows) {
+        const line = body.insertRow();
+        line.insertCell().textContent = row.title || row.name;
+        line.insertCell().textContent = n(counts.get(row.name));
+        const cell = line.insertCell();
+        const first = outline.firsts[`${byPhase ? 'phase' : 'type'}:${row.name}`];
         if (first) {
           const go = document.createElement('button');
           go.type = 'button';
