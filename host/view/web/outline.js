@@ -134,8 +134,8 @@ export class OutlineBar {
     this.select = document.createElement('select');
     this.select.id = 'step-by';
     label.append(this.labelText, ' ', this.select);
-    this.back = button('step-unit-back', '⏮︎');
-    this.forward = button('step-unit-forward', '⏭︎');
+    this.back = button('step-unit-back', BACK_ICON);
+    this.forward = button('step-unit-forward', FORWARD_ICON);
     this.back.addEventListener('click', () => controls.go(this.move(-1, true) ?? controls.current));
     this.forward.addEventListener('click', () => controls.go(this.move(1, true) ?? controls.current));
     this.select.addEventListener('change', () => { this.unit = this.select.value; });
@@ -176,7 +176,7 @@ export class OutlineBar {
     this.forward.title = tr({ en: 'forward by the chosen unit (Shift+→)', ru: 'вперёд на выбранную единицу (Shift+→)' });
     this.back.setAttribute('aria-label', this.back.title);
     this.forward.setAttribute('aria-label', this.forward.title);
-    this.keysHint.textContent = tr({ en: ' · Shift+← → by the chosen unit', ru: ' · Shift+← → на выбранную единицу' });
+    this.keysHint.textContent = tr({ en: 'Shift+← → by the chosen unit', ru: 'Shift+← → на выбранную единицу' });
     const units = outline ? outline.units() : [['step', tr({ en: 'one step', ru: 'один шаг' })]];
     this.select.replaceChildren(...units.map(([value, text]) => new Option(text, value)));
     this.select.value = units.some(([value]) => value === this.unit) ? this.unit : 'step';
@@ -190,11 +190,15 @@ export class OutlineBar {
   }
 }
 
-function button(id, text) {
+// Two arrowheads: a larger step than the bar's single ones.
+const BACK_ICON = '<svg viewBox="0 0 16 16" width="14" height="14" aria-hidden="true"><path d="M8 3v10L1 8zM15 3v10L8 8z" fill="currentColor"/></svg>';
+const FORWARD_ICON = '<svg viewBox="0 0 16 16" width="14" height="14" aria-hidden="true"><path d="M1 3v10l7-5zM8 3v10l7-5z" fill="currentColor"/></svg>';
+
+function button(id, icon) {
   const b = document.createElement('button');
   b.type = 'button';
   b.id = id;
-  b.textContent = text;
+  b.innerHTML = icon;
   return b;
 }
 
