@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,6 +34,9 @@ struct StepOutline {
     std::size_t max_runs = 200000;
     std::vector<std::string> types, phases;  // phase "" for steps that name none
     std::map<std::string, First> firsts;     // "phase:NAME" and "type:NAME"
+    // A plugin names a handful of types and phases; past max_names of each the rest count as one,
+    // "other", without firsts, so that a plugin naming a new one at every step stays linear.
+    static constexpr std::size_t max_names = 256;
 
     // Step total + 1: its type, phase ("" for none), level, and text() giving its text, called only
     // for the first step of a phase or type.
@@ -44,8 +48,13 @@ struct StepOutline {
             return;
         }
         current_ = {index, 1, intern(types, type), intern(phases, phase), level};
-        if (!phase.empty()) note_first("phase:", phase, index, text);
-        note_first("type:", type, index, text);
+        std::optional<std::string> text_once;  // the step's text, asked for at most once
+        auto step_text = [&]() -> const std::string& {
+            if (!text_once) text_once.emplace(text());
+            return *text_once;
+        };
+        if (!phase.empty() && current_.phase < max_names) note_first("phase:", phase, index, step_text);
+        if (current_.type < max_names) note_first("type:", type, index, step_text);
         if (truncated) return;
         if (runs.size() >= max_runs) {
             truncated = true;
@@ -58,6 +67,9 @@ private:
     Run current_;  // the run the last step belongs to, kept past max_runs too
     static uint32_t intern(std::vector<std::string>& names, std::string_view name) {
         for (std::size_t k = 0; k < names.size(); ++k)
+            if (names[k] == name) return uint32_t(k);
+        if (names.size() >= max_names) name = "other";
+        for (std::size_t k = max_names; k < names.size(); ++k)
             if (names[k] == name) return uint32_t(k);
         names.emplace_back(name);
         return uint32_t(names.size() - 1);
