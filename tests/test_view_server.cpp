@@ -807,6 +807,7 @@ TEST_CASE("view: scene_z of a pixel-camera scene is the scene's own z", "[view]"
     CHECK(other.body["pixel_camera"] == false);
     CHECK(other.body["buffers"]["scene_z"].is_null());
     CHECK(other.body["buffers"]["depth"].is_object());
+}
 
 TEST_CASE("view: the outline of a run's steps", "[view]") {
     RunningServer s;
