@@ -534,3 +534,42 @@ TEST_CASE("steps: hsr render --step refuses 0 and hidden-line plugins with one l
     cli::require_one_line_error(lines, "--step is for hidden-surface plugins");
     CHECK(lines.status == 2);
 }
+
+TEST_CASE("step outline: runs of one type and phase and level with their first steps and caps", "[steps]") {
+    hsr::StepOutline outline;
+    outline.max_runs = 5;
+    int texts = 0;
+    auto text = [&texts] { return "text " + std::to_string(++texts); };
+    // Steps 1..9: a a a | b | b(q) | b(q, level 2) | a(q, 2) | c c
+    for (int i = 0; i < 3; ++i) outline.add("a", "p", 1, text);
+    outline.add("b", "p", 1, text);
+    outline.add("b", "q", 1, text);
+    outline.add("b", "q", 2, text);
+    outline.add("a", "q", 2, text);
+    outline.add("c", "q", 2, text);
+    outline.add("c", "q", 2, text);
+    CHECK(outline.total == 9);
+    CHECK(outline.truncated);
+    REQUIRE(outline.runs.size() == 5);
+    const uint64_t firsts[] = {1, 4, 5, 6, 7}, counts[] = {3, 1, 1, 1, 1};
+    for (std::size_t k = 0; k < 5; ++k) {
+        CHECK(outline.runs[k].first == firsts[k]);
+        CHECK(outline.runs[k].count == counts[k]);
+    }
+    CHECK(outline.types[outline.runs[1].type] == "b");
+    CHECK(outline.phases[outline.runs[2].phase] == "q");
+    CHECK(outline.runs[3].level == 2);
+    // Past the cap the first step of a type is still found: c at step 8.
+    CHECK(outline.firsts.at("type:c").step == 8);
+    CHECK(outline.firsts.at("type:b").step == 4);
+    CHECK(outline.firsts.at("phase:q").step == 5);
+    CHECK(outline.firsts.at("phase:q").text == "text 3");
+    CHECK(texts == 4);  // asked once for each step that is first of a type or phase: 1, 4, 5 and 8
+
+    // A plugin naming a new type at every step: the names stop growing, and so do the firsts.
+    hsr::StepOutline many;
+    for (int i = 0; i < 20000; ++i) many.add(std::to_string(i), "", HSR_NO_LEVEL, text);
+    CHECK(many.total == 20000);
+    CHECK(many.types.size() == hsr::StepOutline::max_names + 1);
+    CHECK(many.firsts.size() == hsr::StepOutline::max_names);
+}

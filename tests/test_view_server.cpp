@@ -28,6 +28,7 @@
 #include <unistd.h>
 #include <optional>
 #include <regex>
+#include <set>
 #include <thread>
 
 #include <unistd.h>
@@ -806,4 +807,113 @@ TEST_CASE("view: scene_z of a pixel-camera scene is the scene's own z", "[view]"
     CHECK(other.body["pixel_camera"] == false);
     CHECK(other.body["buffers"]["scene_z"].is_null());
     CHECK(other.body["buffers"]["depth"].is_object());
+}
+
+TEST_CASE("view: the outline of a run's steps", "[view]") {
+    RunningServer s;
+    // Leaves of one triangle, seen from close by: some nodes lie outside the view and are culled.
+    json request = frame_request("1/boxes.scene", "octree-zbuffer", 96);
+    request["params"] = {{"leaf-triangles", 1}};
+    request["camera"]["zoom"] = 3;
+    const json outline = s.post_json("/api/steps", request);
+    const uint64_t total = outline["total"];
+    REQUIRE(total > 0);
+    CHECK(outline["truncated"] == false);
+    CHECK(outline["width"] == 96);
+    CHECK(outline["triangles"] == 36);
+
+    // The runs tile the steps 1..total in order, and two runs side by side differ in kind.
+    const json& runs = outline["runs"];
+    REQUIRE(runs.size() > 1);
+    uint64_t next = 1;
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+        const json& run = runs[k];
+        CHECK(run[0] == next);
+        CHECK(run[1] > 0);
+        next += run[1].get<uint64_t>();
+        if (k > 0) {
+            const json& before = runs[k - 1];
+            CHECK((run[2] != before[2] || run[3] != before[3] || run[4] != before[4]));
+        }
+    }
+    CHECK(next == total + 1);
+
+    // The frame's total is the outline's; the frames of a few steps say what the runs say.
+    std::vector<uint64_t> culled_runs;
+    for (std::size_t k = 0; k < runs.size(); ++k)
+        if (runs[k][2] == "node-culled") culled_runs.push_back(k);
+    REQUIRE(!culled_runs.empty());
+    std::vector<std::size_t> asked = {0, culled_runs.front(), culled_runs.back(), culled_runs[culled_runs.size() / 2]};
+    int culled_seen = 0, others_seen = 0;
+    for (std::size_t k : asked) {
+        const uint64_t first = runs[k][0], count = runs[k][1];
+        for (uint64_t step : {first, first + count - 1, first + count}) {
+            if (step > total) continue;
+            std::size_t owner = 0;  // the run that holds the step
+            while (owner + 1 < runs.size() && runs[owner + 1][0].get<uint64_t>() <= step) ++owner;
+            json step_request = request;
+            step_request["step"] = step;
+            const json frame = s.post_arrays("/api/frame", step_request).body;  // the z-pyramid comes as arrays
+            INFO("step " << step << ": " << frame["steps"]["text"]);
+            CHECK(frame["steps"]["total"] == total);
+            CHECK(frame["steps"]["type"] == runs[owner][2]);
+            CHECK(frame["steps"]["phase"] == runs[owner][3]);
+            (frame["steps"]["type"] == "node-culled" ? culled_seen : others_seen) += 1;
+        }
+    }
+    CHECK(culled_seen >= 2);
+    CHECK(others_seen >= 1);
+
+    // The first step of each phase and of each type is where its first run starts.
+    REQUIRE(outline["firsts"].is_object());
+    int phases = 0;
+    for (const auto& [name, first] : outline["firsts"].items()) {
+        const bool phase = name.rfind("phase:", 0) == 0;
+        phases += phase;
+        const std::string value = name.substr(name.find(':') + 1);
+        const json* first_run = nullptr;
+        for (const json& run : runs)
+            if (run[phase ? 3 : 2] == value) {
+                first_run = &run;
+                break;
+            }
+        INFO(name);
+        REQUIRE(first_run != nullptr);
+        CHECK(first["step"] == (*first_run)[0]);
+        CHECK_FALSE(first["text"].get<std::string>().empty());
+    }
+    std::set<std::string> named_phases;
+    for (const json& run : runs)
+        if (!run[3].is_null()) named_phases.insert(run[3].get<std::string>());
+    CHECK(phases == int(named_phases.size()));
+    CHECK(outline["firsts"].contains("type:node-culled"));
+
+    // Asked in Russian, the texts are the plugin's Russian ones; the runs do not change.
+    json russian = request;
+    russian["language"] = "ru";
+    const json outline_ru = s.post_json("/api/steps", russian);
+    CHECK(outline_ru["runs"] == runs);
+    CHECK(outline_ru["firsts"]["type:node-culled"]["step"] == outline["firsts"]["type:node-culled"]["step"]);
+
+    // A hidden-line plugin's steps are its trace events.
+    json lines = frame_request("0/cube.obj", "handmade-lines", 64);
+    lines["edges"] = "all";
+    const json line_outline = s.post_json("/api/steps", lines);
+    CHECK(line_outline["total"] == 12);
+    REQUIRE(line_outline["runs"].size() == 1);
+    CHECK(line_outline["runs"][0][0] == 1);
+    CHECK(line_outline["runs"][0][1] == 12);
+    CHECK(line_outline["runs"][0][2] == "edge-begin");
+    CHECK(line_outline["runs"][0][4].is_null());
+
+    // Mistakes are answered as /api/frame answers them.
+    json bad = request;
+    bad["algorithm"] = "no-such-plugin";
+    CHECK(s.post_json("/api/steps", bad, 400)["field"] == "algorithm");
+    bad = request;
+    bad["model"] = "no-such-model";
+    CHECK(s.post_json("/api/steps", bad, 404)["field"] == "model");
+    bad = request;
+    bad["language"] = "fr";
+    CHECK(s.post_json("/api/steps", bad, 400)["field"] == "language");
 }

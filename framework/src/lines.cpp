@@ -60,6 +60,7 @@ struct TraceWriter {
     bool plugin_has_phases = false;   // claims ABI 1.5: events may name a phase
     uint64_t stop_after = 0;
     bool past_end_is_last = false;
+    StepOutline* outline = nullptr;
     const LineDrawing* drawing = nullptr;
     uint64_t events = 0;
     std::optional<TraceEventRecord> stopped_at;
@@ -79,6 +80,14 @@ void write_event(void* context, const hsr_trace_event* event) {
     const bool has_phase = w.plugin_has_phases && event->struct_size >= offsetof(hsr_trace_event, phase) + sizeof(event->phase);
     if (w.out != nullptr) *w.out << trace_event_json(*event, has_drawing, has_phase) << '\n';
     ++w.events;
+    if (w.outline != nullptr) {
+        const std::string type =
+            event->type != nullptr ? printable(std::string_view(event->type, strnlen(event->type, 64)), 64) : "event";
+        const std::string phase = has_phase && event->phase != nullptr ? printable(bounded(event->phase, 64), 64) : "";
+        w.outline->add(type, phase, HSR_NO_LEVEL, [&] {
+            return has_drawing && event->text != nullptr ? printable(bounded(event->text, 1024), 300) : std::string();
+        });
+    }
     if (w.stop_after == 0) return;
     // Past the end, the last event is the one kept: each is kept until another comes.
     if (w.events == w.stop_after || (w.past_end_is_last && w.events < w.stop_after)) {
@@ -165,9 +174,10 @@ LineDrawing render_lines(const hsr_scene& scene, const hsr_camera& camera, Hidde
     writer.plugin_has_phases = remover.plugin().descriptor.abi_minor >= 5;
     writer.stop_after = settings.stop_after_event;
     writer.past_end_is_last = settings.past_end_is_last;
+    writer.outline = settings.outline;
     writer.drawing = &drawing;
     hsr_trace_sink trace{&writer, &write_event, settings.language.empty() ? nullptr : settings.language.c_str()};
-    const bool want_events = settings.trace != nullptr || settings.stop_after_event > 0;
+    const bool want_events = settings.trace != nullptr || settings.stop_after_event > 0 || settings.outline != nullptr;
     hsr_counter_sink counters{&drawing.counters, &collect_counter};
     const auto start = std::chrono::steady_clock::now();
     try {

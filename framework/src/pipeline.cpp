@@ -153,6 +153,7 @@ struct StepCollector {
     const hsr_visibility_buffer* keep_before_of = nullptr;  // set: copy it at step stop_after - 1
     bool has_phases = false;  // the plugin claims ABI 1.5: its events may name a phase
     bool russian = false;     // the texts the host writes for a step without one are in Russian
+    StepOutline* outline = nullptr;  // set: every step is added to it
     StepRun run;
 
     static uint32_t step(void* context, const hsr_step_event* event) {
@@ -170,6 +171,7 @@ struct StepCollector {
             last.lines.clear();
             last.roles.clear();
             last.buffers.clear();
+            if (self.outline != nullptr) self.outline->add(last.type, "", HSR_NO_LEVEL, [&] { return last.text; });
             self.run.stopped = stop;
             return stop ? 1 : 0;
         }
@@ -187,6 +189,7 @@ struct StepCollector {
             last.text = printable(bounded(event->text, 1024), 300);
         else
             last.text = describe_step(last, self.russian);
+        if (self.outline != nullptr) self.outline->add(last.type, last.phase, last.level, [&] { return last.text; });
         const uint32_t lines = event->lines != nullptr ? std::min(event->line_count, max_step_lines) : 0;
         last.lines.assign(event->lines, event->lines + 4 * size_t(lines));
         last.roles.assign(lines, HSR_STEP_SUBJECT);
@@ -253,7 +256,7 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
 
 void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                               Frame& frame, uint64_t stop_after, bool count_depth_tests, bool keep_before,
-                              StepProgress* progress, const std::string& language) {
+                              StepProgress* progress, const std::string& language, StepOutline* outline) {
     hsr_visibility_buffer target = clear_visibility(scene, camera, remover, frame, count_depth_tests);
     hsr_counter_sink sink{&frame.counters, &collect_counter};
     StepCollector collector;
@@ -263,6 +266,7 @@ void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, 
     if (keep_before) collector.keep_before_of = &target;
     collector.has_phases = remover.plugin().descriptor.abi_minor >= 5;
     collector.russian = language == "ru";
+    collector.outline = outline;
     const hsr_step_sink steps{&collector, &StepCollector::step, language.empty() ? nullptr : language.c_str()};
     const auto start = Clock::now();
     remover.render_steps(scene, camera, target, &sink, steps);

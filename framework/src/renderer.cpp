@@ -210,11 +210,26 @@ uint64_t Renderer::count_steps(const hsr_scene& scene, const hsr_camera& camera,
     Frame counted;
     resolve_visibility_steps(scene, camera, remover, counted, 0, false, false, progress);
     const uint64_t total = counted.steps ? counted.steps->taken : 0;
+    keep_step_total(key, total);
+    return total;
+}
+
+void Renderer::keep_step_total(const std::string& key, uint64_t total) {
     constexpr std::size_t kept_totals = 256;
     std::lock_guard lock(caches_mutex_);
     if (step_totals_.size() >= kept_totals) step_totals_.clear();
-    step_totals_.emplace(key, total);
-    return total;
+    step_totals_[key] = total;
+}
+
+StepOutline Renderer::step_outline(const ViewRequest& view, HiddenSurfaceRemover& remover, const std::string& language,
+                                   StepProgress* progress) {
+    const hsr_camera camera = this->camera(view);
+    const hsr_scene scene = scene_->scene().view();
+    StepOutline outline;
+    Frame frame;
+    resolve_visibility_steps(scene, camera, remover, frame, 0, false, false, progress, language, &outline);
+    keep_step_total(remover.key() + '\n' + camera_bytes(camera), outline.total);
+    return outline;
 }
 
 Picture Renderer::picture(const PictureRequest& request, HiddenSurfaceRemover& remover, LightingModel& lighting) {

@@ -6,6 +6,7 @@
 #include "hsr/abi.h"
 #include "hsr/edges.hpp"
 #include "hsr/plugin_registry.hpp"
+#include "hsr/step_outline.hpp"
 
 #include <glm/glm.hpp>
 
@@ -65,6 +66,8 @@ struct LineSettings {
     bool past_end_is_last = false;
     // The language step texts are asked in (hsr_trace_sink.language): "en", "ru"; empty: English.
     std::string language;
+    // Set: every trace event is added to it (level HSR_NO_LEVEL; the plugin's text, or empty).
+    StepOutline* outline = nullptr;
 };
 
 // The scene must have no instances (flatten_instances first). Throws hsr::Error with the plugin's

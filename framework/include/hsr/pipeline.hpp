@@ -6,6 +6,7 @@
 #include "hsr/fragment_lists.hpp"
 #include "hsr/frame.hpp"
 #include "hsr/plugin_registry.hpp"
+#include "hsr/step_outline.hpp"
 
 #include <glm/glm.hpp>
 
@@ -43,11 +44,11 @@ void resolve_visibility(const hsr_scene& scene, const hsr_camera& camera, Hidden
 // stop_after (0: every step), and sets frame.steps; with keep_before, frame.steps->before too, read
 // from the buffers while the plugin reports step stop_after - 1 (abi.h: render_steps).
 // progress, when given, has its `steps` set at each step. language: the step texts' (ABI 1.5,
-// hsr_step_sink.language), "en" or "ru"; empty: English.
+// hsr_step_sink.language), "en" or "ru"; empty: English. outline, when given, gets every step.
 void resolve_visibility_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                               Frame& frame, uint64_t stop_after, bool count_depth_tests = false,
                               bool keep_before = false, StepProgress* progress = nullptr,
-                              const std::string& language = {});
+                              const std::string& language = {}, StepOutline* outline = nullptr);
 
 // True when a plugin was built before instancing (ABI 1.0) and the scene has instances: it must be
 // given flatten_instances(scene) instead.

@@ -181,6 +181,12 @@ public:
     Picture picture(const PictureRequest& request, HiddenSurfaceRemover& remover, LightingModel& lighting);
     // One line drawing of the flat scene.
     LinePicture lines(const LineRequest& request, HiddenLineRemover& remover) const;
+    // The outline of the steps of this view with the remover (step_outline.hpp), in one whole run
+    // step by step with texts in `language`; its total is kept as a step request's
+    // (PictureRequest::step_context), so that a step request of the same view counts no steps again.
+    // progress, when given, counts the run's steps.
+    StepOutline step_outline(const ViewRequest& view, HiddenSurfaceRemover& remover, const std::string& language,
+                             StepProgress* progress = nullptr);
     // How many triangles cover each pixel centre (pipeline.hpp), for this view.
     DepthComplexity depth_complexity(const hsr_camera& camera) const;
 
@@ -191,6 +197,7 @@ private:
                                                                  const std::optional<PixelRegion>& region);
     uint64_t count_steps(const hsr_scene& scene, const hsr_camera& camera, HiddenSurfaceRemover& remover,
                          StepProgress* progress);
+    void keep_step_total(const std::string& key, uint64_t total);
 
     std::shared_ptr<const LoadedScene> scene_;
     std::mutex caches_mutex_;

@@ -37,6 +37,7 @@ constexpr std::size_t cached_models = 4;
 constexpr uint64_t cached_model_bytes = uint64_t(1) << 30;  // of the models kept besides the newest
 constexpr std::size_t cached_instances = 16;
 constexpr std::size_t max_step_pixels = 20000;
+constexpr std::size_t cached_outlines = 4;
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -193,6 +194,14 @@ struct hsr::host::FrameRenderer::State {
     std::map<std::string, std::unique_ptr<hsr::HiddenSurfaceRemover>> surface_removers;
     std::map<std::string, std::unique_ptr<hsr::HiddenLineRemover>> line_removers;
     std::map<std::string, std::unique_ptr<hsr::LightingModel>> lighting_models;
+    // The last few outlines (POST /api/steps), by the request less what does not change the steps,
+    // each with the model it was made of: a model loaded again makes it stale.
+    struct KeptOutline {
+        std::string key;
+        std::weak_ptr<CachedModel> model;
+        json answer;
+    };
+    std::list<KeptOutline> outlines;  // most recent first
 
     State(const hsr::PluginRegistry& registry, FindModel find_model, hsr::ReadPolicy read_policy)
         : registry(registry), find_model(std::move(find_model)), read_policy(std::move(read_policy)) {}
@@ -253,6 +262,66 @@ struct hsr::host::FrameRenderer::State {
         } catch (const hsr::Error& e) {
             throw ViewError(400, "algorithm", e.what());
         }
+    }
+
+    // The outline of a request's steps (POST /api/steps).
+    json outline(const json& request, const FrameRequest& q, hsr::StepProgress* progress) {
+        const hsr::Plugin& algorithm = algorithm_plugin(q);
+        check_settings(algorithm, q.params, "params");
+        const std::shared_ptr<CachedModel> model = this->model(q.model);
+        hsr::Renderer& renderer = *model->renderer;
+        check_camera(q, renderer);
+        json key_fields = request;
+        for (const char* field : {"step", "buffers", "picture", "lighting", "lighting_params"}) key_fields.erase(field);
+        const std::string key = key_fields.dump(-1, ' ', false, json::error_handler_t::replace);
+        for (auto it = outlines.begin(); it != outlines.end(); ++it) {
+            if (it->key != key || it->model.lock() != model) continue;
+            outlines.splice(outlines.begin(), outlines, it);
+            return outlines.front().answer;
+        }
+        const hsr_camera camera = renderer.camera(view_of(q));
+        hsr::StepOutline outline;
+        uint64_t triangles = 0;
+        if (algorithm.descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER) {
+            hsr::HiddenLineRemover& remover = instance(line_removers, algorithm, q.params);
+            hsr::LineRequest request_lines;
+            request_lines.view = view_of(q);
+            request_lines.settings.edges = q.edges;
+            request_lines.settings.want_hidden = q.hidden == hsr::HiddenLines::kDashed;
+            request_lines.settings.crease_angle_degrees = 40;
+            request_lines.settings.language = q.language;
+            request_lines.settings.outline = &outline;
+            triangles = renderer.lines(request_lines, remover).scene.triangle_count;
+        } else {
+            hsr::HiddenSurfaceRemover& remover = instance(surface_removers, algorithm, q.params);
+            if (!remover.has_steps())
+                throw ViewError(400, "algorithm", fmt::format("steps: plugin '{}' cannot show its steps", q.algorithm));
+            outline = renderer.step_outline(view_of(q), remover, q.language, progress);
+            triangles = hsr::drawn_triangle_count(renderer.loaded().scene().view());
+        }
+        json answer = outline_json(outline);
+        answer["width"] = camera.width;
+        answer["height"] = camera.height;
+        answer["triangles"] = triangles;
+        outlines.push_front({key, model, answer});
+        if (outlines.size() > cached_outlines) outlines.pop_back();
+        return answer;
+    }
+
+    static json outline_json(const hsr::StepOutline& outline) {
+        json runs = json::array();
+        for (const hsr::StepOutline::Run& run : outline.runs) {
+            const std::string& phase = outline.phases[run.phase];
+            runs.push_back({run.first, run.count, outline.types[run.type], phase.empty() ? json(nullptr) : json(phase),
+                            run.level == HSR_NO_LEVEL ? json(nullptr) : json(run.level)});
+        }
+        json firsts = json::object();
+        for (const auto& [name, first] : outline.firsts) {
+            const std::string text = first.text.empty() ? name.substr(name.find(':') + 1) : first.text;
+            firsts[name] = {{"step", first.step}, {"text", text}};
+        }
+        return {{"total", outline.total}, {"runs", std::move(runs)}, {"truncated", outline.truncated},
+                {"firsts", std::move(firsts)}};
     }
 
     // A rendered frame and its response; the frame is kept for /api/compare.
@@ -517,6 +586,12 @@ hsr::host::FrameAnswer hsr::host::FrameRenderer::frame(const json& request, hsr:
     ArrayBlock arrays;
     json response = state_->render(q, arrays, progress).response;
     return {std::move(response), std::move(arrays.bytes)};
+}
+
+json hsr::host::FrameRenderer::steps(const json& request, hsr::StepProgress* progress) {
+    const FrameRequest q = parse_frame_request(request);
+    std::lock_guard lock(state_->mutex);
+    return state_->outline(request, q, progress);
 }
 
 hsr::host::FrameAnswer hsr::host::FrameRenderer::compare(const json& request) {

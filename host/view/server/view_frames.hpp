@@ -45,6 +45,9 @@ public:
     // progress, when given, follows a step request's counting and run.
     FrameAnswer frame(const nlohmann::json& request, hsr::StepProgress* progress = nullptr);
     FrameAnswer compare(const nlohmann::json& request);
+    // POST /api/steps: the outline of a frame request's steps (hsr/step_outline.hpp) as JSON, made
+    // in one whole run step by step and kept for the last few requests. progress counts the run.
+    nlohmann::json steps(const nlohmann::json& request, hsr::StepProgress* progress = nullptr);
 
 private:
     struct State;

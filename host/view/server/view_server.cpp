@@ -285,6 +285,20 @@ struct hsr::host::ViewServer::State {
                                        affinity, what, page.cancel(), page.on_progress()));
             });
         });
+        // The outline of a frame request's steps; a newer one from the same page cancels it, but
+        // it leaves the page's frame in flight alone.
+        server.Post("/api/steps", [this](const httplib::Request& req, httplib::Response& res) {
+            guarded(res, [&] {
+                json request = parse_body(req);
+                json models = job_models({&request});
+                const std::string affinity = string_field(&request, "model");
+                const std::string what = "outlining the steps of " + doing(&request).substr(std::string("rendering ").size());
+                const std::string page_id = page_of(req);
+                const PageRequest page(*this, page_id.empty() ? "" : page_id + "-steps");
+                send(res, workers.call({{"op", "steps"}, {"request", std::move(request)}, {"models", std::move(models)}},
+                                       affinity, what, page.cancel()));
+            });
+        });
         server.Post("/api/compare", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
                 json request = parse_body(req);

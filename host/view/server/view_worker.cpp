@@ -1,6 +1,6 @@
 // The worker's side of hsr view (view_workers.hpp): `hsr view-worker`, which scans the plugins,
 // keeps models and plugin instances loaded between jobs (view_frames.hpp), and answers each job
-// the server sends on fd 3: a frame, a comparison, the plugins' descriptions or a theory page.
+// the server sends on fd 3: a frame, the outline of its steps, a comparison, the plugins' descriptions or a theory page.
 #include "view/server/view_workers.hpp"
 
 #include "common/child_process.hpp"
@@ -204,6 +204,11 @@ Answer run_job(const json& job, JobModels& models, hsr::host::FrameRenderer& fra
         return frame_answer(frames.frame(job.at("request"), &progress));
     }
     if (op == "frame") return frame_answer(frames.frame(job.at("request")));
+    if (op == "steps") {
+        hsr::StepProgress progress;
+        const ProgressReporter reporter(progress);
+        return hsr::host::json_answer(200, frames.steps(job.at("request"), &progress));
+    }
     if (op == "compare") return frame_answer(frames.compare(job.at("request")));
     if (op == "plugins") return hsr::host::json_answer(200, describe_plugins(registry, job.value("skip", json::array())));
     if (op == "theory") return hsr::host::json_answer(200, hsr::host::theory_page(registry, job.at("name").get<std::string>(), job.value("language", "en")));

@@ -6,6 +6,7 @@ import { Camera, cliCameraOptions } from './camera.js';
 import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
 import { StepControls, drawStepOverlay, fullRenderText, playLabel } from './steps.js';
+import { StepOutline, OutlineBar, fillWorkedExample } from './outline.js';
 import {
   BUFFER_NAMES, VIEW_BUFFER, decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid, tileAround,
   gridCells, cellsOfFont,
@@ -134,6 +135,9 @@ const steps = new StepControls({
   text: $('step-text'), totalText: $('step-total'),
 }, () => requestFrame());
 
+const phaseTitle = (name) => currentAlgorithm()?.phases?.find((phase) => phase.name === name)?.title || name;
+const outlineBar = new OutlineBar(document.querySelector('#steps .step-buttons'), steps, phaseTitle);
+
 // ---- frames ----------------------------------------------------------------------------------
 
 // Small pictures (exercise scenes) get the pixel grid: the one shown, or the one asked for.
@@ -252,7 +256,7 @@ async function runJob(job, isStale) {
     } else {
       hideCompare(compareElements);
       renderStats($('stats'), '', frame.stats, roundTrip);
-      if (request.step === null || request.step === undefined) askStepTotal(request);
+      askOutline(request);
     }
     clearFieldErrors();
     showError('');
@@ -274,25 +278,70 @@ async function runJob(job, isStale) {
   }
 }
 
-// A full render's answer has no step count: ask for step 1 aside for the count, so the step bar
-// shows it before any step, and take it if the view is still the same when it comes.
-const viewKey = (request) => JSON.stringify({ ...request, step: null, buffers: null });
-let totalAskedFor = null;
-async function askStepTotal(request) {
-  if (!currentAlgorithm()?.steps || settings.compare || steps.total !== null) return;
-  const key = viewKey(request);
-  if (totalAskedFor === key) return;
-  totalAskedFor = key;
+// The outline of the view's steps (POST /api/steps), asked once per model, plugin, parameters,
+// camera, size and language: it brings the step count, shown before any step is asked for, the
+// coarse units of the step bar and the worked example of the theory pane. One is asked at a time;
+// when it comes for a view no longer shown, the one shown is asked for next.
+const outlineBody = (request) => ({ ...request, step: null, buffers: false, lighting: null, lighting_params: null, language: language() });
+const outlineKey = (request) => JSON.stringify(outlineBody(request));
+let outline = null;          // { key, value: StepOutline } of the last outline that came
+let outlineAsking = null;    // the key of the outline in flight
+async function askOutline(request) {
+  if (!currentAlgorithm()?.steps || settings.compare || camera.dragging) return;
+  const key = outlineKey(request);
+  if (outline?.key === key) {
+    showOutline();
+    return;
+  }
+  if (outlineAsking !== null) return;
+  outlineAsking = key;
+  outlineBar.setOutline(null);
   try {
-    const answer = await postJsonAside('/api/frame', { ...request, step: 1, buffers: false });
-    const total = answer.steps?.total;
-    if (steps.total === null && Number.isFinite(total) && viewKey(frameRequest()) === key) steps.setTotal(total);
+    const body = outlineBody(request);
+    delete body.lighting;
+    delete body.lighting_params;
+    const value = new StepOutline(await postJsonAside('/api/steps', body));
+    outline = { key, value };
   } catch {
     // the count comes with the first step instead
   } finally {
-    if (totalAskedFor === key) totalAskedFor = null;
+    outlineAsking = null;
+  }
+  showOutline();
+}
+
+// The outline, if it is the shown view's, on the step bar and in the worked example; else ask for it.
+function showOutline() {
+  const request = frameRequestOrNull();
+  if (!request) return;
+  const current = outline && outline.key === outlineKey(request) ? outline.value : null;
+  if (!current) {
+    askOutline(request);
+    fillWorkedExample($('theory'), null, {});
+    return;
+  }
+  if (steps.total !== current.total) steps.setTotal(current.total);
+  if (outlineBar.outline !== current) outlineBar.setOutline(current);
+  fillWorkedExample($('theory'), current, {
+    modelName: settings.model.replace(/^\d+\//, ''),
+    phases: currentAlgorithm()?.phases ?? [],
+    goToStep: (k) => steps.go(k),
+  });
+}
+
+function frameRequestOrNull() {
+  if (!settings.model || !settings.algorithm) return null;
+  try {
+    return frameRequest();
+  } catch {
+    return null;
   }
 }
+
+onLanguageChange(() => {
+  outlineBar.setOutline(outlineBar.outline);
+  showOutline();
+});
 
 // While a frame takes long, the status counts its seconds and Stop cancels it.
 const STOP_AFTER_MS = 1000;
@@ -531,6 +580,11 @@ onLanguageChange(() => { if (!$('theory').hidden) theoryPane.reload(); });
 function loadTheory() {
   theoryPane.show(settings.algorithm);
 }
+
+// A page placed in the pane with an empty worked example gets it filled from the outline.
+new MutationObserver(() => {
+  if ($('theory').querySelector('div.worked-example:empty')) showOutline();
+}).observe($('theory'), { childList: true });
 
 function setTheoryOpen(open) {
   settings.theoryOpen = open;
@@ -857,6 +911,10 @@ async function start() {
   window.hsrView = {
     lastRequest: null, lastResponse: null, idle: () => scheduler.idle(), camera: () => camera.request(),
   };
+  // The outline of the view's steps once it came, and a way to fill the theory pane's worked
+  // example again (after a script put one there).
+  window.hsrView.outline = () => outline?.value ?? null;
+  window.hsrView.showOutline = () => showOutline();
   wire();
   languageChosen();
   applyPageTexts();

@@ -22,6 +22,11 @@ export class StepControls {
     this.playing = false;
     this.timer = null;
     this.lastAdvance = 0;
+    // Set by the outline (outline.js): mover(k, dir) gives the step one coarse unit from k, null
+    // when there is none, undefined when the unit is one step; onShown() follows every change of
+    // the step shown.
+    this.mover = null;
+    this.onShown = null;
 
     el.first.addEventListener('click', () => this.go(1));
     el.last.addEventListener('click', () => this.go(this.total ?? null));
@@ -48,6 +53,7 @@ export class StepControls {
     if (typesText(e.target)) return;
     const el = this.el;
     if (e.key === ' ') this.setPlaying(!this.playing);
+    else if (e.shiftKey && (e.key === 'ArrowRight' || e.key === 'ArrowLeft')) this.byUnit(e.key === 'ArrowRight' ? 1 : -1);
     else if (e.key === 'ArrowRight') el.forward.click();
     else if (e.key === 'ArrowLeft') el.back.click();
     else if (e.key === 'Home') el.first.click();
@@ -55,6 +61,13 @@ export class StepControls {
     else return;
     e.preventDefault();
     e.stopPropagation();
+  }
+
+  // One step of the chosen coarse unit forward (1) or back (-1); where there is none, nothing.
+  byUnit(dir) {
+    const k = this.mover ? this.mover(this.current, dir) : undefined;
+    if (k === undefined) (dir > 0 ? this.el.forward : this.el.back).click();
+    else if (k !== null) this.go(k);
   }
 
   // Step k (clamped to the known total), or the full render for null.
@@ -90,7 +103,9 @@ export class StepControls {
     const now = performance.now();
     const due = Math.max(1, Math.round(((now - this.lastAdvance) / 1000) * this.speed()));
     this.lastAdvance = now;
-    const next = (this.current ?? 0) + due;
+    // Playing by a coarse unit moves one unit a tick.
+    const coarse = this.mover ? this.mover(this.current ?? 0, 1) : undefined;
+    const next = coarse === undefined ? (this.current ?? 0) + due : (coarse ?? this.total ?? 0);
     if (this.total !== null && next >= this.total) {
       this.go(this.total);
       this.setPlaying(false);
@@ -145,6 +160,7 @@ export class StepControls {
     // The full render before its step count is known has no number yet.
     number.value = this.current === null && this.total === null ? '' : String(shown);
     totalText.textContent = `/ ${this.total ?? '–'}`;
+    if (this.onShown) this.onShown();
   }
 }
 
@@ -171,9 +187,22 @@ function typesText(target) {
   return target instanceof HTMLInputElement && !UNTYPED_INPUTS.has(target.type);
 }
 
-// Draws one step's highlight on the overlay canvas (cleared first); steps null clears it.
+// Draws one step's highlight on the overlay canvas (cleared first); steps null clears it. The
+// canvas comes sized as the picture (redraw() in app.js); shown enlarged, it is drawn at the
+// screen's resolution instead, so that lines and boxes stay 2 CSS pixels wide at any picture size.
 export function drawStepOverlay(canvas, steps) {
+  const pictureWidth = canvas.width, pictureHeight = canvas.height;
+  const shownWidth = canvas.getBoundingClientRect().width || pictureWidth;
+  const devicePixels = shownWidth * (window.devicePixelRatio || 1);
+  // A hidden-line step draws itself on the picture's own pixels (drawLineStep).
+  const factor = steps && isLineStep(steps) ? 1
+    : Math.max(1, Math.min(Math.floor(devicePixels / pictureWidth), Math.floor(4096 / Math.max(pictureWidth, pictureHeight))));
+  if (factor > 1) {
+    canvas.width = pictureWidth * factor;
+    canvas.height = pictureHeight * factor;
+  }
   const ctx = canvas.getContext('2d');
+  ctx.setTransform(1, 0, 0, 1, 0, 0);
   ctx.clearRect(0, 0, canvas.width, canvas.height);
   showLineStepKey(steps);
   if (!steps) return;
@@ -181,8 +210,10 @@ export function drawStepOverlay(canvas, steps) {
     drawLineStep(canvas, steps);
     return;
   }
-  // Lines are drawn one display pixel wide whatever the picture's scale on screen.
-  const scale = canvas.width / Math.max(1, canvas.getBoundingClientRect().width || canvas.width);
+  ctx.setTransform(factor, 0, 0, factor, 0, 0);
+  // Picture pixels per CSS pixel: lines are 2 CSS pixels wide whatever the picture's scale.
+  const scale = pictureWidth / shownWidth;
+  const minimum = 2 * scale;
   const dots = (points, color) => {
     if (!Array.isArray(points)) return;
     ctx.fillStyle = color;
@@ -192,22 +223,29 @@ export function drawStepOverlay(canvas, steps) {
   dots(steps.rejected, ROLE_COLORS[2]);
   dots(steps.written, ROLE_COLORS[1]);
   ctx.globalAlpha = 1;
-  ctx.lineWidth = Math.max(1, 1.5 * scale);
+  ctx.lineWidth = minimum;
+  // A line shorter than the minimum width (a side of a node's box a pixel or less across) is drawn
+  // as a square that wide around its middle, so that the smallest box still shows.
+  const segment = (x0, y0, x1, y1) => {
+    if (Math.hypot(x1 - x0, y1 - y0) >= minimum) {
+      ctx.moveTo(x0, y0);
+      ctx.lineTo(x1, y1);
+    } else {
+      const cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
+      ctx.rect(cx - minimum / 2, cy - minimum / 2, minimum, minimum);
+    }
+  };
   if (Array.isArray(steps.outline)) {
     ctx.strokeStyle = OUTLINE_COLOR;
     ctx.beginPath();
-    for (const [x0, y0, x1, y1] of steps.outline) {
-      ctx.moveTo(x0, y0);
-      ctx.lineTo(x1, y1);
-    }
+    for (const [x0, y0, x1, y1] of steps.outline) segment(x0, y0, x1, y1);
     ctx.stroke();
   }
   if (Array.isArray(steps.lines)) {
     for (const [x0, y0, x1, y1, role] of steps.lines) {
       ctx.strokeStyle = ROLE_COLORS[role] ?? ROLE_COLORS[0];
       ctx.beginPath();
-      ctx.moveTo(x0, y0);
-      ctx.lineTo(x1, y1);
+      segment(x0, y0, x1, y1);
       ctx.stroke();
     }
   }
