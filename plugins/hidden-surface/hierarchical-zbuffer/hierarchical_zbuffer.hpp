@@ -448,11 +448,7 @@ private:
                                      : "triangle %u: rejected by the z-pyramid at %s", f, where);
                 return;
             }
-            if (after.backface_culled != before.backface_culled || after.outside != before.outside ||
-                after.degenerate != before.degenerate) {
-                culled_triangle_step(steps, before, after, t, instance);
-                return;
-            }
+            if (raster::dropped_triangle_step(steps, before, after, t, instance)) return;
             add_outline(steps, corner);
             add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);
             char tiles[96] = "";
@@ -490,29 +486,6 @@ private:
             pyramid_.describe_level(int(event.level), where, ru);
             steps.step(event, ru ? "треугольник %u: не закрыт z-пирамидой на %s, %s"
                                  : "triangle %u: not hidden at z-pyramid %s, %s", f, where, drawn);
-        }
-    }
-
-    // The step of a triangle that the geometry stage dropped: back-facing, outside, or too thin to
-    // cover a pixel centre.
-    template <class Steps>
-    static void culled_triangle_step(Steps& steps, const raster::TriangleStats& before,
-                                     const raster::TriangleStats& after, uint32_t t, uint32_t instance) {
-        hsr::sdk::Steps::Event event{"triangle", t, instance, HSR_NO_LEVEL, 0, 0};
-        const unsigned f = t;
-        const bool ru = steps.russian();
-        if (after.backface_culled != before.backface_culled) {
-            event.phase = "cull";
-            steps.step(event, ru ? "треугольник %u: нелицевая грань (обращена от камеры), отброшен"
-                                 : "triangle %u: culled, it faces away from the camera", f);
-        } else if (after.outside != before.outside) {
-            event.phase = "cull";
-            steps.step(event, ru ? "треугольник %u: вне области видимости, не рисуется"
-                                 : "triangle %u: outside the view, not drawn", f);
-        } else {
-            event.phase = "rasterize";
-            steps.step(event, ru ? "треугольник %u: не покрывает ни одного центра пикселя"
-                                 : "triangle %u: covers no pixel centre", f);
         }
     }
 

@@ -687,24 +687,7 @@ private:
                                  : "triangle %u: rejected by the z-pyramid at %s", f, where);
             return;
         }
-        if (after.backface_culled != before.backface_culled || after.outside != before.outside ||
-            after.degenerate != before.degenerate) {
-            hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, written, tested - written};
-            if (after.backface_culled != before.backface_culled) {
-                event.phase = "cull";
-                steps.step(event, ru ? "треугольник %u: нелицевая грань (обращена от камеры), отброшен"
-                                     : "triangle %u: culled, it faces away from the camera", f);
-            } else if (after.outside != before.outside) {
-                event.phase = "cull";
-                steps.step(event, ru ? "треугольник %u: вне области видимости, не рисуется"
-                                     : "triangle %u: outside the view, not drawn", f);
-            } else {
-                event.phase = "rasterize";
-                steps.step(event, ru ? "треугольник %u: не покрывает ни одного центра пикселя"
-                                     : "triangle %u: covers no pixel centre", f);
-            }
-            return;
-        }
+        if (raster::dropped_triangle_step(steps, before, after, face, instance)) return;
         add_outline(steps, corner);
         if (!step_.box.empty())
             add_box(steps, step_.box.x0, step_.box.y0, step_.box.x1, step_.box.y1, HSR_STEP_WRITTEN);

@@ -160,44 +160,10 @@ private:
                 });
                 if constexpr (Steps::enabled) geometry_.outline_lines(steps, indices + 3 * size_t(t));
                 if constexpr (Steps::enabled)
-                    triangle_step(steps, before, geometry_.stats(), t, placement.instance,
+                    raster::triangle_step(steps, before, geometry_.stats(), t, placement.instance,
                                   pixels.depth_tested - pixels_before.depth_tested,
                                   pixels.written - pixels_before.written);
             }
-        }
-    }
-
-    // The step of input triangle `face`, from what the geometry stage counted for it (stats before
-    // and after) and what its depth tests did.
-    static void triangle_step(hsr::sdk::Steps& steps, const raster::TriangleStats& before,
-                              const raster::TriangleStats& after, uint32_t face, uint32_t instance, uint64_t tested,
-                              uint64_t written) {
-        using hsr::sdk::russian_plural;
-        hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, written, tested - written};
-        const unsigned long long f = face, w = written, r = tested - written;
-        const bool ru = steps.russian();
-        if (after.backface_culled != before.backface_culled) {
-            event.phase = "cull";
-            steps.step(event, ru ? "треугольник %llu: нелицевая грань (обращена от камеры), отброшен"
-                                 : "triangle %llu: culled, it faces away from the camera", f);
-        } else if (after.outside != before.outside) {
-            event.phase = "cull";
-            steps.step(event, ru ? "треугольник %llu: вне области видимости, не рисуется"
-                                 : "triangle %llu: outside the view, not drawn", f);
-        } else if (after.degenerate != before.degenerate || tested == 0) {
-            event.phase = "rasterize";
-            steps.step(event, ru ? "треугольник %llu: не покрывает ни одного центра пикселя"
-                                 : "triangle %llu: covers no pixel centre", f);
-        } else if (ru) {
-            event.phase = written > 0 ? "write" : "depth-test";
-            steps.step(event, "треугольник %llu: %s %llu %s, %s тестом глубины %llu", f,
-                       russian_plural(w, "записан", "записано", "записано"), w,
-                       russian_plural(w, "пиксель", "пикселя", "пикселей"),
-                       russian_plural(r, "отброшен", "отброшено", "отброшено"), r);
-        } else {
-            event.phase = written > 0 ? "write" : "depth-test";
-            steps.step(event, "triangle %llu: %llu pixel%s written, %llu rejected by the depth test", f, w,
-                       w == 1 ? "" : "s", r);
         }
     }
 

@@ -133,22 +133,52 @@ struct TriangleStats {
     }
 };
 
-// Reports the step of one input triangle (ABI 1.3) from what the geometry stage counted for it
-// (stats before and after processing it) and what its depth tests did.
+// Reports the step of a triangle the geometry stage dropped between the stats `before` and `after`
+// (back-facing or outside the view: phase "cull"; too thin to hold a pixel centre, or
+// `covers_nothing`: phase "rasterize"), in the language the host asked for, and returns true; returns
+// false, reporting nothing, for a triangle that reached the pixel loop and covered something.
+template <class StepsT>
+bool dropped_triangle_step(StepsT& steps, const TriangleStats& before, const TriangleStats& after, uint32_t face,
+                           uint32_t instance, bool covers_nothing = false) {
+    hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, 0, 0};
+    const bool ru = steps.russian();
+    if (after.backface_culled != before.backface_culled) {
+        event.phase = "cull";
+        steps.step(event, ru ? "треугольник %u: нелицевая грань (обращена от камеры), отброшен"
+                             : "triangle %u: culled, it faces away from the camera", face);
+    } else if (after.outside != before.outside) {
+        event.phase = "cull";
+        steps.step(event, ru ? "треугольник %u: вне области видимости, не рисуется"
+                             : "triangle %u: outside the view, not drawn", face);
+    } else if (after.degenerate != before.degenerate || covers_nothing) {
+        event.phase = "rasterize";
+        steps.step(event, ru ? "треугольник %u: не покрывает ни одного центра пикселя"
+                             : "triangle %u: covers no pixel centre", face);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+// Reports the step of one input triangle of a z-buffer (ABI 1.3) from what the geometry stage
+// counted for it (stats before and after processing it) and what its depth tests did: a dropped
+// triangle as dropped_triangle_step does, else phase "write" when it wrote a pixel, "depth-test"
+// when the test rejected all it covered.
 template <class StepsT>
 void triangle_step(StepsT& steps, const TriangleStats& before, const TriangleStats& after, uint32_t face,
                    uint32_t instance, uint64_t tested, uint64_t written) {
     if constexpr (StepsT::enabled) {
-        const hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, written, tested - written};
-        const unsigned long long f = face, w = written, r = tested - written;
-        if (after.backface_culled != before.backface_culled)
-            steps.step(event, "triangle %llu: culled, it faces away from the camera", f);
-        else if (after.outside != before.outside)
-            steps.step(event, "triangle %llu: outside the view, not drawn", f);
-        else if (after.degenerate != before.degenerate || tested == 0)
-            steps.step(event, "triangle %llu: covers no pixel centre", f);
+        if (dropped_triangle_step(steps, before, after, face, instance, tested == 0)) return;
+        hsr::sdk::Steps::Event event{"triangle", face, instance, HSR_NO_LEVEL, written, tested - written};
+        event.phase = written > 0 ? "write" : "depth-test";
+        const unsigned long long w = written, r = tested - written;
+        if (steps.russian())
+            steps.step(event, "треугольник %u: %s %llu %s, %s тестом глубины %llu", face,
+                       hsr::sdk::russian_plural(w, "записан", "записано", "записано"), w,
+                       hsr::sdk::russian_plural(w, "пиксель", "пикселя", "пикселей"),
+                       hsr::sdk::russian_plural(r, "отброшен", "отброшено", "отброшено"), r);
         else
-            steps.step(event, "triangle %llu: %llu pixel%s written, %llu rejected by the depth test", f, w,
+            steps.step(event, "triangle %u: %llu pixel%s written, %llu rejected by the depth test", face, w,
                        w == 1 ? "" : "s", r);
     }
 }
