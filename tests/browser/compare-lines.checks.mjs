@@ -67,6 +67,7 @@ export default async (h) => {
       const cut = await page.$eval('#refusal .refusal-text', (e) => e.scrollWidth > e.clientWidth + 0.5);
       assert(!cut, 'the reason is cut');
       assert(/roberts/.test(await page.textContent('#refusal .refusal-title')), 'the box does not name the plugin');
+      await page.evaluate(() => window.scrollTo(0, 0));
       await page.screenshot({ path: `${h.screenshotDir}/viewer-refusal.png` });
       const boxes = model.replace(/[^/]*$/, 'boxes.scene');
       await andFrame(page, () => page.selectOption('#model', boxes));
