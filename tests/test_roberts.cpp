@@ -18,6 +18,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <random>
 #include <sstream>
@@ -866,4 +868,84 @@ TEST_CASE("roberts: times on grids of boxes", "[.][roberts-bench]") {
         std::sort(ms.begin(), ms.end());
         std::cout << file << ": median " << ms[10] << " ms\n";
     }
+}
+
+namespace {
+
+// Cube corners (-1..1 scaled by `half`, moved to `centre`) and its six quads as OBJ lines, the
+// vertex numbers starting after `first` earlier vertices.
+std::string obj_cube(glm::vec3 centre, float half, int first) {
+    std::ostringstream out;
+    for (int k = 0; k < 8; ++k) {
+        const float x = (k == 1 || k == 2 || k == 5 || k == 6) ? 1.f : -1.f;
+        const float y = (k == 2 || k == 3 || k == 6 || k == 7) ? 1.f : -1.f;
+        const float z = k >= 4 ? 1.f : -1.f;
+        out << "v " << centre.x + half * x << ' ' << centre.y + half * y << ' ' << centre.z + half * z << '\n';
+    }
+    const int quads[6][4] = {{5, 6, 7, 8}, {1, 4, 3, 2}, {2, 3, 7, 6}, {1, 5, 8, 4}, {4, 8, 7, 3}, {1, 2, 6, 5}};
+    for (const auto& q : quads) out << "f " << first + q[0] << ' ' << first + q[1] << ' ' << first + q[2] << ' ' << first + q[3] << '\n';
+    return out.str();
+}
+
+double visible_length(const hsr::LineDrawing& d) {
+    double total = 0;
+    for (const hsr::LineSegment& s : d.segments)
+        if (s.qi == 0) total += double(glm::length(s.b - s.a));
+    return total;
+}
+
+const glm::vec3 kCubeA{0, 0, 0}, kCubeB{1.2f, 0.6f, -2.5f};
+const float kHalfA = 1, kHalfB = 0.8f;
+
+// The two cubes as two bodies built from cube.obj: the answer an OBJ of two groups should give.
+hsr::SceneData two_cube_bodies() {
+    hsr::SceneBuilder b;
+    hsr::MeshOptions a, c;
+    a.transform = box_transform(kCubeA, glm::vec3(kHalfA));
+    c.transform = box_transform(kCubeB, glm::vec3(kHalfB));
+    b.add_model_file(std::string(HSR_MODELS_DIR) + "/cube.obj", a);
+    b.add_model_file(std::string(HSR_MODELS_DIR) + "/cube.obj", c);
+    return b.build();
+}
+
+hsr::SceneData load_obj_text(const std::string& name, const std::string& text) {
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / name;
+    std::ofstream(file) << text;
+    hsr::SceneBuilder b;
+    b.add_model_file(file);
+    hsr::SceneData data = b.build();
+    std::filesystem::remove(file);
+    return data;
+}
+
+}  // namespace
+
+TEST_CASE("roberts: an OBJ file's o groups are separate bodies", "[roberts][obj-groups]") {
+    const std::string text = "# two cubes\no first\n" + obj_cube(kCubeA, kHalfA, 0) + "o second\n" +
+                             obj_cube(kCubeB, kHalfB, 8);
+    const hsr::SceneData groups = load_obj_text("hsr_two_cubes_o.obj", text);
+    REQUIRE(groups.object_names.size() == 2);
+    CHECK(groups.object_names[0] == "hsr_two_cubes_o/first");
+    CHECK(groups.object_names[1] == "hsr_two_cubes_o/second");
+    const hsr::SceneData bodies = two_cube_bodies();
+    for (const View& v : many_views()) {
+        INFO("yaw " << v.yaw << " pitch " << v.pitch << " orthographic " << v.ortho);
+        const hsr_camera camera = orbit(bodies, v.yaw, v.pitch, 1.3f, v.ortho, 300);
+        check_against_ray_casting(groups, camera);
+        CHECK(visible_length(draw(groups, camera, false)) ==
+              Approx(visible_length(draw(bodies, camera, false))).epsilon(1e-3));
+    }
+}
+
+TEST_CASE("roberts: an OBJ file's g groups are bodies when it has no o line", "[roberts][obj-groups]") {
+    const std::string text = "g left\n" + obj_cube(kCubeA, kHalfA, 0) + "g right\n" + obj_cube(kCubeB, kHalfB, 8);
+    const hsr::SceneData groups = load_obj_text("hsr_two_cubes_g.obj", text);
+    REQUIRE(groups.object_names.size() == 2);
+    CHECK(groups.object_names[1] == "hsr_two_cubes_g/right");
+    const hsr_camera camera = orbit(groups, 35, 25, 1.3f, false, 300);
+    check_against_ray_casting(groups, camera);
+
+    // With o lines, g lines inside them do not cut a body.
+    const std::string nested = "o one\ng a\n" + obj_cube(kCubeA, kHalfA, 0) + "g b\n" + obj_cube(kCubeB, kHalfB, 8);
+    CHECK(load_obj_text("hsr_two_cubes_og.obj", nested).object_names.size() == 1);
 }

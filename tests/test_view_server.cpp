@@ -25,6 +25,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <unistd.h>
 #include <optional>
 #include <regex>
@@ -572,6 +574,45 @@ TEST_CASE("view: compare two plugins' visibility", "[view]") {
     json bad = a;
     bad["params"] = {{"depth-test", "sideways"}};
     CHECK(s.post_json("/api/compare", {{"a", a}, {"b", bad}}, 400)["field"] == "b.params.depth-test");
+}
+
+// A PNG of the answer as RGB pixels, read back through a file as hsr reads PNG files.
+std::vector<uint8_t> png_pixels(const std::string& png, const std::string& name) {
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / name;
+    std::ofstream(file, std::ios::binary) << png;
+    const hsr::Image image = hsr::read_png_rgb(file);
+    std::filesystem::remove(file);
+    return image.pixels;
+}
+
+TEST_CASE("view: compare two line drawings, and not a line drawing with a picture", "[view]") {
+    RunningServer s;
+    json a = frame_request("0/cube.obj", "roberts", 64);
+    json b = a;
+    b["algorithm"] = "appel";
+    b["hidden"] = "dashed";
+    const json result = s.post_json("/api/compare", {{"a", a}, {"b", b}});
+    const std::vector<uint8_t> pixels_a = png_pixels(png_bytes(result["a"]), "hsr_compare_a.png");
+    const std::vector<uint8_t> pixels_b = png_pixels(png_bytes(result["b"]), "hsr_compare_b.png");
+    REQUIRE(pixels_a.size() == 64 * 64 * 3);
+    REQUIRE(pixels_b.size() == pixels_a.size());
+    uint64_t differing = 0;
+    for (std::size_t p = 0; p < pixels_a.size(); p += 3)
+        differing += std::memcmp(&pixels_a[p], &pixels_b[p], 3) != 0;
+    CHECK(differing > 0);  // b draws the three hidden edges dashed
+    CHECK(result["differing_pixels"] == differing);
+    CHECK(result["a"]["kind"] == "lines");
+    CHECK(png_bytes({{"png", result["diff_png"]}}).substr(1, 3) == "PNG");
+    CHECK(s.post_json("/api/compare", {{"a", a}, {"b", a}})["differing_pixels"] == 0);
+
+    const json surfaces = frame_request("0/cube.obj", "zbuffer", 64);
+    const json refused = s.post_json("/api/compare", {{"a", a}, {"b", surfaces}}, 400);
+    CHECK(refused["field"] == "b.algorithm");
+    const std::string message = refused["error"].get<std::string>();
+    INFO(message);
+    CHECK(message.find("'roberts' draws lines") != std::string::npos);
+    CHECK(message.find("'zbuffer' fills surfaces") != std::string::npos);
+    CHECK(s.post_json("/api/compare", {{"a", surfaces}, {"b", a}}, 400)["field"] == "b.algorithm");
 }
 
 TEST_CASE("view: uploads, and their cap", "[view]") {

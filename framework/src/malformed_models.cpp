@@ -371,6 +371,10 @@ private:
             } else if (kind == "usemtl") {
                 contents.material_uses.push_back({static_cast<uint32_t>(contents.face_ends.size()),
                                                   line.tokens.size() > 1 ? std::string(line.tokens[1]) : std::string()});
+            } else if (kind == "o" || kind == "g") {
+                std::string name;
+                for (std::size_t i = 1; i < line.tokens.size(); ++i) name += (i > 1 ? " " : "") + std::string(line.tokens[i]);
+                contents.groups.push_back({static_cast<uint32_t>(contents.face_ends.size()), std::move(name), kind == "o"});
             }
         }
         piece.vertices_after = vertices;
@@ -414,6 +418,8 @@ private:
                 contents.material_libraries.push_back(library);
             for (const ModelContents::MaterialUse& use : piece.contents.material_uses)
                 contents.material_uses.push_back({faces_before + use.first_face, use.name});
+            for (const ModelContents::Group& group : piece.contents.groups)
+                contents.groups.push_back({faces_before + group.first_face, group.name, group.is_object});
             const auto offset = static_cast<uint32_t>(contents.corners.size());
             contents.positions.insert(contents.positions.end(), piece.contents.positions.begin(),
                                       piece.contents.positions.end());

@@ -31,6 +31,13 @@ struct ModelContents {
     };
     std::vector<std::string> material_libraries;
     std::vector<MaterialUse> material_uses;
+    // OBJ: each o line (object) and g line (group), from which face on.
+    struct Group {
+        uint32_t first_face;
+        std::string name;
+        bool is_object;  // an o line
+    };
+    std::vector<Group> groups;
 };
 
 // Checks an OBJ file and returns what it holds: the same contents, or the same first error, as a

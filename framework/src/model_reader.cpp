@@ -270,6 +270,7 @@ constexpr Color no_color = {NAN, NAN, NAN};
 struct FaceCounts {
     uint32_t intersecting = 0;  // faces whose outline crosses itself, cut into a fan
     std::vector<Color> triangle_colors;  // by OpenMesh face index; empty when the faces have none
+    std::vector<uint32_t> triangle_faces;  // by OpenMesh face index, the file's face; filled when asked
 };
 
 // The mesh of a model's contents, built as OpenMesh's importer (ImporterT::add_face) builds it:
@@ -280,7 +281,8 @@ struct FaceCounts {
 // makes, so such a face is added exactly as OpenMesh adds it. The importer's checks for invalid and
 // repeated vertices are left out: the checks of the text and the loop here have done them.
 // `face_colors` holds one colour per face (no_color for none) or is empty.
-FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<Color>& face_colors, TriMesh& mesh) {
+FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<Color>& face_colors, TriMesh& mesh,
+                              bool record_faces = false) {
     const std::size_t corners = contents.corners.size();  // at least 3 a face
     mesh.reserve(static_cast<unsigned>(contents.positions.size()), static_cast<unsigned>(corners),
                  static_cast<unsigned>(corners - 2 * contents.face_ends.size()));
@@ -291,8 +293,13 @@ FaceCounts build_polygon_mesh(const ModelContents& contents, const std::vector<C
     std::vector<uint32_t> triangles;
     uint32_t begin = 0;
     auto set_color = [&](TriMesh::FaceHandle added, std::size_t face_number) {
-        if (face_colors.empty() || !added.is_valid()) return;
+        if (!added.is_valid()) return;
         const auto index = static_cast<std::size_t>(added.idx());
+        if (record_faces) {
+            if (counts.triangle_faces.size() <= index) counts.triangle_faces.resize(index + 1, 0);
+            counts.triangle_faces[index] = static_cast<uint32_t>(face_number);
+        }
+        if (face_colors.empty()) return;
         if (counts.triangle_colors.size() <= index) counts.triangle_colors.resize(index + 1, no_color);
         counts.triangle_colors[index] = face_colors[face_number];
     };
@@ -452,9 +459,76 @@ Object object_from_polygon_mesh(const TriMesh& mesh, const FaceCounts& face_coun
     return object;
 }
 
-}  // namespace
+// The faces' groups of an OBJ file: its o lines if it has any, else its g lines; a group named
+// again goes on. Each face's group number, and the groups' names; empty with one group or none.
+std::vector<uint32_t> face_groups(const ModelContents& contents, std::vector<std::string>& names) {
+    const bool by_object = std::any_of(contents.groups.begin(), contents.groups.end(),
+                                       [](const ModelContents::Group& g) { return g.is_object; });
+    std::vector<uint32_t> group_of_face(contents.face_ends.size(), 0);
+    names.assign(1, std::string());
+    std::size_t face = 0;
+    uint32_t current = 0;
+    for (const ModelContents::Group& group : contents.groups) {
+        if (group.is_object != by_object) continue;
+        for (; face < group.first_face && face < group_of_face.size(); ++face) group_of_face[face] = current;
+        const auto found = std::find(names.begin(), names.end(), group.name);
+        current = static_cast<uint32_t>(found - names.begin());
+        if (found == names.end()) names.push_back(group.name);
+    }
+    for (; face < group_of_face.size(); ++face) group_of_face[face] = current;
+    if (names.size() < 2) return {};
+    return group_of_face;
+}
 
-Object read_model_object(const std::filesystem::path& file) {
+// The object cut into one object a group, each named after its group; triangles across a cut
+// are no longer neighbours. Groups without triangles are left out.
+std::vector<Object> split_by_group(Object whole, const std::vector<uint32_t>& triangle_group,
+                                   const std::vector<std::string>& names) {
+    const std::size_t triangles = whole.indices.size() / 3;
+    std::vector<std::size_t> count(names.size(), 0);
+    for (uint32_t g : triangle_group) ++count[g];
+    if (std::count_if(count.begin(), count.end(), [](std::size_t c) { return c > 0; }) < 2) {
+        std::vector<Object> one;
+        one.push_back(std::move(whole));
+        return one;
+    }
+    std::vector<Object> parts;
+    std::vector<int64_t> new_vertex(whole.positions.size(), -1);
+    std::vector<int32_t> new_triangle(triangles, -1);
+    for (uint32_t g = 0; g < names.size(); ++g) {
+        if (count[g] == 0) continue;
+        Object part;
+        part.source = whole.source + " (" + (names[g].empty() ? std::string("faces before the first group") : "'" + names[g] + "'") + ")";
+        part.options.name = names[g].empty() ? std::string("default") : names[g];
+        std::fill(new_vertex.begin(), new_vertex.end(), -1);
+        int32_t next = 0;
+        for (std::size_t t = 0; t < triangles; ++t)
+            if (triangle_group[t] == g) new_triangle[t] = next++;
+        for (std::size_t t = 0; t < triangles; ++t) {
+            if (triangle_group[t] != g) continue;
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t v = whole.indices[3 * t + k];
+                if (new_vertex[v] < 0) {
+                    new_vertex[v] = static_cast<int64_t>(part.positions.size());
+                    part.positions.push_back(whole.positions[v]);
+                }
+                part.indices.push_back(static_cast<uint32_t>(new_vertex[v]));
+                const int32_t n = whole.neighbors[3 * t + k];
+                part.neighbors.push_back(n >= 0 && triangle_group[std::size_t(n)] == g ? new_triangle[std::size_t(n)]
+                                                                                      : HSR_NO_NEIGHBOR);
+            }
+            if (!whole.face_colors.empty()) part.face_colors.push_back(whole.face_colors[t]);
+        }
+        parts.push_back(std::move(part));
+    }
+    parts.front().separated_faces = whole.separated_faces;
+    parts.front().warnings = std::move(whole.warnings);
+    return parts;
+}
+
+// One model file as an object; for an OBJ file with groups, also each triangle's group.
+Object read_model(const std::filesystem::path& file, std::vector<uint32_t>* triangle_group,
+                  std::vector<std::string>* group_names) {
     check_model_file(file);
     Format format = format_of(file);
     std::optional<ModelContents> contents;
@@ -468,6 +542,9 @@ Object read_model_object(const std::filesystem::path& file) {
         }
     }
 
+    std::vector<uint32_t> group_of_face;
+    if (contents && format == Format::obj && triangle_group != nullptr && group_names != nullptr)
+        group_of_face = face_groups(*contents, *group_names);
     std::vector<std::string> warnings;
     const std::vector<Color> face_colors = !contents ? std::vector<Color>{}
                                            : format == Format::obj ? material_colors(file, *contents, warnings)
@@ -482,7 +559,7 @@ Object read_model_object(const std::filesystem::path& file) {
         OpenMeshCapture capture;
         try {
             if (contents) {
-                face_counts = build_polygon_mesh(*contents, face_colors, mesh);
+                face_counts = build_polygon_mesh(*contents, face_colors, mesh, !group_of_face.empty());
                 contents.reset();
                 read = true;
             } else {
@@ -506,7 +583,28 @@ Object read_model_object(const std::filesystem::path& file) {
 
     Object object = object_from_polygon_mesh(mesh, face_counts, display(file));
     object.warnings.insert(object.warnings.begin(), warnings.begin(), warnings.end());
+    if (!group_of_face.empty()) {
+        triangle_group->resize(face_counts.triangle_faces.size());
+        for (std::size_t t = 0; t < triangle_group->size(); ++t)
+            (*triangle_group)[t] = group_of_face[face_counts.triangle_faces[t]];
+    }
     return object;
+}
+
+}  // namespace
+
+Object read_model_object(const std::filesystem::path& file) { return read_model(file, nullptr, nullptr); }
+
+std::vector<Object> read_model_objects(const std::filesystem::path& file) {
+    std::vector<uint32_t> triangle_group;
+    std::vector<std::string> names;
+    Object whole = read_model(file, &triangle_group, &names);
+    if (triangle_group.empty() || triangle_group.size() != whole.indices.size() / 3) {
+        std::vector<Object> one;
+        one.push_back(std::move(whole));
+        return one;
+    }
+    return split_by_group(std::move(whole), triangle_group, names);
 }
 
 Object object_from_polygons(std::span<const glm::vec3> positions, std::span<const uint32_t> corners,

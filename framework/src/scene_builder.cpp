@@ -478,10 +478,22 @@ SceneData placed_meshes_scene(PlacedMeshes model, const MeshOptions& options) {
 }
 
 void SceneBuilder::add_model_file(const std::filesystem::path& file, const MeshOptions& options) {
-    Object object = is_gltf_file(file) ? read_gltf_object(file) : read_model_object(file);
-    object.options = options;
-    if (object.options.name.empty()) object.options.name = file.stem().string();
-    objects_.push_back(std::move(object));
+    if (is_gltf_file(file)) {
+        Object object = read_gltf_object(file);
+        object.options = options;
+        if (object.options.name.empty()) object.options.name = file.stem().string();
+        objects_.push_back(std::move(object));
+        return;
+    }
+    std::vector<Object> parts = read_model_objects(file);
+    const bool split = parts.size() > 1;
+    for (Object& part : parts) {
+        const std::string group = part.options.name;
+        part.options = options;
+        if (part.options.name.empty()) part.options.name = file.stem().string();
+        if (split) part.options.name += "/" + group;
+        objects_.push_back(std::move(part));
+    }
 }
 
 void SceneBuilder::add_triangles(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,

@@ -440,14 +440,24 @@ private:
                 // A file named again is copied, not read again: many lines of one large mesh reach
                 // the triangle limits in moments.
                 const auto read = mesh_objects_.find(path.string());
+                const std::size_t before = builder_.object_count();
                 if (read == mesh_objects_.end()) {
-                    mesh_objects_.emplace(path.string(), builder_.object_count());
                     builder_.add_model_file(path, object.options);
+                    mesh_objects_.emplace(path.string(), std::pair(before, builder_.object_count() - before));
                 } else {
-                    MeshOptions options = object.options;
-                    if (options.name.empty()) options.name = path.stem().string();  // as add_model_file names it
-                    builder_.add_copy(read->second, options);
+                    const auto [first, count] = read->second;
+                    for (std::size_t part = 0; part < count; ++part) {
+                        MeshOptions options = object.options;
+                        // as add_model_file names it: the file's stem, and each OBJ group's name after it
+                        const std::string& made = builder_.objects()[first + part].options.name;
+                        const std::string group = count > 1 ? made.substr(made.rfind('/')) : std::string();
+                        if (options.name.empty()) options.name = path.stem().string();
+                        options.name += group;
+                        builder_.add_copy(first + part, options);
+                    }
                 }
+                for (std::size_t added = before + 1; added < builder_.object_count(); ++added)
+                    opacity_.push_back(object.opacity);
             } else if (object.kind == Kind::polygon) {
                 if (object.vertices.size() < 3)
                     fail(object.line, fmt::format("the polygon has {} vertex lines; it needs at least 3",
@@ -486,7 +496,8 @@ private:
     SceneBuilder builder_;
     std::vector<float> opacity_;  // per object added, in order
     uint64_t scene_triangles_ = 0;
-    std::map<std::string, std::size_t> mesh_objects_;  // each mesh file read: the object it made
+    // Each mesh file read: the first object it made and how many (one an OBJ group).
+    std::map<std::string, std::pair<std::size_t, std::size_t>> mesh_objects_;
     SceneFile result_;
     PendingObject object_;
     std::size_t camera_line_ = 0;

@@ -325,6 +325,8 @@ struct hsr::host::FrameRenderer::State {
     }
 
     // A rendered frame and its response; the frame is kept for /api/compare.
+    bool draws_lines(const FrameRequest& q) { return algorithm_plugin(q).descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER; }
+
     struct Rendered {
         json response;
         hsr::Frame frame;
@@ -509,7 +511,7 @@ struct hsr::host::FrameRenderer::State {
         const hsr_camera& camera = picture.camera;
         hsr::LineStyle style;
         style.hidden = q.hidden;
-        const hsr::Image image = hsr::draw_line_image(drawing, style);
+        hsr::Image image = hsr::draw_line_image(drawing, style);
         json response = picture_response("lines", image.width, image.height, image.pixels, drawing.counters,
                                          {drawing.lines_ms, 0.0}, scene.triangle_count, q.picture);
         response["pixel_camera"] = is_pixel_camera_scene(renderer);
@@ -570,7 +572,11 @@ struct hsr::host::FrameRenderer::State {
         }
         response["steps"] = std::move(steps);
         response["buffers"] = nullptr;
-        return {std::move(response), hsr::Frame{}};
+        hsr::Frame frame;  // only the picture: what /api/compare compares two line drawings by
+        frame.width = image.width;
+        frame.height = image.height;
+        frame.rgb = std::move(image.pixels);
+        return {std::move(response), std::move(frame)};
     }
 };
 
@@ -609,15 +615,25 @@ hsr::host::FrameAnswer hsr::host::FrameRenderer::compare(const json& request) {
     ArrayBlock arrays;
     auto render = [&](const FrameRequest& q, const char* side) {
         try {
-            State::Rendered rendered = state_->render(q, arrays);
-            if (rendered.frame.face.empty())
-                throw ViewError(400, fmt::format("{}.algorithm", side),
-                                fmt::format("compare: '{}' draws lines; compare two hidden-surface plugins", q.algorithm));
-            return rendered;
+            return state_->render(q, arrays);
         } catch (const ViewError& e) {
             throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
         }
     };
+    auto draws_lines = [&](const FrameRequest& q, const char* side) {
+        try {
+            return state_->draws_lines(q);
+        } catch (const ViewError& e) {
+            throw ViewError(e.status, fmt::format("{}.{}", side, e.field), e.what());
+        }
+    };
+    const bool a_lines = draws_lines(qa, "a"), b_lines = draws_lines(qb, "b");
+    if (a_lines != b_lines)
+        throw ViewError(400, "b.algorithm",
+                        fmt::format("compare: '{}' {} and '{}' {}; compare two hidden-surface plugins or two "
+                                    "hidden-line plugins",
+                                    qa.algorithm, a_lines ? "draws lines" : "fills surfaces", qb.algorithm,
+                                    b_lines ? "draws lines" : "fills surfaces"));
     // Both sides' arrays in one block reserved at once; of a's frame only what the comparison needs
     // is kept while b renders.
     arrays.bytes.reserve(State::array_bytes(qa, std::size_t(qa.width) * qa.height) +
@@ -625,18 +641,23 @@ hsr::host::FrameAnswer hsr::host::FrameRenderer::compare(const json& request) {
     State::Rendered a = render(qa, "a");
     std::vector<float>().swap(a.frame.depth);
     std::vector<uint32_t>().swap(a.frame.depth_tests);
-    std::vector<uint8_t>().swap(a.frame.rgb);
+    if (!a_lines) std::vector<uint8_t>().swap(a.frame.rgb);
     State::Rendered b = render(qb, "b");
     if (a.frame.width != b.frame.width || a.frame.height != b.frame.height)
         throw ViewError(400, "b.width", fmt::format("compare: the pictures are {}x{} and {}x{}; give both the same size",
                                                     a.frame.width, a.frame.height, b.frame.width, b.frame.height));
-    // b's picture dimmed, and magenta where the two disagree on what is visible.
+    // b's picture dimmed, and magenta where the two disagree on what is visible: for line drawings,
+    // where the two pictures' pixels differ.
     std::vector<uint8_t> diff(b.frame.rgb.size());
     uint64_t differing = 0;
     const bool instances = !a.frame.instance.empty() && !b.frame.instance.empty();
-    for (std::size_t p = 0; p < b.frame.face.size(); ++p) {
-        const bool differs = a.frame.face[p] != b.frame.face[p] ||
-                             (instances && a.frame.face[p] != HSR_NO_FACE && a.frame.instance[p] != b.frame.instance[p]);
+    const std::size_t pixels = b.frame.rgb.size() / 3;
+    for (std::size_t p = 0; p < pixels; ++p) {
+        const bool differs =
+            a_lines ? (a.frame.rgb[3 * p] != b.frame.rgb[3 * p] || a.frame.rgb[3 * p + 1] != b.frame.rgb[3 * p + 1] ||
+                       a.frame.rgb[3 * p + 2] != b.frame.rgb[3 * p + 2])
+                    : (a.frame.face[p] != b.frame.face[p] ||
+                       (instances && a.frame.face[p] != HSR_NO_FACE && a.frame.instance[p] != b.frame.instance[p]));
         differing += differs;
         for (int k = 0; k < 3; ++k)
             diff[3 * p + k] = differs ? (k == 1 ? 0 : 255) : uint8_t(b.frame.rgb[3 * p + k] * 2 / 5);

@@ -12,7 +12,8 @@ import {
   gridCells, cellsOfFont,
 } from './buffers.js';
 import { linkHash, readLink } from './link.js';
-import { compareRequest, showCompare, hideCompare } from './compare.js';
+import { compareRequest, showCompare, hideCompare, compareMismatch, showCompareNote } from './compare.js';
+import { showRefusal } from './refusal.js';
 import { renderStats } from './stats.js';
 import { LatestWins } from './scheduler.js';
 import { loadSettings, saveSettings } from './settings.js';
@@ -215,7 +216,10 @@ function requestFrame() {
     return;
   }
   updateLink();
-  if (settings.compare && settings.compareAlgorithm) {
+  const comparing = settings.compare && settings.compareAlgorithm;
+  const mismatch = comparing ? compareMismatch(plugins, settings.algorithm, settings.compareAlgorithm) : null;
+  showCompareNote($('compare-algorithm'), mismatch);
+  if (comparing && !mismatch) {
     scheduler.submit({ kind: 'compare', body: compareRequest(body, settings.compareAlgorithm) });
   } else {
     scheduler.submit({ kind: 'frame', body });
@@ -260,6 +264,7 @@ async function runJob(job, isStale) {
     }
     clearFieldErrors();
     showError('');
+    showRefusal('');
     setStatus(tr({ en: `rendered in ${Math.round(roundTrip)} ms`, ru: `отрисовано за ${Math.round(roundTrip)} мс` }));
     canvas.dataset.state = 'ready';
   } catch (e) {
@@ -273,6 +278,9 @@ async function runJob(job, isStale) {
     if (!(e instanceof ApiError)) console.error(e);
     reportError(e instanceof ApiError ? e
       : new Error(tr({ en: `could not show the frame: ${e.message}`, ru: `не удалось показать кадр: ${e.message}` })));
+    const asked = job.kind === 'compare' ? job.body.a : job.body;
+    const refused = e instanceof ApiError && !e.field && e.status >= 400 && e.status < 500;
+    showRefusal(refused ? e.message : '', { algorithm: asked.algorithm, model: asked.model });
     if (job.kind === 'frame' && job.body.step !== null && job.body.step !== undefined) steps.failed(e.message);
     else if (steps.playing) steps.setPlaying(false);
   }
@@ -706,7 +714,7 @@ function applyLink(models) {
   if (state.grid !== undefined) settings.gridMode = state.grid;
   if (state.theory !== undefined) settings.theoryOpen = state.theory;
   if (state.compare !== undefined) {
-    if (names('hidden_surface').includes(state.compare)) {
+    if (names('hidden_surface').includes(state.compare) || names('hidden_line').includes(state.compare)) {
       settings.compare = true;
       settings.compareAlgorithm = state.compare;
     } else {
@@ -869,9 +877,12 @@ function fillPluginSelects() {
   ], settings.algorithm);
   settings.lighting = fillSelect($('lighting'), [[tr({ en: 'lighting', ru: 'освещение' }), plugins.lighting.map(option)]],
     settings.lighting);
-  const others = plugins.hidden_surface.filter((p) => p.name !== settings.algorithm);
-  settings.compareAlgorithm = fillSelect($('compare-algorithm'), [[surfaces, plugins.hidden_surface.map(option)]],
-    settings.compareAlgorithm || others[0]?.name || settings.algorithm);
+  const sameKind = plugins.hidden_surface.some((p) => p.name === settings.algorithm) ? plugins.hidden_surface : plugins.hidden_line;
+  const others = sameKind.filter((p) => p.name !== settings.algorithm);
+  settings.compareAlgorithm = fillSelect($('compare-algorithm'), [
+    [surfaces, plugins.hidden_surface.map(option)],
+    [tr({ en: 'hidden line', ru: 'удаление невидимых линий' }), plugins.hidden_line.map(option)],
+  ], settings.compareAlgorithm || others[0]?.name || settings.algorithm);
 }
 
 // ---- language and the presentation view -----------------------------------------------------------
