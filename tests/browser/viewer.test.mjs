@@ -27,11 +27,11 @@ fs.mkdirSync(screenshotDir, { recursive: true });
 const scratch = fs.mkdtempSync(path.join(os.tmpdir(), 'hsr-viewer-test-'));
 const scene = path.join(sourceDir, 'models', 'boxes.scene');
 
-// The whole test is bounded: whatever hangs, it ends within three minutes.
+// The whole test is bounded: whatever hangs, it ends within five minutes.
 const deadline = setTimeout(() => {
-  console.error('FAIL: the test took over 180 s');
+  console.error('FAIL: the test took over 300 s');
   finish(1);
-}, 180_000);
+}, 300_000);
 
 let server = null;
 let browser = null;
