@@ -1,5 +1,8 @@
 // The viewer page: loads the models and plugins, keeps the settings, asks the server for frames
 // (latest wins) and shows them with their steps, buffers, stats, comparison and theory.
+// Over 700 lines because it is where every panel meets the one frame request: each panel's own
+// work (steps, outline, grid, theory, links, languages, presentation) is in a module of its own,
+// and what stays here is the wiring between them and the request they all change.
 
 import { getJson, postJson, postJsonAside, cancelFrame, getProgress, ApiError } from './api.js';
 import { Camera, cliCameraOptions } from './camera.js';

@@ -19,7 +19,7 @@
 // order, less some that would not have been written, so tiles do not change the buffers.
 // docs/algorithms/hierarchical-zbuffer.md describes the steps, the counters and measured times.
 // This header holds the whole plugin, so that hierarchical_zbuffer_steps.cpp can compile its drawing
-// with steps apart (hsr::sdk::StepsDrawing); hierarchical_zbuffer.cpp exports it. It is over 600
+// with steps apart (hsr::sdk::StepsDrawing); hierarchical_zbuffer.cpp exports it. It is over 700
 // lines: the per-tile drawing and its steps read best next to the plugin.
 #pragma once
 

@@ -4,7 +4,7 @@
 // leaves rejected by the pyramid as wholes, by 32x32 blocks and by 8x8 tiles, and drawn with the
 // plain z-buffer's pixel loop. A TileRenderer draws only the pixels of its tile and reads and
 // writes no other, so the tiles of one frame can be drawn at once, each by its own renderer.
-// This file is over 600 lines: the traversal and its three levels of rejection (node box,
+// This file is over 700 lines: the traversal and its three levels of rejection (node box,
 // triangle, tile) are one pass over shared per-tile state, read best in one place, and so are its
 // steps, which describe that pass as it goes.
 #pragma once

@@ -14,7 +14,7 @@
 // (raster::split_by_plane), so a subject's pieces tile it exactly. The paper's clipper keeps a
 // concave outside remainder (with holes) as one polygon; here it is a set of convex pieces.
 // docs/algorithms/weiler-atherton.md describes the steps, the counters and the parameters. The file
-// is over 600 lines because the clipping, the area sort and the drawing share one frame's state.
+// is over 700 lines because the clipping, the area sort and the drawing share one frame's state.
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 
