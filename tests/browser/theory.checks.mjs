@@ -27,6 +27,9 @@ function startServer(hsr, pluginDir, scene) {
 // The pane's (or a doc page's) figures that did not load, and its links inside the viewer that do
 // not answer 200.
 async function brokenParts(page, root) {
+  // A figure still on its way is not broken: wait (within bounds) until every one has loaded or failed.
+  await page.waitForFunction((r) => [...document.querySelectorAll(`${r} img`)].every((i) => i.complete), root,
+    { timeout: 15_000 }).catch(() => {});
   const images = await page.$$eval(`${root} img`, (imgs) => imgs.map((i) => ({ src: i.src, ok: i.complete && i.naturalWidth > 0 })));
   const broken = images.filter((i) => !i.ok).map((i) => `image ${i.src}`);
   const origin = new URL(page.url()).origin;
