@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string_view>
 #include <system_error>
 
@@ -147,7 +148,20 @@ hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id) const
     throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id, hsr::kMaxQuotedPathChars)));
 }
 
-std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes) {
+std::string hsr::host::ModelCatalog::scene_text(const std::string& id, uint64_t max_bytes) const {
+    const ModelEntry entry = find(id);
+    if (lowercase(entry.path.extension().string()) != ".scene")
+        throw ViewError(400, "model", fmt::format("model '{}' is not a .scene file", hsr::printable(id, hsr::kMaxQuotedPathChars)));
+    std::ifstream in(entry.path, std::ios::binary);
+    std::string text;
+    if (in) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw ViewError(500, "", "cannot read the scene file");
+    if (text.size() > max_bytes) throw ViewError(413, "model", "the scene file is over the upload-bytes limit");
+    return text;
+}
+
+std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes,
+                                                const std::string& replaces) {
     // The name is kept for the id and the file's extension; the file itself is upload_dir/<n><ext>.
     const std::string& name = file_name;
     const bool plain = !name.empty() && name[0] != '.' && name.size() <= 100 &&
@@ -158,11 +172,15 @@ std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, co
         throw ViewError(400, "X-File-Name", fmt::format("upload: file name '{}': expected a plain name such as bunny.obj "
                                                         "(letters, digits, '.', '-', '_', spaces)", hsr::printable(file_name)));
     const std::string ext = lowercase(fs::path(name).extension().string());
-    if (ext == ".scene")
-        throw ViewError(400, "X-File-Name", "upload: a .scene file names other files; upload one mesh file (.obj, .off, .ply, .stl or .glb)");
+    // A .scene upload reads its meshes only inside the served folders and the uploads (read_policy).
     if (!is_model_file_name(name))
-        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a mesh file (.obj, .off, .ply, .stl, .gltf or .glb)", name));
+        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a model file (.obj, .off, .ply, .stl, .gltf, .glb or .scene)", name));
     std::lock_guard lock(uploads_mutex_);
+    if (const auto replaced = uploads_.find(replaces); !replaces.empty() && replaced != uploads_.end()) {
+        std::error_code ec;
+        fs::remove(replaced->second.path, ec);
+        uploads_.erase(replaced);
+    }
     const uint64_t n = next_upload_++;
     ModelEntry entry;
     entry.id = fmt::format("upload/{}/{}", n, name);
