@@ -277,7 +277,8 @@ struct hsr::host::ViewServer::State {
                 if (req.body.size() > upload_bytes) throw ViewError(413, "", upload_too_large(req.body.size()));
                 if (req.body.empty()) throw ViewError(400, "", "upload: the body is empty (send the model file's bytes)");
                 const std::string id = models.add_upload(req.get_header_value("X-File-Name"), req.body,
-                                                         req.get_header_value("X-Replaces"));
+                                                         req.get_header_value("X-Replaces"),
+                                                         req.get_header_value("X-Base-Model"));
                 send_json(res, 200, {{"id", id}});
             });
         });

@@ -1,6 +1,7 @@
 // The scene editor: a .scene file's text (docs/scene-format.md) beside line numbers, rendered again
 // a moment after each edit. Each edit goes to the server as a .scene upload that replaces the
-// editor's previous one (POST /api/upload with X-Replaces), and the page renders that model; a
+// editor's previous one (POST /api/upload with X-Replaces, and X-Base-Model naming the served scene
+// it came from, for its relative mesh paths), and the page renders that model; a
 // scene the server cannot read keeps the last good picture and shows its message beside the line
 // at fault. The textbook exercises are starting points, and the text downloads as a .scene file.
 
@@ -38,6 +39,7 @@ export class SceneEditor {
     this.show = show;
     this.onError = onError;
     this.uploadedId = null;
+    this.baseModel = null;
     this.timer = null;
     this.build(root);
     this.uploads = new LatestWins((text) => this.send(text), () => {}, 5000);
@@ -120,6 +122,7 @@ export class SceneEditor {
       const response = await fetch(`/api/scene-text?model=${encodeURIComponent(id)}`);
       if (!response.ok) throw await answerError(response);
       this.text.value = await response.text();
+      this.baseModel = id;
       this.numberLines();
       this.setError(null);
       if (render) {
@@ -135,6 +138,8 @@ export class SceneEditor {
     try {
       const headers = { 'X-File-Name': FILE_NAME, 'Content-Type': 'application/octet-stream' };
       if (this.uploadedId) headers['X-Replaces'] = this.uploadedId;
+      // Its relative mesh paths stay those of the served scene it came from.
+      if (this.baseModel) headers['X-Base-Model'] = this.baseModel;
       const response = await fetch('/api/upload', { method: 'POST', headers, body: text });
       if (!response.ok) throw await answerError(response);
       const { id } = await response.json();
