@@ -2,7 +2,7 @@
 // (moving the exercise triangle's left corner to x = 5 puts the triangle, in front of the
 // rectangle there, over a pixel the rectangle alone covered, as the geometry worked out here
 // says); a broken line shows the server's message beside that line number and the picture stays;
-// a starting point loads its file; the download gives the text. Works in a page of its own.
+// a starting point loads its file (boxes.scene with its meshes); the download gives the text. Works in a page of its own.
 
 import fs from 'node:fs';
 import path from 'node:path';
@@ -119,6 +119,13 @@ export default async (h) => {
       assert(await allPixels() !== goodPixels, 'the picture did not change to the three polygons');
       const uploads = await page.$$eval('#model option', (all) => all.filter((o) => o.value.endsWith('scene-editor.scene')).length);
       assert(uploads === 1, `${uploads} editor uploads in the model list, not one`);
+      // boxes.scene names its meshes relative to its own folder ("mesh cube.obj").
+      const boxes = fs.readFileSync(path.join(h.sourceDir, 'models', 'boxes.scene'), 'utf8');
+      const threePixels = await allPixels();
+      await andFrame(() => page.selectOption('#scene-start', 'boxes.scene'));
+      assert(await editorText() === boxes, 'the editor does not hold models/boxes.scene');
+      assert(await page.$eval('#scene-line-error', (e) => e.hidden), 'boxes.scene shows an error');
+      assert(await allPixels() !== threePixels, 'the picture did not change to the boxes');
     });
 
     await check('the download gives the editor\'s text as a .scene file', async () => {
