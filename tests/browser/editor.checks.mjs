@@ -139,6 +139,7 @@ export default async (h) => {
     await idle();
     await page.waitForTimeout(600);
     await idle();
+    await page.$eval('#scene-text', (t) => { t.scrollTop = 0; t.dispatchEvent(new Event('scroll')); });
     await page.evaluate(() => window.scrollTo(0, 0));
     await page.screenshot({ path: path.join(h.screenshotDir, 'viewer-editor.png'), fullPage: true });
   } finally {
