@@ -16,6 +16,7 @@ import { compareRequest, showCompare, hideCompare, compareMismatch, showCompareN
 import { showRefusal } from './refusal.js';
 import { renderStats } from './stats.js';
 import { LatestWins } from './scheduler.js';
+import { SceneEditor } from './editor.js';
 import { loadSettings, saveSettings } from './settings.js';
 import { TheoryPane } from './theory.js';
 import { tr, language, setLanguage, onLanguageChange, browserLanguage, numberText } from './i18n.js';
@@ -265,6 +266,7 @@ async function runJob(job, isStale) {
     clearFieldErrors();
     showError('');
     showRefusal('');
+    sceneEditor.frameDone(request.model, null);
     setStatus(tr({ en: `rendered in ${Math.round(roundTrip)} ms`, ru: `отрисовано за ${Math.round(roundTrip)} мс` }));
     canvas.dataset.state = 'ready';
   } catch (e) {
@@ -275,6 +277,7 @@ async function runJob(job, isStale) {
       return;
     }
     canvas.dataset.state = 'error';
+    sceneEditor.frameDone(job.kind === 'compare' ? job.body.a.model : job.body.model, e);
     if (!(e instanceof ApiError)) console.error(e);
     reportError(e instanceof ApiError ? e
       : new Error(tr({ en: `could not show the frame: ${e.message}`, ru: `не удалось показать кадр: ${e.message}` })));
@@ -752,6 +755,20 @@ const modelList = new ModelList($('model'), {
   },
   onError: (e) => reportError(e),
   onStatus: (text) => setStatus(text),
+});
+
+// Each edit of the scene editor is a new upload that replaces the one before, in the list too.
+const sceneEditor = new SceneEditor($('scene-editor-panel'), {
+  models: () => modelList.models,
+  currentModel: () => settings.model,
+  show: (id, name, bytes, replaced) => {
+    const others = modelList.models.filter((m) => m.id !== replaced);
+    settings.model = modelList.set([...others, { id, name, bytes }], id);
+    steps.current = null;
+    showSizeFields();
+    changed({ resetSteps: true });
+  },
+  onError: (e) => reportError(e),
 });
 
 // ---- wiring -----------------------------------------------------------------------------------------
