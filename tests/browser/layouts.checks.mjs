@@ -1,5 +1,5 @@
 // The page at the sizes of a lecture: a 1280×720 projector, a 1920×1080 screen and a 1024×768
-// tablet with touch, each in a context of its own (viewer.test.mjs runs this module with its
+// tablet with touch, each in a context of a browser of their own (viewer.test.mjs runs this module with its
 // harness h). At each size the picture is on screen on load and no wider than the window, the step
 // buttons come into view with the picture still mostly in view, and nothing overflows sideways. On
 // the tablet a tap on "step forward" steps and a one-finger drag on the picture orbits the camera.
@@ -16,13 +16,20 @@ const LAYOUTS = [
 
 export default async (h) => {
   const { check, assert } = h;
+  // One browser, a context of it for each size: launching a browser costs seconds.
+  let shared = null;
+  try {
+    shared = await h.newBrowser();
+  } catch (e) {
+    await check('layouts: a browser of their own starts', async () => { throw e; });
+    return;
+  }
 
   for (const layout of LAYOUTS) {
     let own = null;
     try {
       await check(`layout ${layout.name}: the picture on screen, the step bar in reach, no sideways overflow`, async () => {
-        // A context of the harness's browser: launching a browser for each size costs seconds.
-        const context = await h.browser.newContext({
+        const context = await shared.browser.newContext({
           viewport: layout.viewport, hasTouch: Boolean(layout.hasTouch), isMobile: Boolean(layout.isMobile),
         });
         own = { context, page: await context.newPage() };
@@ -126,4 +133,5 @@ export default async (h) => {
       if (own) await own.context.close();
     }
   }
+  await shared.browser.close();
 };
