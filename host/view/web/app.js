@@ -7,6 +7,7 @@ import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
 import { StepControls, drawStepOverlay, fullRenderText, playLabel } from './steps.js';
 import { StepOutline, OutlineBar, fillWorkedExample } from './outline.js';
+import { StepExport } from './step-export.js';
 import {
   BUFFER_NAMES, VIEW_BUFFER, decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid, tileAround,
   gridCells, cellsOfFont,
@@ -139,6 +140,7 @@ const steps = new StepControls({
 
 const phaseTitle = (name) => currentAlgorithm()?.phases?.find((phase) => phase.name === name)?.title || name;
 const outlineBar = new OutlineBar(document.querySelector('#steps .step-buttons'), steps, phaseTitle);
+const stepExport = new StepExport($('steps'), steps);
 
 // ---- frames ----------------------------------------------------------------------------------
 
@@ -622,6 +624,7 @@ function updateCli(body, response) {
   const words = ['hsr render', path, '-a', withParams(body.algorithm, body.params)];
   if (!algorithm || algorithm.kind !== 'hidden_line') words.push('-l', withParams(body.lighting, body.lighting_params));
   words.push(`--width ${response.width}`, `--height ${response.height}`, ...cliCameraOptions(body.camera));
+  stepExport.setBase(algorithm && algorithm.kind === 'hidden_line' ? null : [...words]);
   if (body.step) words.push(`--step ${body.step}`);
   words.push('-o', algorithm && algorithm.kind === 'hidden_line' ? 'drawing.png' : 'picture.png');
   $('cli').textContent = words.join(' ');
