@@ -651,7 +651,7 @@ TEST_CASE("view: uploads, and their cap", "[view]") {
     CHECK(large->status == 413);
     CHECK(json::parse(large->body)["error"] ==
           "upload: 3000 bytes, over the limit of 2000 (raise it with --limit upload-bytes=N)");
-    for (const char* name : {"../../evil.obj", ".hidden.obj", "x.scene", "notes.txt", ""}) {
+    for (const char* name : {"../../evil.obj", ".hidden.obj", "notes.txt", ""}) {
         httplib::Result refused = s.client().Post("/api/upload", {{"X-File-Name", name}}, cube, "application/octet-stream");
         REQUIRE(refused);
         INFO(name << ": " << refused->body);
@@ -659,6 +659,46 @@ TEST_CASE("view: uploads, and their cap", "[view]") {
     }
     hsr::set_limits(hsr::Limits{});
     CHECK(s.get_json("/api/info")["limits"]["upload_bytes"] == 2000);  // as when the server started
+}
+
+TEST_CASE("view: the scene editor's text, its uploads and its meshes", "[view]") {
+    RunningServer s;
+    const std::string text = "# a comment\nmesh \"sub/tetrahedron.off\"\nmesh cube.obj\n";
+    httplib::Result got = s.get("/api/scene-text?model=0/inside.scene");
+    REQUIRE(got);
+    CHECK(got->status == 200);
+    CHECK(got->body == text);
+    CHECK(s.get("/api/scene-text?model=0/cube.obj")->status == 400);
+    CHECK(s.get("/api/scene-text?model=0/nothing.scene")->status == 404);
+
+    const auto upload = [&](const std::string& body, const httplib::Headers& headers) {
+        httplib::Result r = s.client().Post("/api/upload", headers, body, "application/octet-stream");
+        REQUIRE(r);
+        INFO(r->body);
+        REQUIRE(r->status == 200);
+        return json::parse(r->body)["id"].get<std::string>();
+    };
+    const auto frame_status = [&](const std::string& id) {
+        httplib::Result r = s.client().Post("/api/frame", frame_request(id, "zbuffer", 16).dump(), "application/json");
+        REQUIRE(r);
+        return r->status;
+    };
+    // Alone, its relative meshes are looked for among the uploads, where they are not.
+    const std::string alone = upload(text, {{"X-File-Name", "edited.scene"}});
+    CHECK(frame_status(alone) == 400);
+    // Edited from 0/inside.scene, they are that scene's: the tetrahedron and the cube; the upload
+    // it replaces is gone.
+    const std::string based = upload(text, {{"X-File-Name", "edited.scene"}, {"X-Base-Model", "0/inside.scene"}, {"X-Replaces", alone}});
+    CHECK(s.post_json("/api/frame", frame_request(based, "zbuffer", 16))["stats"]["triangles"] == 4 + 12);
+    const json models = s.get_json("/api/models")["models"];
+    CHECK(std::none_of(models.begin(), models.end(), [&](const json& m) { return m["id"] == alone; }));
+    // Still nothing outside the served folders.
+    const std::string escape = upload("mesh ../outside/secret.obj\n", {{"X-File-Name", "edited.scene"}, {"X-Base-Model", "0/inside.scene"}});
+    CHECK(frame_status(escape) != 200);
+    httplib::Result bad_base = s.client().Post("/api/upload", {{"X-File-Name", "e.scene"}, {"X-Base-Model", "0/cube.obj"}}, text,
+                                               "application/octet-stream");
+    REQUIRE(bad_base);
+    CHECK(bad_base->status == 400);
 }
 
 TEST_CASE("view: nothing outside the served folders is read", "[view]") {

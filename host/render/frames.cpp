@@ -67,6 +67,24 @@ std::vector<float> parse_angle_option(const std::string& text, const char* optio
     return values;
 }
 
+std::vector<int64_t> parse_step_option(const std::string& text) {
+    const std::size_t dots = text.find("..");
+    const std::string_view first_text = std::string_view(text).substr(0, dots);
+    const std::optional<int64_t> first = parse_number<int64_t>(first_text);
+    const std::optional<int64_t> last =
+        dots == std::string::npos ? first : parse_number<int64_t>(std::string_view(text).substr(dots + 2));
+    if (!first || !last)
+        throw UsageError("--step '{}': expected a step number N, or A..B (the steps A to B)", hsr::printable(text));
+    if (*first < 1 || *last < 1) throw UsageError("--step {}: steps count from 1", text);
+    if (*last < *first) throw UsageError("--step {}: the range ends before it starts (write {}..{})", text, *last, *first);
+    if (*last - *first >= kMaxStepRange)
+        throw UsageError("--step {}: {} steps; a range renders at most {} (each step renders the algorithm again)",
+                         text, fmt::format("{}", uint64_t(*last - *first) + 1), kMaxStepRange);
+    std::vector<int64_t> steps;
+    for (int64_t step = *first; step <= *last; ++step) steps.push_back(step);
+    return steps;
+}
+
 std::vector<FrameView> plan_frames(RenderOptions& o) {
     if (o.was_given("views") && !(o.views >= 1))
         throw UsageError("--views {}: expected the number of frames of a turntable, at least 1", o.views);
@@ -75,15 +93,20 @@ std::vector<FrameView> plan_frames(RenderOptions& o) {
     if (o.was_given("views") && yaws.size() > 1)
         throw UsageError("--views {} turns from one --yaw: give --views or a --yaw range, not both", o.views);
     if (o.was_given("views") && !o.eye.empty()) throw UsageError("--eye replaces --views: give one or the other");
-    check_frame_count(double(yaws.size()) * double(pitches.size()), uint64_t(o.views),
-                      o.was_given("views") ? fmt::format("--views {}", o.views) : "--yaw and --pitch");
+    const std::vector<int64_t> steps = o.was_given("step") ? parse_step_option(o.step_text) : std::vector<int64_t>{0};
+    check_frame_count(double(yaws.size()) * double(pitches.size()) * double(steps.size()), uint64_t(o.views),
+                      o.was_given("views") ? fmt::format("--views {}", o.views)
+                      : steps.size() > 1   ? "--yaw, --pitch and --step"
+                                           : "--yaw and --pitch");
     std::vector<FrameView> frames;
-    frames.reserve(yaws.size() * pitches.size() * uint64_t(o.views));
+    frames.reserve(yaws.size() * pitches.size() * uint64_t(o.views) * steps.size());
     for (float pitch : pitches)
         for (float yaw : yaws)
-            for (int64_t k = 0; k < o.views; ++k) frames.push_back({yaw, pitch, double(k) * (360.0 / double(o.views))});
+            for (int64_t k = 0; k < o.views; ++k)
+                for (int64_t step : steps) frames.push_back({yaw, pitch, double(k) * (360.0 / double(o.views)), step});
     o.yaw = frames.front().yaw;
     o.pitch = frames.front().pitch;
+    o.step = frames.front().step;
     return frames;
 }
 

@@ -17,15 +17,23 @@ struct RenderOptions;
 struct FrameView {
     float yaw = 0, pitch = 0;
     double yaw_turn = 0;  // degrees
+    int64_t step = 0;     // --step of this frame (0: the whole render)
 };
+
+// The most steps one --step A..B renders: each step renders the algorithm again up to it.
+inline constexpr int64_t kMaxStepRange = 1000;
+
+// --step's value, "N" or "A..B" (A <= B, both from 1, at most kMaxStepRange steps): the steps, in
+// order; a mistake is a UsageError.
+std::vector<int64_t> parse_step_option(const std::string& text);
 
 // An angle option's value, "A" or "A:B:STEP": A, A + STEP, ... while not past B (B itself when a
 // step lands on it). STEP may be negative, not 0; the count is checked against the frames limit.
 std::vector<float> parse_angle_option(const std::string& text, const char* option);
 
 // Every frame of the options, in order: the pitches' range outermost, then the yaws', then the
-// turns of --views. Checks --views and the ranges and sets o.yaw and o.pitch to the first frame's
-// angles; a mistake is a UsageError, too many frames an hsr::Error naming the frames limit.
+// turns of --views, then the steps of --step A..B. Checks --views and the ranges and sets o.yaw and o.pitch to the first frame's
+// angles and o.step to its step; a mistake is a UsageError, too many frames an hsr::Error naming the frames limit.
 std::vector<FrameView> plan_frames(RenderOptions& o);
 
 // An output name with at most one frame number in it, printf-style: %d, %5d or %05d (zero-padded to

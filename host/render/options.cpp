@@ -140,9 +140,10 @@ po::options_description render_option_descriptions(RenderOptions& o) {
         ("seed", po::value(&o.seed)->default_value("1"), "with --random-triangles: the random seed (a whole number)")
         ("heightmap-height", po::value(&o.heightmap_height)->default_value(0.0, "auto"),
          "with --heightmap: the height of a white pixel (pixels are 1 apart); auto = a fifth of the larger side")
-        ("step", po::value(&o.step),
+        ("step", po::value(&o.step_text),
          "hidden-surface plugins: stop the algorithm after its step N (1 = the first) and write the "
-         "picture as that step left it; prints what the step did")
+         "picture as that step left it; prints what the step did. A..B writes one picture per step, "
+         "A to B, to a name with a frame number (-o step-%03d.png), at most 1000 steps")
         ("stats", po::bool_switch(&o.stats), "print the algorithm's counters and timings to stderr")
         ("threads", po::value(&o.threads)->default_value(0),
          fmt::format("threads for loading, visibility and shading, at most {} (0 = one per core)", kMaxThreads).c_str())

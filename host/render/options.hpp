@@ -61,7 +61,8 @@ struct RenderOptions {
     bool orthographic = false;
     bool stats = false;
     int64_t threads = 0;  // signed, so that a negative number is refused rather than wrapped
-    int64_t step = 0;     // --step: stop the hidden-surface algorithm after this step (0: not given)
+    int64_t step = 0;     // the step a frame stops after (0: --step not given); set from step_text
+    std::string step_text;  // --step N or A..B
     int64_t width = 1024, height = 1024;
     // The options named on the command line, as opposed to left at their defaults.
     std::set<std::string> given;

@@ -55,7 +55,6 @@ void hsr::host::check_render_options(const RenderOptions& o) {
         throw UsageError("image size {}x{}: each side must be between 1 and {}", o.width, o.height, hsr::max_image_side);
     if (o.threads < 0 || o.threads > kMaxThreads)
         throw UsageError("--threads {}: expected 0 (one per core) to {}", o.threads, kMaxThreads);
-    if (o.was_given("step") && o.step < 1) throw UsageError("--step {}: steps count from 1", o.step);
     hsr::check_limit(&hsr::Limits::lights, o.lights.size(), "--light");
     for (const auto& [option, value] :
          {std::pair{"yaw", o.yaw}, {"pitch", o.pitch}, {"zoom", o.zoom}, {"crease-angle", o.crease_angle}})
@@ -254,6 +253,7 @@ hsr::host::RenderOptions hsr::host::RenderJob::frame_options(std::size_t k) cons
     o.yaw = frames[k].yaw;
     o.pitch = frames[k].pitch;
     o.yaw_turn = frames[k].yaw_turn;
+    o.step = frames[k].step;
     o.output = output.name(k);
     for (const auto& [text, name] : {std::pair<std::string&, const OutputTemplate&>{o.depth_out, depth_out},
                                      {o.id_out, id_out},

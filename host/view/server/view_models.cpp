@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string_view>
 #include <system_error>
 
@@ -147,7 +148,59 @@ hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id) const
     throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id, hsr::kMaxQuotedPathChars)));
 }
 
-std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes) {
+namespace {
+
+// A scene's relative `mesh` paths made absolute against `folder`; every line keeps its number.
+std::string with_mesh_folder(const std::string& text, const fs::path& folder) {
+    constexpr auto npos = std::string::npos;
+    std::string out;
+    std::size_t begin = 0;
+    while (begin <= text.size()) {
+        std::size_t stop = text.find('\n', begin);
+        if (stop == npos) stop = text.size();
+        std::string line = text.substr(begin, stop - begin);
+        const std::size_t start = line.find_first_not_of(" \t");
+        if (start != npos && line.compare(start, 4, "mesh") == 0 && start + 4 < line.size() &&
+            (line[start + 4] == ' ' || line[start + 4] == '\t')) {
+            const std::size_t word = line.find_first_not_of(" \t", start + 4);
+            std::size_t end = npos;
+            std::string path;
+            if (word != npos && line[word] == '"') {
+                end = line.find('"', word + 1);
+                if (end != npos) path = line.substr(word + 1, end - word - 1), ++end;
+            } else if (word != npos) {
+                end = std::min(line.find_first_of(" \t\r", word), line.size());
+                path = line.substr(word, end - word);
+            }
+            if (!path.empty() && path[0] != '#' && fs::path(path).is_relative()) {
+                const std::string full = (folder / path).lexically_normal().string();
+                if (full.find('"') == npos) line = line.substr(0, word) + '"' + full + '"' + line.substr(end);
+            }
+        }
+        out += line;
+        if (stop == text.size()) break;
+        out += '\n';
+        begin = stop + 1;
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string hsr::host::ModelCatalog::scene_text(const std::string& id, uint64_t max_bytes) const {
+    const ModelEntry entry = find(id);
+    if (lowercase(entry.path.extension().string()) != ".scene")
+        throw ViewError(400, "model", fmt::format("model '{}' is not a .scene file", hsr::printable(id, hsr::kMaxQuotedPathChars)));
+    std::ifstream in(entry.path, std::ios::binary);
+    std::string text;
+    if (in) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw ViewError(500, "", "cannot read the scene file");
+    if (text.size() > max_bytes) throw ViewError(413, "model", "the scene file is over the upload-bytes limit");
+    return text;
+}
+
+std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes_in,
+                                                const std::string& replaces, const std::string& base_model) {
     // The name is kept for the id and the file's extension; the file itself is upload_dir/<n><ext>.
     const std::string& name = file_name;
     const bool plain = !name.empty() && name[0] != '.' && name.size() <= 100 &&
@@ -158,17 +211,29 @@ std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, co
         throw ViewError(400, "X-File-Name", fmt::format("upload: file name '{}': expected a plain name such as bunny.obj "
                                                         "(letters, digits, '.', '-', '_', spaces)", hsr::printable(file_name)));
     const std::string ext = lowercase(fs::path(name).extension().string());
-    if (ext == ".scene")
-        throw ViewError(400, "X-File-Name", "upload: a .scene file names other files; upload one mesh file (.obj, .off, .ply, .stl or .glb)");
+    // A .scene upload reads its meshes only inside the served folders and the uploads (read_policy).
     if (!is_model_file_name(name))
-        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a mesh file (.obj, .off, .ply, .stl, .gltf or .glb)", name));
+        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a model file (.obj, .off, .ply, .stl, .gltf, .glb or .scene)", name));
+    std::string based;
+    if (ext == ".scene" && !base_model.empty() && base_model.rfind("upload/", 0) != 0) {
+        const ModelEntry base = find(base_model);
+        if (!base.scene) throw ViewError(400, "X-Base-Model", "upload: X-Base-Model must name a served .scene model");
+        based = with_mesh_folder(bytes_in, base.path.parent_path());
+    }
+    const std::string& bytes = based.empty() ? bytes_in : based;
     std::lock_guard lock(uploads_mutex_);
+    if (const auto replaced = uploads_.find(replaces); !replaces.empty() && replaced != uploads_.end()) {
+        std::error_code ec;
+        fs::remove(replaced->second.path, ec);
+        uploads_.erase(replaced);
+    }
     const uint64_t n = next_upload_++;
     ModelEntry entry;
     entry.id = fmt::format("upload/{}/{}", n, name);
     entry.name = name;
     entry.path = upload_dir_ / fmt::format("{}{}", n, ext);
     entry.bytes = bytes.size();
+    entry.scene = ext == ".scene";
     {
         std::ofstream out(entry.path, std::ios::binary);
         out.write(bytes.data(), std::streamsize(bytes.size()));

@@ -266,11 +266,19 @@ struct hsr::host::ViewServer::State {
                                        fmt::format("making the page of '{}'", hsr::printable(name))));
             });
         });
+        // The text of a served .scene model, for the page's scene editor.
+        server.Get("/api/scene-text", [this](const httplib::Request& req, httplib::Response& res) {
+            guarded(res, [&] {
+                res.set_content(models.scene_text(req.get_param_value("model"), upload_bytes), "text/plain; charset=utf-8");
+            });
+        });
         server.Post("/api/upload", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
                 if (req.body.size() > upload_bytes) throw ViewError(413, "", upload_too_large(req.body.size()));
                 if (req.body.empty()) throw ViewError(400, "", "upload: the body is empty (send the model file's bytes)");
-                const std::string id = models.add_upload(req.get_header_value("X-File-Name"), req.body);
+                const std::string id = models.add_upload(req.get_header_value("X-File-Name"), req.body,
+                                                         req.get_header_value("X-Replaces"),
+                                                         req.get_header_value("X-Base-Model"));
                 send_json(res, 200, {{"id", id}});
             });
         });

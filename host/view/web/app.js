@@ -10,6 +10,7 @@ import { ParamForm, fillSelect } from './form.js';
 import { ModelList } from './models.js';
 import { StepControls, drawStepOverlay, fullRenderText, playLabel } from './steps.js';
 import { StepOutline, OutlineBar, fillWorkedExample } from './outline.js';
+import { StepExport } from './step-export.js';
 import {
   BUFFER_NAMES, VIEW_BUFFER, decodeFrameBuffers, decodeStepBuffers, bufferView, drawLegend, pixelInfo, drawGrid, tileAround,
   gridCells, cellsOfFont,
@@ -19,6 +20,7 @@ import { compareRequest, showCompare, hideCompare, compareMismatch, showCompareN
 import { showRefusal } from './refusal.js';
 import { renderStats } from './stats.js';
 import { LatestWins } from './scheduler.js';
+import { SceneEditor } from './editor.js';
 import { loadSettings, saveSettings } from './settings.js';
 import { TheoryPane } from './theory.js';
 import { tr, language, setLanguage, onLanguageChange, browserLanguage, numberText } from './i18n.js';
@@ -141,6 +143,7 @@ const steps = new StepControls({
 
 const phaseTitle = (name) => currentAlgorithm()?.phases?.find((phase) => phase.name === name)?.title || name;
 const outlineBar = new OutlineBar(document.querySelector('#steps .step-buttons'), steps, phaseTitle);
+const stepExport = new StepExport($('steps'), steps);
 
 // ---- frames ----------------------------------------------------------------------------------
 
@@ -268,6 +271,7 @@ async function runJob(job, isStale) {
     clearFieldErrors();
     showError('');
     showRefusal('');
+    sceneEditor.frameDone(request.model, null);
     setStatus(tr({ en: `rendered in ${Math.round(roundTrip)} ms`, ru: `отрисовано за ${Math.round(roundTrip)} мс` }));
     canvas.dataset.state = 'ready';
   } catch (e) {
@@ -278,6 +282,7 @@ async function runJob(job, isStale) {
       return;
     }
     canvas.dataset.state = 'error';
+    sceneEditor.frameDone(job.kind === 'compare' ? job.body.a.model : job.body.model, e);
     if (!(e instanceof ApiError)) console.error(e);
     reportError(e instanceof ApiError ? e
       : new Error(tr({ en: `could not show the frame: ${e.message}`, ru: `не удалось показать кадр: ${e.message}` })));
@@ -622,6 +627,7 @@ function updateCli(body, response) {
   const words = ['hsr render', path, '-a', withParams(body.algorithm, body.params)];
   if (!algorithm || algorithm.kind !== 'hidden_line') words.push('-l', withParams(body.lighting, body.lighting_params));
   words.push(`--width ${response.width}`, `--height ${response.height}`, ...cliCameraOptions(body.camera));
+  stepExport.setBase(algorithm && algorithm.kind === 'hidden_line' ? null : [...words]);
   if (body.step) words.push(`--step ${body.step}`);
   words.push('-o', algorithm && algorithm.kind === 'hidden_line' ? 'drawing.png' : 'picture.png');
   $('cli').textContent = words.join(' ');
@@ -755,6 +761,20 @@ const modelList = new ModelList($('model'), {
   },
   onError: (e) => reportError(e),
   onStatus: (text) => setStatus(text),
+});
+
+// Each edit of the scene editor is a new upload that replaces the one before, in the list too.
+const sceneEditor = new SceneEditor($('scene-editor-panel'), {
+  models: () => modelList.models,
+  currentModel: () => settings.model,
+  show: (id, name, bytes, replaced) => {
+    const others = modelList.models.filter((m) => m.id !== replaced);
+    settings.model = modelList.set([...others, { id, name, bytes }], id);
+    steps.current = null;
+    showSizeFields();
+    changed({ resetSteps: true });
+  },
+  onError: (e) => reportError(e),
 });
 
 // ---- wiring -----------------------------------------------------------------------------------------
