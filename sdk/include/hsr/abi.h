@@ -57,6 +57,10 @@
  *        step belongs to, so that a viewer can highlight the line of pseudocode it executes.
  *        hsr_step_sink.language and hsr_trace_sink.language ask for step texts in a language.
  *        Optional: a plugin without phases steps as before.
+ *   1.6  the plugin's own words in other languages: hsr_plugin_descriptor.translations
+ *        (hsr_translation) gives its description, parameter names and help, choice names, phase
+ *        titles, counter names and buffer names in, say, Russian, for a viewer in that language.
+ *        Optional: what a plugin does not translate is shown in English.
  */
 #ifndef HSR_ABI_H
 #define HSR_ABI_H
@@ -70,7 +74,7 @@ extern "C" {
 
 #define HSR_API_NAME "hsr"
 #define HSR_ABI_MAJOR 1
-#define HSR_ABI_MINOR 5
+#define HSR_ABI_MINOR 6
 #define HSR_ENTRY_SYMBOL "hsr_plugin_entry"
 
 #if defined(_WIN32)
@@ -531,6 +535,26 @@ typedef struct IHiddenLineRemover {
 /* ---------------------------------------------------------------------------------------------- */
 /* Discovery                                                                                       */
 
+/* One of the plugin's texts in another language (since 1.6). `key` says which text it replaces:
+ *   "description"              the descriptor's description
+ *   "param:<name>"             a parameter's name as a person reads it, e.g. "тест глубины"
+ *   "help:<name>"              a parameter's help line
+ *   "choice:<param>:<choice>"  one choice of an ENUM parameter, e.g. "choice:depth-test:less"
+ *   "phase:<name>"             a phase's title
+ *   "counter:<name>"           a counter the plugin reports
+ *   "buffer:<name>"            a step buffer; a name ending in "-<number>" may be translated
+ *                              without it ("buffer:z-pyramid" covers "z-pyramid-3")
+ * The names inside keys are the plugin's own identifiers, which stay what the command line takes.
+ * At most one entry per (language, key); the host refuses a list with duplicates, an empty text, a
+ * language that is not two or three lower-case letters, or a key naming a parameter, choice or
+ * phase the plugin does not have. Strings are static in the plugin library. */
+typedef struct hsr_translation {
+    uint32_t struct_size;
+    const char* language; /* "ru": an ISO 639-1 code */
+    const char* key;
+    const char* text;
+} hsr_translation;
+
 typedef enum hsr_plugin_kind {
     HSR_KIND_HIDDEN_SURFACE_REMOVER = 1,
     HSR_KIND_LIGHTING_MODEL = 2,
@@ -557,6 +581,9 @@ typedef struct hsr_plugin_descriptor {
      * stepped by struct_size; NULL and 0 when its steps name none. */
     const hsr_phase_desc* phases;
     uint32_t phase_count;
+    /* Since 1.6: its texts in other languages, stepped by struct_size; NULL and 0 when it has none. */
+    const hsr_translation* translations;
+    uint32_t translation_count;
 } hsr_plugin_descriptor;
 
 /* The one symbol a plugin library exports. Returns descriptor `index`, or NULL past the last one.

@@ -91,6 +91,16 @@ struct PhaseSpec {
     const char* title; // a few words in English
 };
 
+// ABI 1.6: one of the plugin's texts in another language; `key` is one of those listed at
+// hsr_translation in abi.h ("description", "param:<name>", "help:<name>", "choice:<param>:<choice>",
+// "phase:<name>", "counter:<name>", "buffer:<name>"). A plugin class lists them as
+//   static inline const hsr::sdk::TranslationSpec translations[] = {{"ru", "description", "..."}, ...};
+struct TranslationSpec {
+    const char* language;
+    const char* key;
+    const char* text;
+};
+
 // ABI 1.5: whether the host asked for step texts in `code` ("ru"); English is the default.
 inline bool wants_language(const char* asked, const char* code) {
     return asked != nullptr && code != nullptr && std::strcmp(asked, code) == 0;
@@ -913,6 +923,23 @@ const hsr_phase_desc* phase_table(uint32_t& count) {
 }
 
 template <class T>
+const hsr_translation* translation_table(uint32_t& count) {
+    if constexpr (requires { T::translations; }) {
+        static const std::vector<hsr_translation> table = [] {
+            std::vector<hsr_translation> entries;
+            for (const TranslationSpec& spec : T::translations)
+                entries.push_back({sizeof(hsr_translation), spec.language, spec.key, spec.text});
+            return entries;
+        }();
+        count = static_cast<uint32_t>(table.size());
+        return table.empty() ? nullptr : table.data();
+    } else {
+        count = 0;
+        return nullptr;
+    }
+}
+
+template <class T>
 const hsr_plugin_descriptor* descriptor() {
     static const hsr_plugin_descriptor d = [] {
         hsr_plugin_descriptor out{};
@@ -927,6 +954,7 @@ const hsr_plugin_descriptor* descriptor() {
         out.params = param_table<T>(out.param_count);
         out.interface_table = interface_table<T>();
         out.phases = phase_table<T>(out.phase_count);
+        out.translations = translation_table<T>(out.translation_count);
         return out;
     }();
     return &d;
