@@ -1,10 +1,22 @@
 // The stats panel: the current frame's timings and the algorithm's counters (as `hsr render --stats`).
 
-import { tr, numberText } from './i18n.js';
+import { tr, numberText, pluginText } from './i18n.js';
 
 const ms = (v) => (Number.isFinite(v) ? tr({ en: `${v.toFixed(1)} ms`, ru: `${v.toFixed(1).replace('.', ',')} мс` }) : '–');
 
-export function renderStats(element, title, stats, roundTripMs) {
+// A counter's label in the page's language, from the first of `plugins` (/api/plugins entries) that
+// translates it; else its name. The name stays on hover, as `hsr render --stats` prints it.
+export function counterLabels(plugins) {
+  return (name) => {
+    for (const plugin of plugins) {
+      const text = pluginText(plugin, `counter:${name}`, null);
+      if (text) return text;
+    }
+    return name;
+  };
+}
+
+export function renderStats(element, title, stats, roundTripMs, counterLabel = (name) => name) {
   element.replaceChildren();
   if (title) {
     const h = document.createElement('h3');
@@ -26,7 +38,9 @@ export function renderStats(element, title, stats, roundTripMs) {
   if (Number.isFinite(stats.triangles)) rows.unshift([tr({ en: 'triangles', ru: 'треугольники' }), stats.triangles]);
   for (const [name, value] of rows) {
     const tr = table.insertRow();
-    tr.insertCell().textContent = name;
+    const label = tr.insertCell();
+    label.textContent = counterLabel(name);
+    if (label.textContent !== name) label.title = name;
     const cell = tr.insertCell();
     cell.textContent = typeof value === 'number' ? numberText(value) : String(value);
     cell.className = 'number';

@@ -922,21 +922,31 @@ const hsr_phase_desc* phase_table(uint32_t& count) {
     }
 }
 
+// The counters the SDK itself reports for a hidden-surface remover: "steps" (render_steps) and
+// "build-time-us" (timed_build, scene_key.hpp). Every remover's table gets their texts, unless
+// the class gives its own.
+inline constexpr TranslationSpec sdk_counter_translations[] = {
+    {"ru", "counter:steps", "шаги"},
+    {"ru", "counter:build-time-us", "время построения, мкс"},
+};
+
 template <class T>
 const hsr_translation* translation_table(uint32_t& count) {
-    if constexpr (requires { T::translations; }) {
-        static const std::vector<hsr_translation> table = [] {
-            std::vector<hsr_translation> entries;
-            for (const TranslationSpec& spec : T::translations)
-                entries.push_back({sizeof(hsr_translation), spec.language, spec.key, spec.text});
-            return entries;
-        }();
-        count = static_cast<uint32_t>(table.size());
-        return table.empty() ? nullptr : table.data();
-    } else {
-        count = 0;
-        return nullptr;
-    }
+    static const std::vector<hsr_translation> table = [] {
+        std::vector<hsr_translation> entries;
+        auto add = [&](const TranslationSpec& spec) {
+            for (const hsr_translation& t : entries)
+                if (std::strcmp(t.language, spec.language) == 0 && std::strcmp(t.key, spec.key) == 0) return;
+            entries.push_back({sizeof(hsr_translation), spec.language, spec.key, spec.text});
+        };
+        if constexpr (requires { T::translations; })
+            for (const TranslationSpec& spec : T::translations) add(spec);
+        if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_SURFACE_REMOVER)
+            for (const TranslationSpec& spec : sdk_counter_translations) add(spec);
+        return entries;
+    }();
+    count = static_cast<uint32_t>(table.size());
+    return table.empty() ? nullptr : table.data();
 }
 
 template <class T>
