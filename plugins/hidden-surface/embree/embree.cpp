@@ -78,7 +78,7 @@ public:
         {"ru", "phase:build", "поручить Embree построить свою иерархию ограничивающих объёмов"},
         {"ru", "phase:cast", "бросить луч через центр каждого пикселя и оставить ближайшее пересечение"},
         {"ru", "counter:rays", "лучей брошено"},
-        {"ru", "counter:hits", "лучей попало в поверхность"},
+        {"ru", "counter:hits", "попаданий лучей"},
     };
     static constexpr auto translations = hsr::sdk::join_translations(
         own_translations, hsr::sdk::build_time_counter_translations, hsr::sdk::step_counter_translations);

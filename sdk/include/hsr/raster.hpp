@@ -103,7 +103,7 @@ struct DepthTest {
 // The names a z-buffer reports DepthTest's counts under ("pixels-depth-tested": `tested`,
 // "pixels-written": `written`), in Russian, for the plugin's `translations`.
 inline constexpr std::array<hsr::sdk::TranslationSpec, 2> depth_test_counter_translations{{
-    {"ru", "counter:pixels-depth-tested", "тестов глубины"},
+    {"ru", "counter:pixels-depth-tested", "тестов глубины выполнено"},
     {"ru", "counter:pixels-written", "пикселей прошло тест глубины"},
 }};
 
@@ -145,7 +145,7 @@ struct TriangleStats {
 inline constexpr std::array<hsr::sdk::TranslationSpec, 6> triangle_counter_translations{{
     {"ru", "counter:triangles-in", "треугольников на входе"},
     {"ru", "counter:triangles-backface-culled", "треугольников отброшено как нелицевые"},
-    {"ru", "counter:triangles-clipped", "треугольников отсечено ближней плоскостью"},
+    {"ru", "counter:triangles-clipped", "треугольников пересекло ближнюю плоскость"},
     {"ru", "counter:triangles-outside", "треугольников вне области видимости"},
     {"ru", "counter:triangles-degenerate", "вырожденных треугольников"},
     {"ru", "counter:triangles-rasterized", "треугольников растеризовано"},

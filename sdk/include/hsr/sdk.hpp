@@ -133,7 +133,7 @@ constexpr auto join_translations(const Lists&... lists) {
 
 // The counter the SDK adds to a render with steps ("steps": how many were taken), in Russian.
 inline constexpr std::array<TranslationSpec, 1> step_counter_translations{{
-    {"ru", "counter:steps", "шагов"},
+    {"ru", "counter:steps", "шагов сделано"},
 }};
 
 // ABI 1.5: whether the host asked for step texts in `code` ("ru"); English is the default.
