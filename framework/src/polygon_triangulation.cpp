@@ -157,7 +157,8 @@ PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const 
         if (corners.empty() || glm::dvec3(v) != corners.back()) corners.emplace_back(v);
     }
     while (corners.size() > 1 && corners.front() == corners.back()) corners.pop_back();
-    if (corners.size() < 3) throw Error(say(language, "{}: needs at least 3 distinct vertices", "{}: нужно не меньше трёх различных вершин", what));
+    if (corners.size() < 3) throw Error(say(language, "{}: needs at least 3 distinct vertices",
+                                            "{}: нужно не меньше трёх различных вершин", what));
 
     glm::dvec3 centre;
     auto [normal, extent] = newell_normal(std::span<const glm::dvec3>(corners), centre);

@@ -134,7 +134,8 @@ void check_options(const MeshOptions& options, Language language) {
                         options.crease_angle_degrees));
     for (int k = 0; k < 3; ++k)
         if (!(options.color[k] >= 0.0f && options.color[k] <= 1.0f))
-            throw Error(say(language, "{}: colour channel {} is outside [0, 1]", "{}: компонента цвета {} вне [0, 1]", name, options.color[k]));
+            throw Error(say(language, "{}: colour channel {} is outside [0, 1]",
+                            "{}: компонента цвета {} вне [0, 1]", name, options.color[k]));
 }
 
 // The object's vertices in world space, each within float range.

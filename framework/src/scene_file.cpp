@@ -103,8 +103,9 @@ public:
                 handle(s);
         });
         finish_object();
-        if (builder_.object_count() == 0) 
-            throw Error(say(language_, "{}: the scene has no mesh or polygon", "{}: в сцене нет ни модели (mesh), ни многоугольника (polygon)",
+        if (builder_.object_count() == 0)
+            throw Error(say(language_, "{}: the scene has no mesh or polygon",
+                            "{}: в сцене нет ни модели (mesh), ни многоугольника (polygon)",
                             path_text()));
         try {
             result_.scene = builder_.build();
@@ -256,7 +257,8 @@ private:
                                  : say(language_, "clip-plane <a> <b> <c> <d>  (keeps a*x + b*y + c*z + d >= 0)",
                                        "clip-plane <a> <b> <c> <d>  (остаётся то, где a*x + b*y + c*z + d >= 0)"));
             if (result_.clip_planes.size() == HSR_MAX_CLIP_PLANES)
-                fail(s.line, say(language_, "more than {} clip planes and sections", "больше {} плоскостей отсечения (clip-plane и section)",
+                fail(s.line, say(language_, "more than {} clip planes and sections",
+                                 "больше {} плоскостей отсечения (clip-plane и section)",
                                  HSR_MAX_CLIP_PLANES));
             const std::string plane_what = say(language_, "clip plane", "коэффициент плоскости отсечения");
             const glm::vec4 plane = section ? section_plane(number(s, 1, say(language_, "section z", "z сечения")))
@@ -309,7 +311,8 @@ private:
         for (std::size_t i = 4; i < s.words.size(); i += 2) {
             const std::string& key = s.words[i];
             if (key != "gap" && key != "jitter")
-                fail(s.line, say(language_, "unknown repeat setting '{}' (gap, jitter)", "неизвестный параметр repeat «{}» (есть gap и jitter)",
+                fail(s.line, say(language_, "unknown repeat setting '{}' (gap, jitter)",
+                                 "неизвестный параметр repeat «{}» (есть gap и jitter)",
                                  printable(key)));
             if (i + 1 >= s.words.size())
                 fail(s.line, say(language_, "repeat setting '{}' needs a value", "у параметра repeat «{}» нет значения", key));
@@ -410,7 +413,8 @@ private:
     void property(const Statement& s) {
         const std::string& keyword = s.words[0];
         if (object_.kind == Kind::none)
-            fail(s.line, say(language_, "'{}' must follow a mesh or polygon line", "«{}» должна стоять после строки mesh или polygon", keyword));
+            fail(s.line, say(language_, "'{}' must follow a mesh or polygon line",
+                             "«{}» должна стоять после строки mesh или polygon", keyword));
         MeshOptions& options = object_.options;
         if (keyword == "name") {
             expect_count(s, 2, say(language_, "name <name>  (quote a name with spaces)", "name <имя>  (имя с пробелами — в кавычках)"));
@@ -420,11 +424,13 @@ private:
         } else if (keyword == "color") {
             if (object_.has_color) fail(s.line, say(language_, "the object already has a colour", "у объекта уже задан цвет"));
             object_.has_color = true;
-            options.color = color(s, say(language_, "color <r> <g> <b>  (each in [0, 1])", "color <r> <g> <b>  (каждая компонента — из [0, 1])"));
+            options.color = color(s, say(language_, "color <r> <g> <b>  (each in [0, 1])",
+                                         "color <r> <g> <b>  (каждая компонента — из [0, 1])"));
             options.color_given = true;
         } else if (keyword == "opacity") {
             expect_count(s, 2, say(language_, "opacity <a>  (0 invisible .. 1 opaque)", "opacity <a>  (0 — не виден .. 1 — непрозрачен)"));
-            if (object_.has_opacity) fail(s.line, say(language_, "the object already has an opacity", "у объекта уже задана непрозрачность"));
+            if (object_.has_opacity) fail(s.line, say(language_, "the object already has an opacity",
+                                                      "у объекта уже задана непрозрачность"));
             object_.has_opacity = true;
             object_.opacity = number(s, 1, say(language_, "opacity", "непрозрачность"));
             if (!(object_.opacity >= 0.0f && object_.opacity <= 1.0f))
@@ -447,13 +453,15 @@ private:
                 fail(s.line, say(language_, "a scale factor is zero", "коэффициент масштаба равен нулю"));
             options.transform = glm::scale(glm::mat4(1.0f), factor) * options.transform;
         } else if (keyword == "crease") {
-            if (object_.kind != Kind::mesh) fail(s.line, say(language_, "crease applies to meshes only", "crease относится только к моделям (mesh)"));
+            if (object_.kind != Kind::mesh) fail(s.line, say(language_, "crease applies to meshes only",
+                                                             "crease относится только к моделям (mesh)"));
             expect_count(s, 2, say(language_, "crease <degrees>", "crease <градусы>"));
             if (object_.has_crease) fail(s.line, say(language_, "the mesh already has a crease angle", "у модели уже задан угол излома"));
             object_.has_crease = true;
             options.crease_angle_degrees = number(s, 1, say(language_, "crease angle", "угол излома"));
             if (options.crease_angle_degrees < 0.0f || options.crease_angle_degrees > 180.0f)
-                fail(s.line, say(language_, "the crease angle must be within [0, 180] degrees", "угол излома должен быть от 0 до 180 градусов"));
+                fail(s.line, say(language_, "the crease angle must be within [0, 180] degrees",
+                                 "угол излома должен быть от 0 до 180 градусов"));
         } else if (keyword == "vertex") {
             if (object_.kind != Kind::polygon)
                 fail(s.line, say(language_, "vertex lines belong to a polygon", "строки vertex относятся к многоугольнику (polygon)"));
@@ -575,7 +583,8 @@ LightSpec parse_light_spec(std::string_view text, Language language) {
     LightSpec light;
     if (type == "point") light.type = HSR_LIGHT_POINT;
     else if (type == "dir" || type == "directional") light.type = HSR_LIGHT_DIRECTIONAL;
-    else throw fail(say(language, "unknown light type '{}' (point or dir)", "неизвестный тип источника «{}» (point или dir)", printable(type)));
+    else throw fail(say(language, "unknown light type '{}' (point or dir)",
+                        "неизвестный тип источника «{}» (point или dir)", printable(type)));
 
     std::vector<std::string_view> parts = split(text.substr(colon + 1), ',');
     if (parts.size() < 3) throw fail(say(language, "needs three coordinates x,y,z", "нужны три координаты x,y,z"));
@@ -589,7 +598,8 @@ LightSpec parse_light_spec(std::string_view text, Language language) {
     bool seen_intensity = false, seen_color = false, seen_space = false;
     for (std::size_t i = 3; i < parts.size(); ++i) {
         std::size_t equals = parts[i].find('=');
-        if (equals == std::string_view::npos) throw fail(say(language, "'{}' is not key=value", "«{}» — не пара ключ=значение", printable(parts[i])));
+        if (equals == std::string_view::npos) throw fail(say(language, "'{}' is not key=value",
+                                                             "«{}» — не пара ключ=значение", printable(parts[i])));
         std::string key = lower(std::string(parts[i].substr(0, equals)));
         std::string_view value = parts[i].substr(equals + 1);
         if (key == "intensity") {

@@ -269,8 +269,8 @@ struct hsr::host::ViewServer::State {
         // The text of a served .scene model, for the page's scene editor; ?lang=ru: its messages in Russian.
         server.Get("/api/scene-text", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
-                res.set_content(models.scene_text(req.get_param_value("model"), upload_bytes, hsr::language_from_code(req.get_param_value("lang"))),
-                                "text/plain; charset=utf-8");
+                const hsr::Language language = hsr::language_from_code(req.get_param_value("lang"));
+                res.set_content(models.scene_text(req.get_param_value("model"), upload_bytes, language), "text/plain; charset=utf-8");
             });
         });
         // ?lang=ru: the messages in Russian (the scene editor's uploads, on a page in Russian).
