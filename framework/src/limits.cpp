@@ -82,10 +82,13 @@ std::string describe_limit_option() {
     return text;
 }
 
-void check_limit(uint64_t Limits::*limit, uint64_t amount, std::string_view what) {
+void check_limit(uint64_t Limits::*limit, uint64_t amount, std::string_view what, Language language) {
     const uint64_t allowed = limits().*limit;
     if (amount <= allowed) return;
     const LimitInfo& entry = info(limit);
+    if (language == Language::russian)
+        throw LimitError("{}{}{} — больше допустимого предела {} (его поднимает флаг --limit {}=N)", what,
+                         what.empty() ? "" : ": ", amount, allowed, entry.name);
     throw LimitError("{}{}{} {}, over the limit of {} (raise it with --limit {}=N)", what, what.empty() ? "" : ": ", amount,
                 entry.unit, allowed, entry.name);
 }

@@ -149,24 +149,28 @@ bool is_convex(const std::vector<glm::dvec2>& points) {
 
 }  // namespace
 
-PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const std::string& what) {
+PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const std::string& what, Language language) {
     std::vector<glm::dvec3> corners;
     for (glm::vec3 v : vertices) {
-        if (!finite(v)) throw Error("{}: a vertex has a coordinate that is not a finite number", what);
+        if (!finite(v)) throw Error(say(language, "{}: a vertex has a coordinate that is not a finite number",
+                                         "{}: у вершины есть координата, которая не является конечным числом", what));
         if (corners.empty() || glm::dvec3(v) != corners.back()) corners.emplace_back(v);
     }
     while (corners.size() > 1 && corners.front() == corners.back()) corners.pop_back();
-    if (corners.size() < 3) throw Error("{}: needs at least 3 distinct vertices", what);
+    if (corners.size() < 3) throw Error(say(language, "{}: needs at least 3 distinct vertices",
+                                            "{}: нужно не меньше трёх различных вершин", what));
 
     glm::dvec3 centre;
     auto [normal, extent] = newell_normal(std::span<const glm::dvec3>(corners), centre);
     double area2 = glm::length(normal);
-    if (!(area2 > 1e-12 * extent * extent)) throw Error("{}: has no area (its vertices are collinear)", what);
+    if (!(area2 > 1e-12 * extent * extent)) throw Error(say(language, "{}: has no area (its vertices are collinear)",
+                                                                     "{}: площадь равна нулю (вершины лежат на одной прямой)", what));
     normal /= area2;
     for (std::size_t i = 0; i < corners.size(); ++i) {
         double off = std::fabs(glm::dot(corners[i] - centre, normal));
         if (off > 1e-4 * extent)
-            throw Error("{}: is not planar (vertex {} lies {:.3g} off the polygon's plane)", what, i + 1, off);
+            throw Error(say(language, "{}: is not planar (vertex {} lies {:.3g} off the polygon's plane)",
+                            "{}: не плоский (вершина {} отстоит от плоскости многоугольника на {:.3g})", what, i + 1, off));
     }
 
     // Project onto the coordinate plane the polygon faces most, keeping counter-clockwise order.
@@ -178,9 +182,12 @@ PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const 
     std::vector<glm::dvec2> flat;
     for (const glm::dvec3& c : corners) flat.emplace_back(c[u], c[w]);
     if (auto edges = meeting_edges(flat))
-        throw Error("{}: the polygon intersects itself (edges {} and {} meet)", what, edges->first, edges->second);
+        throw Error(say(language, "{}: the polygon intersects itself (edges {} and {} meet)",
+                        "{}: многоугольник самопересекающийся (рёбра {} и {} пересекаются)", what, edges->first,
+                        edges->second));
     std::vector<uint32_t> triangles;
-    if (!ear_clip(flat, triangles)) throw Error("{}: the polygon intersects itself", what);
+    if (!ear_clip(flat, triangles))
+        throw Error(say(language, "{}: the polygon intersects itself", "{}: многоугольник самопересекающийся", what));
     return {std::vector<glm::vec3>(corners.begin(), corners.end()), std::move(triangles)};
 }
 

@@ -2,6 +2,8 @@
 // .scene file, and the faces of model files.
 #pragma once
 
+#include "hsr/language.hpp"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -17,8 +19,9 @@ struct PolygonTriangles {
 };
 
 // `vertices` as SceneBuilder::add_polygon takes them: at least 3 distinct, finite, planar, not
-// intersecting itself, may be concave. Throws hsr::Error starting with `what` otherwise.
-PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const std::string& what);
+// intersecting itself, may be concave. Throws hsr::Error starting with `what` otherwise, in `language`.
+PolygonTriangles triangulate_polygon(std::span<const glm::vec3> vertices, const std::string& what,
+                                     Language language = Language::english);
 
 // How a model file's face was cut into triangles.
 enum class FaceCut {

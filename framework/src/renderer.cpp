@@ -28,7 +28,7 @@ SceneData load_source(const SceneSource& source, const ReadPolicy& policy, std::
         throw Error("'{}' lies outside {}", printable(path.string(), kMaxQuotedPathChars), policy.description());
     if (!source.heightmap.empty()) return make_heightmap_surface(source.heightmap, source.heightmap_options);
     if (is_scene_file(path)) {
-        file = load_scene_file(path, policy);
+        file = load_scene_file(path, policy, source.language);
         SceneData scene = std::move(file->scene);
         file->scene = {};
         return scene;

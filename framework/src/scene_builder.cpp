@@ -123,20 +123,23 @@ void reserve_for(const std::vector<Object>& objects, SceneData& scene, std::vect
 }
 
 // An object's options: a finite transform, a crease angle in [0, 180] degrees, a colour in [0, 1].
-void check_options(const MeshOptions& options) {
+void check_options(const MeshOptions& options, Language language) {
     const std::string& name = options.name;
     for (int c = 0; c < 4; ++c)
         if (!finite(glm::vec3(options.transform[c])) || !std::isfinite(options.transform[c][3]))
-            throw Error("{}: the transform has a value that is not a finite number", name);
+            throw Error(say(language, "{}: the transform has a value that is not a finite number",
+                            "{}: в преобразовании есть значение, которое не является конечным числом", name));
     if (!(options.crease_angle_degrees >= 0.0f && options.crease_angle_degrees <= 180.0f))
-        throw Error("{}: crease angle {} is outside [0, 180] degrees", name, options.crease_angle_degrees);
+        throw Error(say(language, "{}: crease angle {} is outside [0, 180] degrees", "{}: угол излома {} вне [0, 180] градусов", name,
+                        options.crease_angle_degrees));
     for (int k = 0; k < 3; ++k)
         if (!(options.color[k] >= 0.0f && options.color[k] <= 1.0f))
-            throw Error("{}: colour channel {} is outside [0, 1]", name, options.color[k]);
+            throw Error(say(language, "{}: colour channel {} is outside [0, 1]",
+                            "{}: компонента цвета {} вне [0, 1]", name, options.color[k]));
 }
 
 // The object's vertices in world space, each within float range.
-std::vector<glm::dvec3> to_world(const Object& object, const glm::dmat4& transform) {
+std::vector<glm::dvec3> to_world(const Object& object, const glm::dmat4& transform, Language language) {
     std::vector<glm::dvec3> local_world(object.positions.size());
     for (std::size_t v = 0; v < object.positions.size(); ++v) {
         glm::dvec4 p = transform * glm::dvec4(glm::dvec3(object.positions[v]), 1.0);
@@ -144,7 +147,8 @@ std::vector<glm::dvec3> to_world(const Object& object, const glm::dmat4& transfo
         if (!std::isfinite(local_world[v].x) || !std::isfinite(local_world[v].y) ||
             !std::isfinite(local_world[v].z) || std::fabs(local_world[v].x) > FLT_MAX ||
             std::fabs(local_world[v].y) > FLT_MAX || std::fabs(local_world[v].z) > FLT_MAX)
-            throw Error("{}: the transform moves vertex {} to a non-finite position", object.options.name, v);
+            throw Error(say(language, "{}: the transform moves vertex {} to a non-finite position",
+                            "{}: преобразование уводит вершину {} в бесконечность", object.options.name, v));
     }
     return local_world;
 }
@@ -248,17 +252,17 @@ void add_kept_triangles(const Object& object, uint32_t o, const std::vector<glm:
 // Object number o added to the scene: its kept triangles, their vertices (into world) and unit
 // normals (into normals, and as floats into the scene), its name and warnings.
 void add_object(const Object& object, uint32_t o, SceneData& scene, std::vector<glm::dvec3>& world,
-                std::vector<glm::dvec3>& normals) {
+                std::vector<glm::dvec3>& normals, Language language) {
     const MeshOptions& options = object.options;
     const glm::dmat4 transform(options.transform);
-    check_options(options);
+    check_options(options, language);
     if (!object.face_colors.empty() && object.face_colors.size() != object.indices.size() / 3)
         throw Error("{}: {} face colours for {} triangles", options.name, object.face_colors.size(), object.indices.size() / 3);
     for (const glm::vec3& c : object.face_colors)
         if (!(c.r >= 0.0f && c.r <= 1.0f && c.g >= 0.0f && c.g <= 1.0f && c.b >= 0.0f && c.b <= 1.0f))
             throw Error("{}: a face colour is outside [0, 1]", options.name);
     const bool mirrored = glm::determinant(glm::dmat3(transform)) < 0.0;
-    const std::vector<glm::dvec3> local_world = to_world(object, transform);
+    const std::vector<glm::dvec3> local_world = to_world(object, transform, language);
     const uint32_t first_triangle = static_cast<uint32_t>(scene.indices.size() / 3);
     const KeptTriangles kept = keep_triangles(object, local_world, mirrored, first_triangle, normals);
     warn_about(object, kept, scene.warnings);
@@ -507,7 +511,9 @@ void SceneBuilder::add_triangles(std::span<const glm::vec3> positions, std::span
 
 void SceneBuilder::add_polygon(std::span<const glm::vec3> vertices, glm::vec3 color, const std::string& name) {
     std::string what = name.empty() ? fmt::format("polygon {}", objects_.size() + 1) : "polygon '" + name + "'";
-    PolygonTriangles polygon = triangulate_polygon(vertices, what);
+    const std::string said = name.empty() ? say(language_, "polygon {}", "многоугольник {}", objects_.size() + 1)
+                                          : say(language_, "polygon '{}'", "многоугольник «{}»", name);
+    PolygonTriangles polygon = triangulate_polygon(vertices, said, language_);
 
     MeshOptions options;
     options.color = color;
@@ -524,11 +530,11 @@ SceneData SceneBuilder::build() const {
     std::vector<float> crease_cosines;  // per object
     reserve_for(objects_, scene, world, normals);
     for (std::size_t o = 0; o < objects_.size(); ++o) {
-        add_object(objects_[o], static_cast<uint32_t>(o), scene, world, normals);
+        add_object(objects_[o], static_cast<uint32_t>(o), scene, world, normals, language_);
         const double crease_angle = double(objects_[o].options.crease_angle_degrees);
         crease_cosines.push_back(static_cast<float>(std::cos(glm::radians(crease_angle))));
     }
-    if (scene.indices.empty()) throw Error("the scene has no triangles");
+    if (scene.indices.empty()) throw Error(say(language_, "the scene has no triangles", "в сцене нет ни одного треугольника"));
     set_positions(world, scene);
     set_corner_normals(world, normals, crease_cosines, scene);
     return scene;

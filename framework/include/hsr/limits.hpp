@@ -3,6 +3,8 @@
 // to raise it (--limit NAME=N). docs/robustness.md ("Limits") has the table.
 #pragma once
 
+#include "hsr/language.hpp"
+
 #include <cstdint>
 #include <span>
 #include <string>
@@ -51,7 +53,7 @@ std::string describe_limit_option();
 
 // Throws hsr::LimitError when `amount` is over the limit in force:
 //   "<what>: <amount> <unit>, over the limit of <limit> (raise it with --limit NAME=N)"
-// (without "<what>: " when what is empty).
-void check_limit(uint64_t Limits::*limit, uint64_t amount, std::string_view what);
+// (without "<what>: " when what is empty); in Russian when `language` says so.
+void check_limit(uint64_t Limits::*limit, uint64_t amount, std::string_view what, Language language = Language::english);
 
 }  // namespace hsr

@@ -13,6 +13,7 @@
 #include "hsr/camera.hpp"
 #include "hsr/defaults.hpp"
 #include "hsr/fragment_lists.hpp"
+#include "hsr/language.hpp"
 #include "hsr/instancing.hpp"
 #include "hsr/lines.hpp"
 #include "hsr/pipeline.hpp"
@@ -60,6 +61,7 @@ struct SceneSource {
     std::optional<float> opacity;   // of a single model (a .scene file gives its objects their own)
     std::optional<InstanceGrid> repeat;
     std::string repeat_text;        // the grid as the user wrote it, for messages
+    Language language = Language::english;  // of a .scene file's error messages (load_scene_file)
 
     // The file the scene comes from, or "surface" or "random-triangles": its stem names outputs.
     std::filesystem::path path() const;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "hsr/camera.hpp"
+#include "hsr/language.hpp"
 #include "hsr/mesh_object.hpp"
 #include "hsr/scene.hpp"
 
@@ -22,6 +23,9 @@ namespace hsr {
 // computes normals, adjacency and bounds. Every add_* throws hsr::Error on bad input.
 class SceneBuilder {
 public:
+    // `language`: of the messages about the polygons and options given here (a model file's own
+    // parse errors stay English).
+    explicit SceneBuilder(Language language = Language::english) : language_(language) {}
     // OBJ, OFF, PLY, STL (ASCII and binary where OpenMesh reads them); polygons are triangulated.
     void add_model_file(const std::filesystem::path& file, const MeshOptions& options = {});
     // One planar polygon (at least 3 vertices, no self-intersections, may be concave) in explicit
@@ -47,6 +51,7 @@ public:
     }
 
 private:
+    Language language_;
     std::vector<Object> objects_;
 };
 

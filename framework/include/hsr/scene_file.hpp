@@ -4,6 +4,7 @@
 
 #include "hsr/abi.h"
 #include "hsr/camera.hpp"
+#include "hsr/language.hpp"
 #include "hsr/read_policy.hpp"
 #include "hsr/scene.hpp"
 
@@ -18,8 +19,8 @@
 namespace hsr {
 
 // "point:1,2,3" or "dir:0,0,1", then optionally ",intensity=0.8", ",color=1/0.9/0.8" (or #rrggbb),
-// ",space=world" (default camera). Throws hsr::Error naming the text on any mistake.
-LightSpec parse_light_spec(std::string_view text);
+// ",space=world" (default camera). Throws hsr::Error naming the text on any mistake, in `language`.
+LightSpec parse_light_spec(std::string_view text, Language language = Language::english);
 
 // A parsed `.scene` file. Optional fields are unset when the file does not mention them; the
 // command line overrides what the file says.
@@ -39,8 +40,11 @@ struct SceneFile {
 
 // Throws hsr::Error "file:line: message" on any mistake, including problems with the meshes it
 // names (relative paths resolve against the scene file's folder), and a mesh the policy does not
-// allow ("mesh 'x' lies outside <the policy's folders>").
-SceneFile load_scene_file(const std::filesystem::path& file, const ReadPolicy& policy = {});
+// allow ("mesh 'x' lies outside <the policy's folders>"). The messages are in `language`, but for
+// what a mesh file's own reader says about its contents, which stays English inside a frame in
+// `language` ("не удалось прочитать модель: ...").
+SceneFile load_scene_file(const std::filesystem::path& file, const ReadPolicy& policy = {},
+                          Language language = Language::english);
 bool is_scene_file(const std::filesystem::path& file);  // extension ".scene", any case
 
 }  // namespace hsr

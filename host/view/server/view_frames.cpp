@@ -51,8 +51,10 @@ struct CachedModel {
 };
 
 // The model as the renderer loads it; a .scene file reads only meshes inside the folders hsr view
-// serves (ModelCatalog::read_policy).
-std::shared_ptr<CachedModel> load_model_entry(const hsr::host::ModelEntry& entry, const hsr::ReadPolicy& read_policy) {
+// serves (ModelCatalog::read_policy). A .scene file's mistakes are told in `language` ("en" or "ru"),
+// the page's: the scene editor shows them beside the line.
+std::shared_ptr<CachedModel> load_model_entry(const hsr::host::ModelEntry& entry, const hsr::ReadPolicy& read_policy,
+                                              const std::string& language) {
     auto cached = std::make_shared<CachedModel>();
     std::error_code ec;
     cached->modified = fs::last_write_time(entry.path, ec);
@@ -60,6 +62,7 @@ std::shared_ptr<CachedModel> load_model_entry(const hsr::host::ModelEntry& entry
     hsr::SceneSource source;
     source.model = entry.path;
     source.mesh.crease_angle_degrees = 40;
+    source.language = hsr::language_from_code(language);
     try {
         cached->renderer = std::make_shared<hsr::Renderer>(hsr::LoadedScene::load(source, read_policy));
     } catch (const hsr::Error& e) {
@@ -206,7 +209,8 @@ struct hsr::host::FrameRenderer::State {
     State(const hsr::PluginRegistry& registry, FindModel find_model, hsr::ReadPolicy read_policy)
         : registry(registry), find_model(std::move(find_model)), read_policy(std::move(read_policy)) {}
 
-    std::shared_ptr<CachedModel> model(const std::string& id) {
+    // A failed load is not kept, so a scene's error is read again, in the language asked for.
+    std::shared_ptr<CachedModel> model(const std::string& id, const std::string& language) {
         for (auto it = model_cache.begin(); it != model_cache.end(); ++it) {
             if (it->first != id) continue;
             std::error_code ec;
@@ -218,7 +222,7 @@ struct hsr::host::FrameRenderer::State {
             model_cache.erase(it);
             break;
         }
-        std::shared_ptr<CachedModel> loaded = load_model_entry(find_model(id), read_policy);
+        std::shared_ptr<CachedModel> loaded = load_model_entry(find_model(id), read_policy, language);
         model_cache.emplace_front(id, loaded);
         // The newest stays; older ones go while there are too many or they hold too much.
         uint64_t held = 0;
@@ -268,7 +272,7 @@ struct hsr::host::FrameRenderer::State {
     json outline(const json& request, const FrameRequest& q, hsr::StepProgress* progress) {
         const hsr::Plugin& algorithm = algorithm_plugin(q);
         check_settings(algorithm, q.params, "params");
-        const std::shared_ptr<CachedModel> model = this->model(q.model);
+        const std::shared_ptr<CachedModel> model = this->model(q.model, q.language);
         hsr::Renderer& renderer = *model->renderer;
         check_camera(q, renderer);
         json key_fields = request;
@@ -335,7 +339,7 @@ struct hsr::host::FrameRenderer::State {
     Rendered render(const FrameRequest& q, ArrayBlock& arrays, hsr::StepProgress* progress = nullptr) {
         const hsr::Plugin& algorithm = algorithm_plugin(q);
         check_settings(algorithm, q.params, "params");
-        const std::shared_ptr<CachedModel> model = this->model(q.model);
+        const std::shared_ptr<CachedModel> model = this->model(q.model, q.language);
         hsr::Renderer& renderer = *model->renderer;
         if (algorithm.descriptor.kind == HSR_KIND_HIDDEN_LINE_REMOVER) return render_lines(q, algorithm, renderer);
         const hsr::Plugin* lighting_plugin = nullptr;

@@ -127,7 +127,7 @@ std::vector<hsr::host::ModelEntry> hsr::host::ModelCatalog::list() const {
     return out;
 }
 
-hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id) const {
+hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id, hsr::Language language) const {
     {
         std::lock_guard lock(uploads_mutex_);
         const auto upload = uploads_.find(id);
@@ -145,7 +145,7 @@ hsr::host::ModelEntry hsr::host::ModelCatalog::find(const std::string& id) const
                 if (model.id == id) return std::move(model);
         }
     }
-    throw ViewError(404, "model", fmt::format("no model '{}'", hsr::printable(id, hsr::kMaxQuotedPathChars)));
+    throw ViewError(404, "model", hsr::say(language, "no model '{}'", "модели «{}» нет", hsr::printable(id, hsr::kMaxQuotedPathChars)));
 }
 
 namespace {
@@ -187,20 +187,24 @@ std::string with_mesh_folder(const std::string& text, const fs::path& folder) {
 
 }  // namespace
 
-std::string hsr::host::ModelCatalog::scene_text(const std::string& id, uint64_t max_bytes) const {
-    const ModelEntry entry = find(id);
+std::string hsr::host::ModelCatalog::scene_text(const std::string& id, uint64_t max_bytes, hsr::Language language) const {
+    const ModelEntry entry = find(id, language);
     if (lowercase(entry.path.extension().string()) != ".scene")
-        throw ViewError(400, "model", fmt::format("model '{}' is not a .scene file", hsr::printable(id, hsr::kMaxQuotedPathChars)));
+        throw ViewError(400, "model", hsr::say(language, "model '{}' is not a .scene file", "модель «{}» — не файл .scene",
+                                               hsr::printable(id, hsr::kMaxQuotedPathChars)));
     std::ifstream in(entry.path, std::ios::binary);
     std::string text;
     if (in) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in && !in.eof()) throw ViewError(500, "", "cannot read the scene file");
-    if (text.size() > max_bytes) throw ViewError(413, "model", "the scene file is over the upload-bytes limit");
+    if (!in && !in.eof()) throw ViewError(500, "", hsr::say(language, "cannot read the scene file", "не удалось прочитать файл сцены"));
+    if (text.size() > max_bytes)
+        throw ViewError(413, "model", hsr::say(language, "the scene file is over the upload-bytes limit",
+                                               "файл сцены больше предела upload-bytes"));
     return text;
 }
 
 std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, const std::string& bytes_in,
-                                                const std::string& replaces, const std::string& base_model) {
+                                                const std::string& replaces, const std::string& base_model,
+                                                hsr::Language language) {
     // The name is kept for the id and the file's extension; the file itself is upload_dir/<n><ext>.
     const std::string& name = file_name;
     const bool plain = !name.empty() && name[0] != '.' && name.size() <= 100 &&
@@ -208,16 +212,25 @@ std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, co
                            return std::isalnum(c) || c == '.' || c == '-' || c == '_' || c == ' ';
                        });
     if (!plain)
-        throw ViewError(400, "X-File-Name", fmt::format("upload: file name '{}': expected a plain name such as bunny.obj "
-                                                        "(letters, digits, '.', '-', '_', spaces)", hsr::printable(file_name)));
+        throw ViewError(400, "X-File-Name",
+                        hsr::say(language,
+                                 "upload: file name '{}': expected a plain name such as bunny.obj "
+                                 "(letters, digits, '.', '-', '_', spaces)",
+                                 "загрузка: имя файла «{}»: ожидалось простое имя вроде bunny.obj "
+                                 "(буквы, цифры, «.», «-», «_», пробелы)",
+                                 hsr::printable(file_name)));
     const std::string ext = lowercase(fs::path(name).extension().string());
     // A .scene upload reads its meshes only inside the served folders and the uploads (read_policy).
     if (!is_model_file_name(name))
-        throw ViewError(400, "X-File-Name", fmt::format("upload: '{}' is not a model file (.obj, .off, .ply, .stl, .gltf, .glb or .scene)", name));
+        throw ViewError(400, "X-File-Name",
+                        hsr::say(language, "upload: '{}' is not a model file (.obj, .off, .ply, .stl, .gltf, .glb or .scene)",
+                                 "загрузка: «{}» — не файл модели (.obj, .off, .ply, .stl, .gltf, .glb или .scene)", name));
     std::string based;
     if (ext == ".scene" && !base_model.empty() && base_model.rfind("upload/", 0) != 0) {
-        const ModelEntry base = find(base_model);
-        if (!base.scene) throw ViewError(400, "X-Base-Model", "upload: X-Base-Model must name a served .scene model");
+        const ModelEntry base = find(base_model, language);
+        if (!base.scene)
+            throw ViewError(400, "X-Base-Model", hsr::say(language, "upload: X-Base-Model must name a served .scene model",
+                                                          "загрузка: X-Base-Model должен называть файл .scene, который показывает сервер"));
         based = with_mesh_folder(bytes_in, base.path.parent_path());
     }
     const std::string& bytes = based.empty() ? bytes_in : based;
@@ -237,7 +250,7 @@ std::string hsr::host::ModelCatalog::add_upload(const std::string& file_name, co
     {
         std::ofstream out(entry.path, std::ios::binary);
         out.write(bytes.data(), std::streamsize(bytes.size()));
-        if (!out) throw ViewError(500, "", "upload: cannot store the file");
+        if (!out) throw ViewError(500, "", hsr::say(language, "upload: cannot store the file", "загрузка: не удалось сохранить файл"));
     }
     uploads_[entry.id] = entry;
     while (uploads_.size() > max_uploads) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "hsr/error.hpp"
+#include "hsr/language.hpp"
 #include "hsr/read_policy.hpp"
 
 #include <cstdint>
@@ -48,16 +49,17 @@ public:
     // and the uploads, sorted by id.
     std::vector<ModelEntry> list() const;
     // The entry of an id; ViewError 404 "no model '<id>'" for anything list() would not give.
-    ModelEntry find(const std::string& id) const;
+    // `language`: of the messages here and below (the scene editor's requests carry the page's).
+    ModelEntry find(const std::string& id, hsr::Language language = hsr::Language::english) const;
     // Stores an upload and returns its id; ViewError 400 for a name that is not a model file's.
     // An upload whose id is `replaces` goes (the scene editor sends each edit this way, so its
     // edits do not push other uploads out). A .scene upload's relative mesh paths are taken
     // relative to the folder of the served .scene model `base_model`, if one is named (the scene
     // it was edited from). The caller has checked the size against the upload-bytes limit.
     std::string add_upload(const std::string& file_name, const std::string& bytes, const std::string& replaces = "",
-                           const std::string& base_model = "");
+                           const std::string& base_model = "", hsr::Language language = hsr::Language::english);
     // The text of a .scene model; ViewError 400 for any other kind, 404 for an unknown id.
-    std::string scene_text(const std::string& id, uint64_t max_bytes) const;
+    std::string scene_text(const std::string& id, uint64_t max_bytes, hsr::Language language = hsr::Language::english) const;
 
     // What a model of the catalog may read: files inside the folders and the uploads, links
     // resolved as far as the path exists (a .scene file's meshes, say).

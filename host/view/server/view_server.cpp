@@ -266,19 +266,24 @@ struct hsr::host::ViewServer::State {
                                        fmt::format("making the page of '{}'", hsr::printable(name))));
             });
         });
-        // The text of a served .scene model, for the page's scene editor.
+        // The text of a served .scene model, for the page's scene editor; ?lang=ru: its messages in Russian.
         server.Get("/api/scene-text", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
-                res.set_content(models.scene_text(req.get_param_value("model"), upload_bytes), "text/plain; charset=utf-8");
+                const hsr::Language language = hsr::language_from_code(req.get_param_value("lang"));
+                res.set_content(models.scene_text(req.get_param_value("model"), upload_bytes, language), "text/plain; charset=utf-8");
             });
         });
+        // ?lang=ru: the messages in Russian (the scene editor's uploads, on a page in Russian).
         server.Post("/api/upload", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
-                if (req.body.size() > upload_bytes) throw ViewError(413, "", upload_too_large(req.body.size()));
-                if (req.body.empty()) throw ViewError(400, "", "upload: the body is empty (send the model file's bytes)");
+                const hsr::Language language = hsr::language_from_code(req.get_param_value("lang"));
+                if (req.body.size() > upload_bytes) throw ViewError(413, "", upload_too_large(req.body.size(), language));
+                if (req.body.empty())
+                    throw ViewError(400, "", hsr::say(language, "upload: the body is empty (send the model file's bytes)",
+                                                      "загрузка: тело запроса пусто (пришлите содержимое файла модели)"));
                 const std::string id = models.add_upload(req.get_header_value("X-File-Name"), req.body,
                                                          req.get_header_value("X-Replaces"),
-                                                         req.get_header_value("X-Base-Model"));
+                                                         req.get_header_value("X-Base-Model"), language);
                 send_json(res, 200, {{"id", id}});
             });
         });
@@ -363,7 +368,7 @@ struct hsr::host::ViewServer::State {
                 uint64_t length = 0;
                 const std::string header = req.get_header_value("Content-Length");
                 std::from_chars(header.data(), header.data() + header.size(), length);
-                send_error(res, 413, upload_too_large(length));
+                send_error(res, 413, upload_too_large(length, hsr::language_from_code(req.get_param_value("lang"))));
             } else if (res.status == 404) {
                 send_error(res, 404, fmt::format("no such page '{}'", hsr::printable(req.path)));
             } else {
@@ -374,12 +379,14 @@ struct hsr::host::ViewServer::State {
     }
 
     // check_limit's message, for the limit the server started with.
-    std::string upload_too_large(uint64_t bytes) const {
+    std::string upload_too_large(uint64_t bytes, hsr::Language language) const {
         if (bytes > upload_bytes)
-            return fmt::format("upload: {} bytes, over the limit of {} (raise it with --limit upload-bytes=N)", bytes,
-                               upload_bytes);
-        return fmt::format("upload: the body is over the limit of {} bytes (raise it with --limit upload-bytes=N)",
-                           upload_bytes);
+            return hsr::say(language, "upload: {} bytes, over the limit of {} (raise it with --limit upload-bytes=N)",
+                            "загрузка: {} байт — больше предела {} (его поднимает флаг --limit upload-bytes=N)", bytes,
+                            upload_bytes);
+        return hsr::say(language, "upload: the body is over the limit of {} bytes (raise it with --limit upload-bytes=N)",
+                        "загрузка: тело запроса больше предела в {} байт (его поднимает флаг --limit upload-bytes=N)",
+                        upload_bytes);
     }
 
     json info() const {

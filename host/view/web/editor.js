@@ -3,11 +3,12 @@
 // editor's previous one (POST /api/upload with X-Replaces, and X-Base-Model naming the served scene
 // it came from, for its relative mesh paths), and the page renders that model; a
 // scene the server cannot read keeps the last good picture and shows its message beside the line
-// at fault. The textbook exercises are starting points, and the text downloads as a .scene file.
+// at fault, in the page's language (?lang= on the editor's requests, "language" in the frame's). The
+// textbook exercises are starting points, and the text downloads as a .scene file.
 
 import { ApiError } from './api.js';
 import { LatestWins } from './scheduler.js';
-import { onLanguageChange, tr } from './i18n.js';
+import { language, onLanguageChange, tr } from './i18n.js';
 
 const EDIT_DELAY_MS = 300;
 const FILE_NAME = 'scene-editor.scene';
@@ -43,7 +44,11 @@ export class SceneEditor {
     this.timer = null;
     this.build(root);
     this.uploads = new LatestWins((text) => this.send(text), () => {}, 5000);
-    onLanguageChange(() => this.applyTexts());
+    onLanguageChange(() => {
+      this.applyTexts();
+      // The scene's message is asked for again in the new language.
+      if (this.error && this.text.value) this.uploads.submit(this.text.value);
+    });
     this.applyTexts();
   }
 
@@ -110,6 +115,7 @@ export class SceneEditor {
     this.start.replaceChildren(new Option(tr({ en: 'start from an exercise…', ru: 'начать с упражнения…' }), ''));
     for (const name of STARTING_POINTS) this.start.add(new Option(name, name));
     this.start.value = '';
+    if (this.error) this.setError(this.error);
   }
 
   // Opens the editor with the text of a served .scene model; other models leave it as it is.
@@ -119,7 +125,7 @@ export class SceneEditor {
 
   async load(id, render) {
     try {
-      const response = await fetch(`/api/scene-text?model=${encodeURIComponent(id)}`);
+      const response = await fetch(`/api/scene-text?model=${encodeURIComponent(id)}&lang=${language()}`);
       if (!response.ok) throw await answerError(response);
       this.text.value = await response.text();
       this.baseModel = id;
@@ -140,7 +146,7 @@ export class SceneEditor {
       if (this.uploadedId) headers['X-Replaces'] = this.uploadedId;
       // Its relative mesh paths stay those of the served scene it came from.
       if (this.baseModel) headers['X-Base-Model'] = this.baseModel;
-      const response = await fetch('/api/upload', { method: 'POST', headers, body: text });
+      const response = await fetch(`/api/upload?lang=${language()}`, { method: 'POST', headers, body: text });
       if (!response.ok) throw await answerError(response);
       const { id } = await response.json();
       const replaced = this.uploadedId;
@@ -160,7 +166,8 @@ export class SceneEditor {
   setError(error) {
     this.error = error;
     this.lineError.hidden = !error;
-    this.lineError.textContent = error ? (error.line ? `${error.line}: ${error.text}` : error.text) : '';
+    const atLine = (line, text) => tr({ en: `${line}: ${text}`, ru: `строка ${line}: ${text}` });
+    this.lineError.textContent = error ? (error.line ? atLine(error.line, error.text) : error.text) : '';
     this.lineError.dataset.line = error?.line ?? '';
     this.numberLines();
     this.placeError();
