@@ -123,6 +123,57 @@ inline bool projections_disjoint(const glm::dvec2* a, uint32_t na, const glm::dv
     return any_edge_separates(a, na) || any_edge_separates(b, nb);
 }
 
+// The part of convex polygon a (window x, y) inside convex polygon b, either orientation, into
+// `out` (room for na + nb corners): Sutherland-Hodgman clipping by b's edges. Returns its corner
+// count, below 3 when they do not overlap in an area.
+inline int convex_intersection(const glm::dvec2* a, uint32_t na, const glm::dvec2* b, uint32_t nb,
+                               glm::dvec2* out, glm::dvec2* scratch) {
+    double twice_area = 0.0;
+    for (uint32_t k = 0; k < nb; ++k) {
+        const glm::dvec2 &p = b[k], &q = b[k + 1 == nb ? 0 : k + 1];
+        twice_area += p.x * q.y - p.y * q.x;
+    }
+    if (twice_area == 0.0) return 0;
+    const double orientation = twice_area > 0.0 ? 1.0 : -1.0;
+    int count = int(na);
+    std::copy(a, a + na, out);
+    for (uint32_t k = 0; k < nb && count >= 3; ++k) {
+        const glm::dvec2 &e0 = b[k], &e1 = b[k + 1 == nb ? 0 : k + 1];
+        auto side = [&](const glm::dvec2& p) {
+            return orientation * ((e1.x - e0.x) * (p.y - e0.y) - (e1.y - e0.y) * (p.x - e0.x));
+        };
+        std::copy(out, out + count, scratch);
+        int kept = 0;
+        for (int i = 0; i < count; ++i) {
+            const glm::dvec2 &p = scratch[i], &q = scratch[i + 1 == count ? 0 : i + 1];
+            const double sp = side(p), sq = side(q);
+            if (sp >= 0.0) out[kept++] = p;
+            if ((sp >= 0.0) != (sq >= 0.0)) out[kept++] = p + (q - p) * (sp / (sp - sq));
+        }
+        count = kept;
+    }
+    return count;
+}
+
+// True when the point lies inside convex polygon c (either orientation) at least `margin` from the
+// line of each of its edges.
+inline bool deep_inside(const glm::dvec2& point, const glm::dvec2* c, int n, double margin) {
+    double twice_area = 0.0;
+    for (int k = 0; k < n; ++k) {
+        const glm::dvec2 &p = c[k], &q = c[k + 1 == n ? 0 : k + 1];
+        twice_area += p.x * q.y - p.y * q.x;
+    }
+    const double orientation = twice_area > 0.0 ? 1.0 : -1.0;
+    for (int k = 0; k < n; ++k) {
+        const glm::dvec2 &p = c[k], &q = c[k + 1 == n ? 0 : k + 1];
+        const double length = glm::length(q - p);
+        if (!(length > 0.0)) continue;
+        const double distance = orientation * ((q.x - p.x) * (point.y - p.y) - (q.y - p.y) * (point.x - p.x)) / length;
+        if (!(distance > margin)) return false;
+    }
+    return twice_area != 0.0;
+}
+
 // The polygons of a frame, their corners and cuts, kept between frames.
 class PolygonStore {
 public:
