@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 using hsr::sdk::russian_plural;
@@ -338,6 +339,7 @@ private:
     void depth_sort(const raster::PixelBuffers& buffers, Steps& steps) {
         waiting_.clear();
         moved_.clear();
+        disjoint_pairs_.clear();
         bins_.reset(width_, height_);
         for (uint32_t k = 0; k < store_.polygons.size(); ++k) enter(k);
         while (true) {
@@ -417,7 +419,20 @@ private:
         if (passes(2, a.y1 + m < b.y0 || b.y1 + m < a.y0)) return true;
         if (passes(3, painter::sides_of(q.plane, store_.corners_of(p), p.count).all_far)) return true;
         if (passes(4, painter::sides_of(p.plane, store_.corners_of(q), q.count).all_near)) return true;
-        return passes(5, pixels_disjoint(p, q));
+        return passes(5, pixels_disjoint_remembered(p, q));
+    }
+
+    // pixels_disjoint, remembered per pair: a head tested again after the polygon it moved ahead
+    // was painted, or a chain found again after a split, meets the same pairs, and polygons do not
+    // change once made.
+    bool pixels_disjoint_remembered(const Polygon& p, const Polygon& q) {
+        const uint32_t a = uint32_t(&p - store_.polygons.data()), b = uint32_t(&q - store_.polygons.data());
+        const uint64_t pair = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+        if (const auto known = disjoint_pairs_.find(pair); known != disjoint_pairs_.end()) return known->second;
+        if (disjoint_pairs_.size() >= kRememberedPairs) disjoint_pairs_.clear();
+        const bool disjoint = pixels_disjoint(p, q);
+        disjoint_pairs_.emplace(pair, disjoint);
+        return disjoint;
     }
 
     // Takes a polygon out of the line (waiting or moved) for good.
@@ -656,6 +671,8 @@ private:
     std::vector<uint32_t> seen_;  // per polygon, the last find_blocker query that looked at it
     uint32_t query_ = 0;
     std::vector<uint8_t> mask_;  // pixels_disjoint's scratch
+    static constexpr size_t kRememberedPairs = size_t(1) << 22;
+    std::unordered_map<uint64_t, bool> disjoint_pairs_;  // pixels_disjoint's answers this frame
     std::vector<ClipVertex> split_corners_, split_front_, split_back_;
 };
 
