@@ -380,7 +380,8 @@ private:
 
     // The first polygon the head may hide (all six tests failed), or kNone. The candidates come
     // from the bins the head's extent touches (the others pass tests 2 or 3 without being looked
-    // at), each once.
+    // at), each once, and only those reaching behind the head's nearest depth (the others pass
+    // test 1 without being looked at).
     uint32_t find_blocker(uint32_t head) {
         if (seen_.size() < store_.polygons.size()) seen_.resize(store_.polygons.size(), 0);
         if (++query_ == 0) {  // the stamps wrapped around
@@ -390,7 +391,7 @@ private:
         seen_[head] = query_;
         const Polygon& p = store_.polygons[head];
         uint32_t blocker = kNone;
-        bins_.for_each_near(p.extent, store_.polygons, [&](uint32_t id) {
+        bins_.for_each_near(p.extent, p.extent.z0, store_.polygons, [&](uint32_t id) {
             if (seen_[id] == query_) return false;
             seen_[id] = query_;
             const Polygon& q = store_.polygons[id];

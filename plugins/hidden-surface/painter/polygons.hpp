@@ -237,8 +237,9 @@ public:
 
 // Screen-space bins of polygon ids, so that the polygons whose window extents may overlap a
 // polygon's are found without looking at all of them. A polygon is listed in every bin its x, y
-// extent (widened by kOverlapMargin, held to the image) touches; done polygons are dropped from a
-// bin when it is next read.
+// extent (widened by kOverlapMargin, held to the image) touches. Each bin is kept in order of
+// farthest depth, farthest first, so that a search for the polygons reaching behind a depth stops
+// at the first that does not; done polygons are dropped from a bin when a search passes them.
 class BinGrid {
 public:
     void reset(uint32_t width, uint32_t height) {
@@ -262,35 +263,49 @@ public:
 
     void add(uint32_t id, const Extent& e) {
         const Range r = range(e);
+        const Entry entry{e.z1, id};
         for (int y = r.r0; y <= r.r1; ++y)
-            for (int x = r.c0; x <= r.c1; ++x) bins_[size_t(y) * columns_ + x].push_back(id);
+            for (int x = r.c0; x <= r.c1; ++x) {
+                std::vector<Entry>& bin = bins_[size_t(y) * columns_ + x];
+                bin.insert(std::upper_bound(bin.begin(), bin.end(), entry,
+                                            [](const Entry& a, const Entry& b) { return a.z1 > b.z1; }),
+                           entry);
+            }
     }
 
-    // Calls visit(id) for each polygon not done in the bins of `e`; a polygon may come more than once.
+    // Calls visit(id) for each polygon not done in the bins of `e` whose farthest depth is beyond
+    // `behind` (larger); a polygon may come more than once. Stops when visit returns true.
     template <class Visit>
-    void for_each_near(const Extent& e, const std::vector<Polygon>& polygons, Visit&& visit) {
+    void for_each_near(const Extent& e, double behind, const std::vector<Polygon>& polygons, Visit&& visit) {
         const Range r = range(e);
         for (int y = r.r0; y <= r.r1; ++y)
             for (int x = r.c0; x <= r.c1; ++x) {
-                std::vector<uint32_t>& bin = bins_[size_t(y) * columns_ + x];
-                for (size_t k = 0; k < bin.size();) {
-                    const uint32_t id = bin[k];
-                    if (polygons[id].done) {
-                        bin[k] = bin.back();
-                        bin.pop_back();
-                        continue;
+                std::vector<Entry>& bin = bins_[size_t(y) * columns_ + x];
+                size_t kept = 0, k = 0;
+                bool stop = false;
+                for (; k < bin.size() && bin[k].z1 > behind; ++k) {
+                    if (polygons[bin[k].id].done) continue;
+                    bin[kept++] = bin[k];
+                    if (visit(bin[k].id)) {
+                        stop = true;
+                        ++k;
+                        break;
                     }
-                    ++k;
-                    if (visit(id)) return;
                 }
+                bin.erase(bin.begin() + ptrdiff_t(kept), bin.begin() + ptrdiff_t(k));
+                if (stop) return;
             }
     }
 
 private:
+    struct Entry {
+        double z1;
+        uint32_t id;
+    };
     double size_ = 8.0;
     int columns_ = 0;
     int rows_ = 0;
-    std::vector<std::vector<uint32_t>> bins_;
+    std::vector<std::vector<Entry>> bins_;
 };
 
 }  // namespace painter
