@@ -403,6 +403,11 @@ private:
             if (may_paint_before(p, q)) return false;
             blocker = id;
             return true;
+        }, [&](uint32_t id) {  // test 1 passes for it, and for the rest of its bin unseen
+            if (seen_[id] == query_) return;
+            seen_[id] = query_;
+            ++stats_.run[0];
+            ++stats_.passed[0];
         });
         return blocker;
     }

@@ -274,16 +274,18 @@ public:
     }
 
     // Calls visit(id) for each polygon not done in the bins of `e` whose farthest depth is beyond
-    // `behind` (larger); a polygon may come more than once. Stops when visit returns true.
-    template <class Visit>
-    void for_each_near(const Extent& e, double behind, const std::vector<Polygon>& polygons, Visit&& visit) {
+    // `behind` or as far, and stopped_at(id) for the first polygon in a bin that is not (the search
+    // of that bin stops there); a polygon may come more than once. Stops when visit returns true.
+    template <class Visit, class StoppedAt>
+    void for_each_near(const Extent& e, double behind, const std::vector<Polygon>& polygons, Visit&& visit,
+                       StoppedAt&& stopped_at) {
         const Range r = range(e);
         for (int y = r.r0; y <= r.r1; ++y)
             for (int x = r.c0; x <= r.c1; ++x) {
                 std::vector<Entry>& bin = bins_[size_t(y) * columns_ + x];
                 size_t kept = 0, k = 0;
                 bool stop = false;
-                for (; k < bin.size() && bin[k].z1 > behind; ++k) {
+                for (; k < bin.size() && bin[k].z1 >= behind; ++k) {
                     if (polygons[bin[k].id].done) continue;
                     bin[kept++] = bin[k];
                     if (visit(bin[k].id)) {
@@ -291,6 +293,10 @@ public:
                         ++k;
                         break;
                     }
+                }
+                if (!stop) {
+                    while (k < bin.size() && polygons[bin[k].id].done) ++k;
+                    if (k < bin.size()) stopped_at(bin[k].id);
                 }
                 bin.erase(bin.begin() + ptrdiff_t(kept), bin.begin() + ptrdiff_t(k));
                 if (stop) return;
