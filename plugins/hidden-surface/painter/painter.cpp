@@ -67,7 +67,7 @@ public:
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
         ParamSpec::integer("max-polygons", "1000000", 1, 100000000,
                            "refuse a frame that needs more polygons than this, counting split pieces"),
-        ParamSpec::integer("max-reorderings", "20000000", 1, 2000000000,
+        ParamSpec::integer("max-reorderings", "5000000", 1, 2000000000,
                            "refuse a frame whose depth sort moves polygons ahead more often than this"),
     };
 
