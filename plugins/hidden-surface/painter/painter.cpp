@@ -513,7 +513,8 @@ private:
     // polygon's plane crosses the other; in a cycle of polygons that do not cross one another's
     // planes, which is a true cyclic overlap, cut the head along the blocker's outline (or the
     // blocker along the head's). The pieces wait in line by their farthest depth, and the chain is
-    // undone: what was moved goes back in line, its order to be found again.
+    // undone from the cut polygon up: what was moved there goes back in line, its order to be
+    // found again.
     template <bool kCountPaints, class Steps>
     void split(uint32_t head, uint32_t blocker, const raster::PixelBuffers& buffers, Steps& steps) {
         CycleCut c = plane_cut(head, blocker);
