@@ -7,6 +7,7 @@
 #include "hsr/camera.hpp"
 #include "hsr/instancing.hpp"
 #include "hsr/pipeline.hpp"
+#include "hsr/random_triangles.hpp"
 #include "hsr/scene_builder.hpp"
 #include "hsr/scene_file.hpp"
 #include "surface_test_support.hpp"
@@ -366,6 +367,35 @@ TEST_CASE("painter: more polygons than max-polygons is refused with one line", "
                                                 limit + " polygons (counting split pieces)"));
             CHECK(message.find('\n') == std::string::npos);
         }
+    }
+}
+
+TEST_CASE("painter: random triangles passing through one another match zbuffer", "[painter]") {
+    // Many pairs pierce one another: cycles everywhere, each broken by a cut.
+    const hsr::SceneData scene = hsr::make_random_triangles(300, 3);
+    for (const bool ortho : {false, true}) {
+        INFO((ortho ? "orthographic" : "perspective"));
+        const Picture p = check_newell(scene, orbit(scene, 20, 10, 1, ortho, 160));
+        CHECK(counter(p.frame, "splits") > 100);
+    }
+}
+
+TEST_CASE("painter: more moves than max-reorderings is refused with one line", "[painter]") {
+    const hsr::SceneData& boxes = model("boxes.scene");
+    const hsr_camera camera = orbit(boxes, 35, 25, 1, false, 128);
+    const hsr::Frame free = render("painter", boxes.view(), camera);
+    const uint64_t moves = counter(free, "reorderings");
+    REQUIRE(moves > 1);
+    CHECK_NOTHROW(render("painter", boxes.view(), camera, {{"max-reorderings", std::to_string(moves)}}));
+    const std::string limit = std::to_string(moves - 1);
+    try {
+        render("painter", boxes.view(), camera, {{"max-reorderings", limit}});
+        FAIL("no refusal");
+    } catch (const std::exception& e) {
+        const std::string message = e.what();
+        CHECK_THAT(message, Catch::Contains("painter: the depth sort needs more than max-reorderings=" + limit +
+                                            " moves of a polygon ahead"));
+        CHECK(message.find('\n') == std::string::npos);
     }
 }
 

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 using hsr::sdk::russian_plural;
@@ -66,6 +67,8 @@ public:
         ParamSpec::boolean("cull-backfaces", false, "skip triangles whose back faces the camera"),
         ParamSpec::integer("max-polygons", "1000000", 1, 100000000,
                            "refuse a frame that needs more polygons than this, counting split pieces"),
+        ParamSpec::integer("max-reorderings", "5000000", 1, 2000000000,
+                           "refuse a frame whose depth sort moves polygons ahead more often than this"),
     };
 
     // The steps of the depth sort, as a textbook gives them: the list sorted once, then for its
@@ -80,7 +83,8 @@ public:
 
     explicit Painter(const hsr::sdk::Params& p)
         : newell_(p.choice("mode") == 0), key_mid_(p.choice("naive-key") == 1),
-          cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}
+          cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))),
+          max_reorderings_(uint64_t(p.integer("max-reorderings"))) {}
 
     // render_steps (from StepwiseRemover) takes one step for the sort, then one per polygon painted,
     // per reordering and per split, in the order they happen.
@@ -251,20 +255,35 @@ private:
     }
 
     // Test 6 made exact: no pixel centre of the image belongs to both polygons. Separated
-    // projections (the separating-axis test over their corners) answer first.
+    // projections (the separating-axis test over their corners) answer first, then a pixel centre
+    // deep inside the overlap of the projections; otherwise both are rasterized over the overlap.
     bool pixels_disjoint(const Polygon& p, const Polygon& q) {
-        glm::dvec2 wp[kMaxCorners], wq[kMaxCorners];
+        const painter::Extent &a = p.extent, &b = q.extent;
+        const PixelRect image = whole_image();
+        PixelRect rect{std::max(image.x0, int32_t(std::floor(std::max(a.x0, b.x0))) - 1),
+                       std::max(image.y0, int32_t(std::floor(std::max(a.y0, b.y0))) - 1),
+                       std::min(image.x1, int32_t(std::ceil(std::min(a.x1, b.x1))) + 1),
+                       std::min(image.y1, int32_t(std::ceil(std::min(a.y1, b.y1))) + 1)};
         if (p.count <= kMaxCorners && q.count <= kMaxCorners) {
+            glm::dvec2 wp[kMaxCorners], wq[kMaxCorners], overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
             for (uint32_t k = 0; k < p.count; ++k) wp[k] = window_xy(store_.corners_of(p)[k]);
             for (uint32_t k = 0; k < q.count; ++k) wq[k] = window_xy(store_.corners_of(q)[k]);
             if (painter::projections_disjoint(wp, p.count, wq, q.count)) return true;
+            const int n = painter::convex_intersection(wp, p.count, wq, q.count, overlap, scratch);
+            if (n >= 3) {
+                if (shares_a_pixel_centre(overlap, n)) return false;
+                // Pixel centres of both lie in the overlap, give or take the snapping of corners.
+                double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+                for (int k = 0; k < n; ++k) {
+                    x0 = std::min(x0, overlap[k].x);
+                    x1 = std::max(x1, overlap[k].x);
+                    y0 = std::min(y0, overlap[k].y);
+                    y1 = std::max(y1, overlap[k].y);
+                }
+                rect = {std::max(rect.x0, int32_t(std::floor(x0)) - 1), std::max(rect.y0, int32_t(std::floor(y0)) - 1),
+                        std::min(rect.x1, int32_t(std::ceil(x1)) + 1), std::min(rect.y1, int32_t(std::ceil(y1)) + 1)};
+            }
         }
-        const painter::Extent &a = p.extent, &b = q.extent;
-        const PixelRect image = whole_image();
-        const PixelRect rect{std::max(image.x0, int32_t(std::floor(std::max(a.x0, b.x0))) - 1),
-                             std::max(image.y0, int32_t(std::floor(std::max(a.y0, b.y0))) - 1),
-                             std::min(image.x1, int32_t(std::ceil(std::min(a.x1, b.x1))) + 1),
-                             std::min(image.y1, int32_t(std::ceil(std::min(a.y1, b.y1))) + 1)};
         if (rect.x0 > rect.x1 || rect.y0 > rect.y1) return true;
         const size_t columns = size_t(rect.x1 - rect.x0 + 1);
         mask_.assign(columns * size_t(rect.y1 - rect.y0 + 1), 0);
@@ -276,6 +295,21 @@ private:
             shared = shared || mask_[size_t(y - rect.y0) * columns + size_t(x - rect.x0)] != 0;
         });
         return !shared;
+    }
+
+    // True when a pixel centre of the image next to the overlap's centre lies well inside it (by
+    // more than snapping and rounding move an edge), so that both polygons cover it.
+    bool shares_a_pixel_centre(const glm::dvec2* overlap, int n) const {
+        constexpr double kInside = 1.0 / 16.0;
+        glm::dvec2 centre(0.0);
+        for (int k = 0; k < n; ++k) centre += overlap[k];
+        centre /= double(n);
+        const double x = std::floor(centre.x - 0.5), y = std::floor(centre.y - 0.5);
+        for (const glm::dvec2 pixel : {glm::dvec2(x, y), glm::dvec2(x + 1, y), glm::dvec2(x, y + 1), glm::dvec2(x + 1, y + 1)}) {
+            if (pixel.x < 0.0 || pixel.y < 0.0 || pixel.x >= width_ || pixel.y >= height_) continue;
+            if (painter::deep_inside(pixel + 0.5, overlap, n, kInside)) return true;
+        }
+        return false;
     }
 
     glm::dvec2 window_xy(const ClipVertex& c) const { return glm::dvec2(geometry_.viewport().project(c.position)); }
@@ -305,6 +339,7 @@ private:
     void depth_sort(const raster::PixelBuffers& buffers, Steps& steps) {
         waiting_.clear();
         moved_.clear();
+        disjoint_pairs_.clear();
         bins_.reset(width_, height_);
         for (uint32_t k = 0; k < store_.polygons.size(); ++k) enter(k);
         while (true) {
@@ -320,6 +355,10 @@ private:
                 remove(head);
                 paint<kCountPaints>(head, buffers, steps);
             } else if (!store_.polygons[blocker].marked) {
+                if (stats_.reorderings == max_reorderings_)
+                    throw hsr::sdk::Unsupported("painter: the depth sort needs more than max-reorderings=" +
+                                                std::to_string(max_reorderings_) +
+                                                " moves of a polygon ahead (too many overlapping cycles)");
                 waiting_.erase({store_.polygons[blocker].extent.z1, blocker});
                 store_.polygons[blocker].marked = true;
                 moved_.push_back(blocker);
@@ -341,7 +380,8 @@ private:
 
     // The first polygon the head may hide (all six tests failed), or kNone. The candidates come
     // from the bins the head's extent touches (the others pass tests 2 or 3 without being looked
-    // at), each once.
+    // at), each once, and only those reaching behind the head's nearest depth (the others pass
+    // test 1 without being looked at).
     uint32_t find_blocker(uint32_t head) {
         if (seen_.size() < store_.polygons.size()) seen_.resize(store_.polygons.size(), 0);
         if (++query_ == 0) {  // the stamps wrapped around
@@ -351,7 +391,7 @@ private:
         seen_[head] = query_;
         const Polygon& p = store_.polygons[head];
         uint32_t blocker = kNone;
-        bins_.for_each_near(p.extent, store_.polygons, [&](uint32_t id) {
+        bins_.for_each_near(p.extent, p.extent.z0, store_.polygons, [&](uint32_t id) {
             if (seen_[id] == query_) return false;
             seen_[id] = query_;
             const Polygon& q = store_.polygons[id];
@@ -363,6 +403,11 @@ private:
             if (may_paint_before(p, q)) return false;
             blocker = id;
             return true;
+        }, [&](uint32_t id) {  // test 1 passes for it, and for the rest of its bin unseen
+            if (seen_[id] == query_) return;
+            seen_[id] = query_;
+            ++stats_.run[0];
+            ++stats_.passed[0];
         });
         return blocker;
     }
@@ -380,7 +425,20 @@ private:
         if (passes(2, a.y1 + m < b.y0 || b.y1 + m < a.y0)) return true;
         if (passes(3, painter::sides_of(q.plane, store_.corners_of(p), p.count).all_far)) return true;
         if (passes(4, painter::sides_of(p.plane, store_.corners_of(q), q.count).all_near)) return true;
-        return passes(5, pixels_disjoint(p, q));
+        return passes(5, pixels_disjoint_remembered(p, q));
+    }
+
+    // pixels_disjoint, remembered per pair: a head tested again after the polygon it moved ahead
+    // was painted, or a chain found again after a split, meets the same pairs, and polygons do not
+    // change once made.
+    bool pixels_disjoint_remembered(const Polygon& p, const Polygon& q) {
+        const uint32_t a = uint32_t(&p - store_.polygons.data()), b = uint32_t(&q - store_.polygons.data());
+        const uint64_t pair = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+        if (const auto known = disjoint_pairs_.find(pair); known != disjoint_pairs_.end()) return known->second;
+        if (disjoint_pairs_.size() >= kRememberedPairs) disjoint_pairs_.clear();
+        const bool disjoint = pixels_disjoint(p, q);
+        disjoint_pairs_.emplace(pair, disjoint);
+        return disjoint;
     }
 
     // Takes a polygon out of the line (waiting or moved) for good.
@@ -411,11 +469,27 @@ private:
         uint32_t by_edge_of = kNone;
     };
 
-    // Polygon x may hide polygon y: cut one by the other's plane where that plane crosses it.
+    // Polygon x may hide polygon y: cut one by the other's plane where that plane crosses it. When
+    // each plane crosses the other polygon, the one smaller on screen is cut: a plane cuts a polygon
+    // from edge to edge, and the pieces of a large polygon would meet many more polygons, to be cut
+    // again by their planes.
     CycleCut plane_cut(uint32_t x, uint32_t y) const {
-        if (crosses(store_.polygons[y].plane, x)) return {x, store_.polygons[y].plane, y};
-        if (crosses(store_.polygons[x].plane, y)) return {y, store_.polygons[x].plane, x};
+        const bool cut_x = crosses(store_.polygons[y].plane, x), cut_y = crosses(store_.polygons[x].plane, y);
+        if (cut_x && cut_y && screen_area(y) < screen_area(x)) return {y, store_.polygons[x].plane, x};
+        if (cut_x) return {x, store_.polygons[y].plane, y};
+        if (cut_y) return {y, store_.polygons[x].plane, x};
         return {};
+    }
+
+    double screen_area(uint32_t id) const {
+        const Polygon& p = store_.polygons[id];
+        const ClipVertex* c = store_.corners_of(p);
+        double twice = 0.0;
+        for (uint32_t k = 0; k < p.count; ++k) {
+            const glm::dvec2 a = window_xy(c[k]), b = window_xy(c[k + 1 == p.count ? 0 : k + 1]);
+            twice += a.x * b.y - a.y * b.x;
+        }
+        return 0.5 * std::abs(twice);
     }
 
     // The plane through the eye and an edge of polygon `outline` (in NDC, the line through two of
@@ -439,7 +513,8 @@ private:
     // polygon's plane crosses the other; in a cycle of polygons that do not cross one another's
     // planes, which is a true cyclic overlap, cut the head along the blocker's outline (or the
     // blocker along the head's). The pieces wait in line by their farthest depth, and the chain is
-    // undone: what was moved goes back in line, its order to be found again.
+    // undone from the cut polygon up: what was moved there goes back in line, its order to be
+    // found again.
     template <bool kCountPaints, class Steps>
     void split(uint32_t head, uint32_t blocker, const raster::PixelBuffers& buffers, Steps& steps) {
         CycleCut c = plane_cut(head, blocker);
@@ -462,12 +537,16 @@ private:
         raster::split_by_plane(split_corners_.data(), int(n), c.plane, split_front_.data(), front_count,
                                split_back_.data(), back_count);
         reserve(2);
-        remove(c.cut);
-        for (const uint32_t k : moved_) {
-            store_.polygons[k].marked = false;
-            waiting_.insert({store_.polygons[k].extent.z1, k});
+        // The chain below the cut polygon stays: each of those polygons may still hide the next,
+        // and the farthest waiting one the first. From the cut polygon up it is undone.
+        const size_t cut_at = size_t(std::find(moved_.begin(), moved_.end(), c.cut) - moved_.begin());
+        for (size_t k = cut_at; k < moved_.size(); ++k) {
+            Polygon& undone = store_.polygons[moved_[k]];
+            undone.marked = false;
+            if (moved_[k] != c.cut) waiting_.insert({undone.extent.z1, moved_[k]});
         }
-        moved_.clear();
+        moved_.resize(std::min(cut_at, moved_.size()));
+        remove(c.cut);
         const uint32_t first_piece = uint32_t(store_.polygons.size());
         const painter::Cut front_cut{c.plane, false}, back_cut{-c.plane, true};
         add_polygon(split_front_.data(), front_count, original, &front_cut);
@@ -587,6 +666,7 @@ private:
     bool key_mid_;
     bool cull_backfaces_;
     uint64_t max_polygons_;
+    uint64_t max_reorderings_;
     uint32_t width_ = 0;
     uint32_t height_ = 0;
     SortStats stats_;
@@ -598,6 +678,8 @@ private:
     std::vector<uint32_t> seen_;  // per polygon, the last find_blocker query that looked at it
     uint32_t query_ = 0;
     std::vector<uint8_t> mask_;  // pixels_disjoint's scratch
+    static constexpr size_t kRememberedPairs = size_t(1) << 22;
+    std::unordered_map<uint64_t, bool> disjoint_pairs_;  // pixels_disjoint's answers this frame
     std::vector<ClipVertex> split_corners_, split_front_, split_back_;
 };
 

@@ -123,6 +123,57 @@ inline bool projections_disjoint(const glm::dvec2* a, uint32_t na, const glm::dv
     return any_edge_separates(a, na) || any_edge_separates(b, nb);
 }
 
+// The part of convex polygon a (window x, y) inside convex polygon b, either orientation, into
+// `out` (room for na + nb corners): Sutherland-Hodgman clipping by b's edges. Returns its corner
+// count, below 3 when they do not overlap in an area.
+inline int convex_intersection(const glm::dvec2* a, uint32_t na, const glm::dvec2* b, uint32_t nb,
+                               glm::dvec2* out, glm::dvec2* scratch) {
+    double twice_area = 0.0;
+    for (uint32_t k = 0; k < nb; ++k) {
+        const glm::dvec2 &p = b[k], &q = b[k + 1 == nb ? 0 : k + 1];
+        twice_area += p.x * q.y - p.y * q.x;
+    }
+    if (twice_area == 0.0) return 0;
+    const double orientation = twice_area > 0.0 ? 1.0 : -1.0;
+    int count = int(na);
+    std::copy(a, a + na, out);
+    for (uint32_t k = 0; k < nb && count >= 3; ++k) {
+        const glm::dvec2 &e0 = b[k], &e1 = b[k + 1 == nb ? 0 : k + 1];
+        auto side = [&](const glm::dvec2& p) {
+            return orientation * ((e1.x - e0.x) * (p.y - e0.y) - (e1.y - e0.y) * (p.x - e0.x));
+        };
+        std::copy(out, out + count, scratch);
+        int kept = 0;
+        for (int i = 0; i < count; ++i) {
+            const glm::dvec2 &p = scratch[i], &q = scratch[i + 1 == count ? 0 : i + 1];
+            const double sp = side(p), sq = side(q);
+            if (sp >= 0.0) out[kept++] = p;
+            if ((sp >= 0.0) != (sq >= 0.0)) out[kept++] = p + (q - p) * (sp / (sp - sq));
+        }
+        count = kept;
+    }
+    return count;
+}
+
+// True when the point lies inside convex polygon c (either orientation) at least `margin` from the
+// line of each of its edges.
+inline bool deep_inside(const glm::dvec2& point, const glm::dvec2* c, int n, double margin) {
+    double twice_area = 0.0;
+    for (int k = 0; k < n; ++k) {
+        const glm::dvec2 &p = c[k], &q = c[k + 1 == n ? 0 : k + 1];
+        twice_area += p.x * q.y - p.y * q.x;
+    }
+    const double orientation = twice_area > 0.0 ? 1.0 : -1.0;
+    for (int k = 0; k < n; ++k) {
+        const glm::dvec2 &p = c[k], &q = c[k + 1 == n ? 0 : k + 1];
+        const double length = glm::length(q - p);
+        if (!(length > 0.0)) continue;
+        const double distance = orientation * ((q.x - p.x) * (point.y - p.y) - (q.y - p.y) * (point.x - p.x)) / length;
+        if (!(distance > margin)) return false;
+    }
+    return twice_area != 0.0;
+}
+
 // The polygons of a frame, their corners and cuts, kept between frames.
 class PolygonStore {
 public:
@@ -186,8 +237,9 @@ public:
 
 // Screen-space bins of polygon ids, so that the polygons whose window extents may overlap a
 // polygon's are found without looking at all of them. A polygon is listed in every bin its x, y
-// extent (widened by kOverlapMargin, held to the image) touches; done polygons are dropped from a
-// bin when it is next read.
+// extent (widened by kOverlapMargin, held to the image) touches. Each bin is kept in order of
+// farthest depth, farthest first, so that a search for the polygons reaching behind a depth stops
+// at the first that does not; done polygons are dropped from a bin when a search passes them.
 class BinGrid {
 public:
     void reset(uint32_t width, uint32_t height) {
@@ -211,35 +263,55 @@ public:
 
     void add(uint32_t id, const Extent& e) {
         const Range r = range(e);
+        const Entry entry{e.z1, id};
         for (int y = r.r0; y <= r.r1; ++y)
-            for (int x = r.c0; x <= r.c1; ++x) bins_[size_t(y) * columns_ + x].push_back(id);
+            for (int x = r.c0; x <= r.c1; ++x) {
+                std::vector<Entry>& bin = bins_[size_t(y) * columns_ + x];
+                bin.insert(std::upper_bound(bin.begin(), bin.end(), entry,
+                                            [](const Entry& a, const Entry& b) { return a.z1 > b.z1; }),
+                           entry);
+            }
     }
 
-    // Calls visit(id) for each polygon not done in the bins of `e`; a polygon may come more than once.
-    template <class Visit>
-    void for_each_near(const Extent& e, const std::vector<Polygon>& polygons, Visit&& visit) {
+    // Calls visit(id) for each polygon not done in the bins of `e` whose farthest depth is beyond
+    // `behind` or as far, and stopped_at(id) for the first polygon in a bin that is not (the search
+    // of that bin stops there); a polygon may come more than once. Stops when visit returns true.
+    template <class Visit, class StoppedAt>
+    void for_each_near(const Extent& e, double behind, const std::vector<Polygon>& polygons, Visit&& visit,
+                       StoppedAt&& stopped_at) {
         const Range r = range(e);
         for (int y = r.r0; y <= r.r1; ++y)
             for (int x = r.c0; x <= r.c1; ++x) {
-                std::vector<uint32_t>& bin = bins_[size_t(y) * columns_ + x];
-                for (size_t k = 0; k < bin.size();) {
-                    const uint32_t id = bin[k];
-                    if (polygons[id].done) {
-                        bin[k] = bin.back();
-                        bin.pop_back();
-                        continue;
+                std::vector<Entry>& bin = bins_[size_t(y) * columns_ + x];
+                size_t kept = 0, k = 0;
+                bool stop = false;
+                for (; k < bin.size() && bin[k].z1 >= behind; ++k) {
+                    if (polygons[bin[k].id].done) continue;
+                    bin[kept++] = bin[k];
+                    if (visit(bin[k].id)) {
+                        stop = true;
+                        ++k;
+                        break;
                     }
-                    ++k;
-                    if (visit(id)) return;
                 }
+                if (!stop) {
+                    while (k < bin.size() && polygons[bin[k].id].done) ++k;
+                    if (k < bin.size()) stopped_at(bin[k].id);
+                }
+                bin.erase(bin.begin() + ptrdiff_t(kept), bin.begin() + ptrdiff_t(k));
+                if (stop) return;
             }
     }
 
 private:
+    struct Entry {
+        double z1;
+        uint32_t id;
+    };
     double size_ = 8.0;
     int columns_ = 0;
     int rows_ = 0;
-    std::vector<std::vector<uint32_t>> bins_;
+    std::vector<std::vector<Entry>> bins_;
 };
 
 }  // namespace painter
