@@ -78,6 +78,56 @@ public:
         {"paint", "P hides none of the others: paint it"},
     };
 
+    static inline const hsr::sdk::TranslationSpec translations[] = {
+        {"ru", "description",
+         "алгоритм художника с сортировкой по глубине (Ньюэл, Ньюэл и Санча, 1972): многоугольники выводятся "
+         "от дальних к ближним, циклическое перекрытие устраняется разрезанием"},
+        {"ru", "param:mode", "вариант алгоритма"},
+        {"ru", "help:mode",
+         "«по Ньюэлу» — шесть проверок, перестановки и разрезание циклов; «без проверок» — вывод строго в порядке "
+         "сортировки"},
+        {"ru", "choice:mode:newell", "по Ньюэлу"},
+        {"ru", "choice:mode:naive", "без проверок"},
+        {"ru", "param:naive-key", "ключ сортировки"},
+        {"ru", "help:naive-key",
+         "по какой глубине упорядочивать многоугольники в варианте «без проверок»: по самой дальней точке или по "
+         "средней глубине"},
+        {"ru", "choice:naive-key:farthest", "по дальней точке"},
+        {"ru", "choice:naive-key:mid", "по средней глубине"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не выводить треугольники, обращённые к камере обратной стороной"},
+        {"ru", "param:max-polygons", "предельное число многоугольников"},
+        {"ru", "help:max-polygons",
+         "отказаться от кадра, которому нужно больше многоугольников, считая и части после разрезаний"},
+        {"ru", "phase:sort", "упорядочить многоугольники по наибольшей глубине"},
+        {"ru", "phase:reorder", "P может заслонять Q: переставить Q в списке перед P"},
+        {"ru", "phase:split", "цикл: разрезать один из его многоугольников"},
+        {"ru", "phase:paint", "P не заслоняет ни одного из остальных: нарисовать P"},
+        {"ru", "counter:triangles-in", "треугольников на входе"},
+        {"ru", "counter:triangles-skipped", "треугольников отброшено"},
+        {"ru", "counter:polygons-sorted", "многоугольников упорядочено"},
+        {"ru", "counter:polygons-without-pixels", "многоугольников без единого пикселя"},
+        {"ru", "counter:polygons-made", "многоугольников всего, с частями"},
+        {"ru", "counter:polygons-painted", "многоугольников нарисовано"},
+        {"ru", "counter:pixels-painted", "пикселей закрашено"},
+        {"ru", "counter:reorderings", "перестановок"},
+        {"ru", "counter:splits", "разрезаний многоугольников"},
+        {"ru", "counter:cycles-unresolved", "неустранённых циклов"},
+        {"ru", "counter:test-1-depth-run", "проверка 1 (по глубине): выполнений"},
+        {"ru", "counter:test-1-depth-passed", "проверка 1 (по глубине): успешных"},
+        {"ru", "counter:test-2-x-run", "проверка 2 (оболочки по x): выполнений"},
+        {"ru", "counter:test-2-x-passed", "проверка 2 (оболочки по x): успешных"},
+        {"ru", "counter:test-3-y-run", "проверка 3 (оболочки по y): выполнений"},
+        {"ru", "counter:test-3-y-passed", "проверка 3 (оболочки по y): успешных"},
+        {"ru", "counter:test-4-p-behind-q-plane-run", "проверка 4 (P за плоскостью Q): выполнений"},
+        {"ru", "counter:test-4-p-behind-q-plane-passed", "проверка 4 (P за плоскостью Q): успешных"},
+        {"ru", "counter:test-5-q-before-p-plane-run", "проверка 5 (Q перед плоскостью P): выполнений"},
+        {"ru", "counter:test-5-q-before-p-plane-passed", "проверка 5 (Q перед плоскостью P): успешных"},
+        {"ru", "counter:test-6-projections-run", "проверка 6 (проекции не пересекаются): выполнений"},
+        {"ru", "counter:test-6-projections-passed", "проверка 6 (проекции не пересекаются): успешных"},
+        {"ru", "counter:steps", "шагов"},
+    };
+
     explicit Painter(const hsr::sdk::Params& p)
         : newell_(p.choice("mode") == 0), key_mid_(p.choice("naive-key") == 1),
           cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}
