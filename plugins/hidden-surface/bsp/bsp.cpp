@@ -165,7 +165,7 @@ public:
         {"ru", "counter:polygons-backface-culled", "нелицевых многоугольников отброшено"},
         {"ru", "counter:pixels-painted", "пикселей закрашено"},
         {"ru", "counter:pixels-skipped-covered", "пикселей пропущено как уже закрытые"},
-        {"ru", "counter:steps", "шагов"},
+        {"ru", "counter:steps", "шагов сделано"},
         {"ru", "buffer:coverage", "маска покрытия"},
     };
 

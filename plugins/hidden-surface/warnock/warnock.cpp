@@ -139,7 +139,7 @@ public:
         {"ru", "counter:pixels-written", "пикселей записано"},
         {"ru", "counter:pixels-depth-tested", "пиксельных операций всего"},
         {"ru", "counter:quadtree-depth", "глубина дерева квадрантов"},
-        {"ru", "counter:steps", "шагов"},
+        {"ru", "counter:steps", "шагов сделано"},
     };
 
     explicit Warnock(const hsr::sdk::Params& p)
