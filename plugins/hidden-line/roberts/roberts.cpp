@@ -137,6 +137,35 @@ public:
         {"penetration", "penetration lines where two bodies meet, tested as edges"},
     };
 
+    static inline const hsr::sdk::TranslationSpec translations[] = {
+        {"ru", "description",
+         "алгоритм Робертса (1963): выпуклые тела задаются матрицами плоскостей граней, видимость рёбер — "
+         "параметрической проверкой; строятся и линии пересечения тел"},
+        {"ru", "phase:back-faces", "удалить нелицевые грани каждого тела (плоскости, обращённые от наблюдателя)"},
+        {"ru", "phase:own-body", "ребро между двумя нелицевыми гранями закрыто собственным телом"},
+        {"ru", "phase:edge", "взять очередное ребро"},
+        {"ru", "phase:pretest", "пропустить тело, которое по габаритам или по глубине не может закрыть ребро"},
+        {"ru", "phase:hidden-interval", "найти участок ребра t0..t1, закрытый телом"},
+        {"ru", "phase:visible-pieces", "оставить видимые участки ребра"},
+        {"ru", "phase:penetration", "линии пересечения тел проверить так же, как рёбра"},
+        {"ru", "counter:bodies", "тел"},
+        {"ru", "counter:planes", "плоскостей граней"},
+        {"ru", "counter:edges-in", "рёбер на входе"},
+        {"ru", "counter:edges-behind-eye", "рёбер позади наблюдателя"},
+        {"ru", "counter:edges-back", "рёбер между нелицевыми гранями"},
+        {"ru", "counter:edge-body-tests", "проверок «ребро — тело»"},
+        {"ru", "counter:bounds-rejections", "тел отброшено по габаритам"},
+        {"ru", "counter:depth-rejections", "тел отброшено по глубине"},
+        {"ru", "counter:hidden-intervals", "закрытых участков найдено"},
+        {"ru", "counter:touching-rejections", "участков отброшено как касание"},
+        {"ru", "counter:pieces-visible", "видимых отрезков"},
+        {"ru", "counter:pieces-hidden", "невидимых отрезков"},
+        {"ru", "counter:body-pairs-overlapping", "пар тел с перекрытием габаритов"},
+        {"ru", "counter:penetration-lines", "линий пересечения тел"},
+        {"ru", "counter:penetration-pieces-visible", "видимых отрезков линий пересечения"},
+        {"ru", "counter:segments", "отрезков всего"},
+    };
+
     explicit Roberts(const hsr::sdk::Params&) {}
 
     void render_lines(const hsr::sdk::Scene& scene, const hsr_camera& camera, const hsr::sdk::LineRequest& request,

@@ -127,6 +127,48 @@ public:
         {"draw", "draw the node's polygons"},
     };
 
+    static inline const hsr::sdk::TranslationSpec translations[] = {
+        {"ru", "description",
+         "дерево двоичного разбиения пространства (Фукс, Кедем и Нейлор, 1980): строится один раз для сцены, "
+         "при выводе обходится в порядке, который задаёт положение наблюдателя"},
+        {"ru", "param:order", "порядок вывода"},
+        {"ru", "help:order",
+         "от дальних к ближним, закрашивая поверх уже нарисованного, или от ближних к дальним с маской покрытия"},
+        {"ru", "choice:order:back-to-front", "от дальних к ближним"},
+        {"ru", "choice:order:front-to-back", "от ближних к дальним"},
+        {"ru", "param:split", "выбор разбивающей плоскости"},
+        {"ru", "help:split",
+         "плоскость, которая разбивает узел: из кандидатов (их число задаёт «число кандидатов») та, что рассекает "
+         "меньше всего многоугольников, или плоскость первого многоугольника"},
+        {"ru", "choice:split:fewest-splits", "меньше всего разрезаний"},
+        {"ru", "choice:split:first", "первый многоугольник"},
+        {"ru", "param:samples", "число кандидатов"},
+        {"ru", "help:samples",
+         "сколько плоскостей-кандидатов пробовать в каждом узле при выборе по наименьшему числу разрезаний"},
+        {"ru", "param:max-polygons", "предельное число многоугольников"},
+        {"ru", "help:max-polygons",
+         "отказаться от сцены, которой после разрезаний нужно больше многоугольников (это ограничивает память: "
+         "около 600 байт на многоугольник)"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не выводить многоугольники, обращённые к камере обратной стороной"},
+        {"ru", "phase:build", "построить дерево: выбрать разбивающую плоскость, рассечь ею многоугольники"},
+        {"ru", "phase:traverse", "в узле: дальнее поддерево, сам узел, ближнее поддерево"},
+        {"ru", "phase:draw", "нарисовать многоугольники узла"},
+        {"ru", "counter:build-time-us", "время построения дерева, мкс"},
+        {"ru", "counter:bsp-nodes", "узлов дерева"},
+        {"ru", "counter:polygons-in", "многоугольников на входе"},
+        {"ru", "counter:polygons-split", "разрезаний многоугольников"},
+        {"ru", "counter:polygons-after-splits", "многоугольников после разбиения"},
+        {"ru", "counter:tree-depth", "глубина дерева"},
+        {"ru", "counter:nodes-visited", "узлов обойдено"},
+        {"ru", "counter:polygons-drawn", "многоугольников нарисовано"},
+        {"ru", "counter:polygons-backface-culled", "нелицевых многоугольников отброшено"},
+        {"ru", "counter:pixels-painted", "пикселей закрашено"},
+        {"ru", "counter:pixels-skipped-covered", "пикселей пропущено как уже закрытые"},
+        {"ru", "counter:steps", "шагов сделано"},
+        {"ru", "buffer:coverage", "маска покрытия"},
+    };
+
     explicit Bsp(const hsr::sdk::Params& p)
         : front_to_back_(p.choice("order") == 1), cull_backfaces_(p.boolean("cull-backfaces")) {
         build_params_.choice = p.choice("split") == 1 ? bsp::SplitChoice::kFirst : bsp::SplitChoice::kFewestSplits;

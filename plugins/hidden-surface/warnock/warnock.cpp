@@ -107,6 +107,41 @@ public:
         {"subdivide", "not simple: split the window in four"},
     };
 
+    static inline const hsr::sdk::TranslationSpec translations[] = {
+        {"ru", "description",
+         "алгоритм Варнока (1969), разбиение окна: окно делится на четыре части, пока изображение в каждой из "
+         "них не станет простым"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не выводить треугольники, обращённые к камере обратной стороной"},
+        {"ru", "param:max-polygons", "предельное число многоугольников"},
+        {"ru", "help:max-polygons",
+         "отказаться от сцены, в которой выводится больше треугольников (каждый многоугольник хранит свои данные "
+         "для растеризации и границы, около 225 байт)"},
+        {"ru", "phase:empty", "в окне нет многоугольников: цвет фона"},
+        {"ru", "phase:one-polygon", "в окне один многоугольник: нарисовать его"},
+        {"ru", "phase:surrounder", "охватывающий многоугольник ближе всех остальных: залить им окно"},
+        {"ru", "phase:pixel", "окно в один пиксель: ближайший многоугольник"},
+        {"ru", "phase:subdivide", "случай не простой: разбить окно на четыре"},
+        {"ru", "counter:triangles-in", "треугольников на входе"},
+        {"ru", "counter:triangles-backface-culled", "нелицевых треугольников отброшено"},
+        {"ru", "counter:triangles-clipped", "треугольников отсечено ближней плоскостью"},
+        {"ru", "counter:triangles-outside", "треугольников вне поля зрения"},
+        {"ru", "counter:triangles-degenerate", "вырожденных треугольников"},
+        {"ru", "counter:triangles-rasterized", "треугольников растеризовано"},
+        {"ru", "counter:polygons", "многоугольников"},
+        {"ru", "counter:windows-empty", "пустых окон"},
+        {"ru", "counter:windows-one-polygon", "окон с одним многоугольником"},
+        {"ru", "counter:windows-surrounder-in-front", "окон, залитых охватывающим многоугольником"},
+        {"ru", "counter:windows-one-pixel", "окон в один пиксель"},
+        {"ru", "counter:windows-subdivided", "окон разбито на четыре"},
+        {"ru", "counter:polygon-window-classifications", "проверок положения многоугольника относительно окна"},
+        {"ru", "counter:pixel-depth-comparisons", "сравнений глубины в окнах в один пиксель"},
+        {"ru", "counter:pixels-written", "пикселей записано"},
+        {"ru", "counter:pixels-depth-tested", "пиксельных операций всего"},
+        {"ru", "counter:quadtree-depth", "глубина дерева квадрантов"},
+        {"ru", "counter:steps", "шагов сделано"},
+    };
+
     explicit Warnock(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}
 

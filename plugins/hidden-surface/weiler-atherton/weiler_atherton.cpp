@@ -86,6 +86,31 @@ public:
         {"draw", "draw the visible fragments"},
     };
 
+    static inline const hsr::sdk::TranslationSpec translations[] = {
+        {"ru", "description",
+         "алгоритм Вейлера — Азертона (1977): одни многоугольники отсекаются по другим в объектном пространстве, "
+         "видимые фрагменты растеризуются"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не выводить треугольники, обращённые к камере обратной стороной"},
+        {"ru", "param:max-fragments", "предельное число фрагментов"},
+        {"ru", "help:max-fragments",
+         "отказаться от кадра, которому нужно больше исходных многоугольников и фрагментов (около 400 байт на "
+         "каждый)"},
+        {"ru", "phase:sort", "упорядочить многоугольники по наименьшей глубине"},
+        {"ru", "phase:clip", "отсечь по переднему многоугольнику: внутренний и внешний списки"},
+        {"ru", "phase:recurse", "перед ним есть части: рекурсивное разбиение внутри его области"},
+        {"ru", "phase:draw", "нарисовать видимые фрагменты"},
+        {"ru", "counter:polygons-in", "многоугольников на входе"},
+        {"ru", "counter:clips", "отсечений"},
+        {"ru", "counter:fragments", "фрагментов получено"},
+        {"ru", "counter:fragments-hidden", "фрагментов удалено как невидимые"},
+        {"ru", "counter:fragments-visible", "видимых фрагментов"},
+        {"ru", "counter:recursive-subdivisions", "рекурсивных разбиений"},
+        {"ru", "counter:pixels-depth-tested", "пикселей проверено"},
+        {"ru", "counter:pixels-written", "пикселей записано"},
+        {"ru", "counter:steps", "шагов сделано"},
+    };
+
     explicit WeilerAtherton(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_fragments_(uint64_t(p.integer("max-fragments"))) {}
 

@@ -41,6 +41,18 @@ public:
                                     "copy)"),
     };
 
+    static inline const hsr::sdk::TranslationSpec translations[] = {
+        {"ru", "description", "каждая грань залита своим цветом, без освещения"},
+        {"ru", "param:by", "цвет граней"},
+        {"ru", "help:by",
+         "из сцены — цвета граней, заданные в сцене; по граням — свой цвет палитры у каждой грани, грани с общим "
+         "ребром всегда разного цвета; по объектам — свой цвет палитры у каждого объекта (и у каждой его "
+         "размещённой копии)"},
+        {"ru", "choice:by:given", "из сцены"},
+        {"ru", "choice:by:face", "по граням"},
+        {"ru", "choice:by:object", "по объектам"},
+    };
+
     explicit FaceColor(const hsr::sdk::Params& p) : by_(ColorBy(p.choice("by"))) {}
 
     void prepare(const hsr::sdk::Scene& scene, const hsr_shading_context&) override {

@@ -45,6 +45,25 @@ public:
         hsr::sdk::ParamSpec::boolean("two-sided", true, "light the back of a face seen from behind as its front"),
     };
 
+    static inline const hsr::sdk::TranslationSpec translations[] = {
+        {"ru", "description",
+         "модель Гуча: тоновое затенение от холодного к тёплому для технических иллюстраций"},
+        {"ru", "param:b", "синий в холодном цвете, b"},
+        {"ru", "help:b", "синяя составляющая холодного цвета: k_blue = (0, 0, b)"},
+        {"ru", "param:y", "жёлтый в тёплом цвете, y"},
+        {"ru", "help:y", "жёлтая составляющая тёплого цвета: k_yellow = (y, y, 0)"},
+        {"ru", "param:alpha", "доля цвета грани в холодном цвете, α"},
+        {"ru", "help:alpha", "какая доля цвета грани входит в холодный цвет"},
+        {"ru", "param:beta", "доля цвета грани в тёплом цвете, β"},
+        {"ru", "help:beta", "какая доля цвета грани входит в тёплый цвет"},
+        {"ru", "param:highlight", "яркость блика"},
+        {"ru", "help:highlight", "яркость блика по Фонгу (0 — без блика)"},
+        {"ru", "param:shininess", "показатель блеска"},
+        {"ru", "help:shininess", "показатель степени блика"},
+        {"ru", "param:two-sided", "двустороннее освещение"},
+        {"ru", "help:two-sided", "освещать обратную сторону грани, видимую сзади, так же, как лицевую"},
+    };
+
     explicit Gooch(const hsr::sdk::Params& p)
         : blue_(glm::vec3(0, 0, float(p.real("b")))),
           yellow_(glm::vec3(float(p.real("y")), float(p.real("y")), 0)),
