@@ -113,7 +113,6 @@ public:
         {"ru", "counter:piercings", "пересечений граней"},
         {"ru", "counter:qi-changes", "изменений количественной невидимости"},
         {"ru", "counter:qi-conflicts", "противоречий в количественной невидимости"},
-        {"ru", "counter:segments", "отрезков всего"},
     };
 
     explicit Appel(const hsr::sdk::Params& p)

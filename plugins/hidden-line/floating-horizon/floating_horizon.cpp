@@ -135,7 +135,6 @@ public:
         {"ru", "counter:horizon-columns", "столбцов горизонтов"},
         {"ru", "counter:column-tests", "сравнений с горизонтами по столбцам"},
         {"ru", "counter:columns-updated", "значений горизонтов изменено"},
-        {"ru", "counter:segments", "отрезков всего"},
     };
 
     explicit FloatingHorizon(const hsr::sdk::Params& p)

@@ -163,7 +163,6 @@ public:
         {"ru", "counter:body-pairs-overlapping", "пар тел с перекрытием габаритов"},
         {"ru", "counter:penetration-lines", "линий пересечения тел"},
         {"ru", "counter:penetration-pieces-visible", "видимых отрезков линий пересечения"},
-        {"ru", "counter:segments", "отрезков всего"},
     };
 
     explicit Roberts(const hsr::sdk::Params&) {}

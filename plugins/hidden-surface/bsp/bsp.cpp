@@ -127,7 +127,7 @@ public:
         {"draw", "draw the node's polygons"},
     };
 
-    static inline const hsr::sdk::TranslationSpec translations[] = {
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
         {"ru", "description",
          "дерево двоичного разбиения пространства (Фукс, Кедем и Нейлор, 1980): строится один раз для сцены, "
          "при выводе обходится в порядке, который задаёт положение наблюдателя"},
@@ -154,7 +154,6 @@ public:
         {"ru", "phase:build", "построить дерево: выбрать разбивающую плоскость, рассечь ею многоугольники"},
         {"ru", "phase:traverse", "в узле: дальнее поддерево, сам узел, ближнее поддерево"},
         {"ru", "phase:draw", "нарисовать многоугольники узла"},
-        {"ru", "counter:build-time-us", "время построения дерева, мкс"},
         {"ru", "counter:bsp-nodes", "узлов дерева"},
         {"ru", "counter:polygons-in", "многоугольников на входе"},
         {"ru", "counter:polygons-split", "разрезаний многоугольников"},
@@ -165,9 +164,9 @@ public:
         {"ru", "counter:polygons-backface-culled", "нелицевых многоугольников отброшено"},
         {"ru", "counter:pixels-painted", "пикселей закрашено"},
         {"ru", "counter:pixels-skipped-covered", "пикселей пропущено как уже закрытые"},
-        {"ru", "counter:steps", "шагов сделано"},
         {"ru", "buffer:coverage", "маска покрытия"},
     };
+    static constexpr auto translations = hsr::sdk::join_translations(own_translations, hsr::sdk::build_time_counter_translations);
 
     explicit Bsp(const hsr::sdk::Params& p)
         : front_to_back_(p.choice("order") == 1), cull_backfaces_(p.boolean("cull-backfaces")) {

@@ -128,7 +128,6 @@ public:
         {"ru", "counter:test-5-q-before-p-plane-passed", "проверка 5 (Q перед плоскостью P): успешных"},
         {"ru", "counter:test-6-projections-run", "проверка 6 (проекции не пересекаются): выполнений"},
         {"ru", "counter:test-6-projections-passed", "проверка 6 (проекции не пересекаются): успешных"},
-        {"ru", "counter:steps", "шагов сделано"},
     };
 
     explicit Painter(const hsr::sdk::Params& p)

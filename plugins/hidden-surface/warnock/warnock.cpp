@@ -107,7 +107,7 @@ public:
         {"subdivide", "not simple: split the window in four"},
     };
 
-    static inline const hsr::sdk::TranslationSpec translations[] = {
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
         {"ru", "description",
          "алгоритм Варнока (1969), разбиение окна: окно делится на четыре части, пока изображение в каждой из "
          "них не станет простым"},
@@ -122,12 +122,6 @@ public:
         {"ru", "phase:surrounder", "охватывающий многоугольник ближе всех остальных: залить им окно"},
         {"ru", "phase:pixel", "окно в один пиксель: ближайший многоугольник"},
         {"ru", "phase:subdivide", "случай не простой: разбить окно на четыре"},
-        {"ru", "counter:triangles-in", "треугольников на входе"},
-        {"ru", "counter:triangles-backface-culled", "нелицевых треугольников отброшено"},
-        {"ru", "counter:triangles-clipped", "треугольников отсечено ближней плоскостью"},
-        {"ru", "counter:triangles-outside", "треугольников вне поля зрения"},
-        {"ru", "counter:triangles-degenerate", "вырожденных треугольников"},
-        {"ru", "counter:triangles-rasterized", "треугольников растеризовано"},
         {"ru", "counter:polygons", "многоугольников"},
         {"ru", "counter:windows-empty", "пустых окон"},
         {"ru", "counter:windows-one-polygon", "окон с одним многоугольником"},
@@ -139,8 +133,8 @@ public:
         {"ru", "counter:pixels-written", "пикселей записано"},
         {"ru", "counter:pixels-depth-tested", "пиксельных операций всего"},
         {"ru", "counter:quadtree-depth", "глубина дерева квадрантов"},
-        {"ru", "counter:steps", "шагов сделано"},
     };
+    static constexpr auto translations = hsr::sdk::join_translations(own_translations, hsr::raster::triangle_counter_translations);
 
     explicit Warnock(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_polygons_(uint64_t(p.integer("max-polygons"))) {}

@@ -108,7 +108,6 @@ public:
         {"ru", "counter:recursive-subdivisions", "рекурсивных разбиений"},
         {"ru", "counter:pixels-depth-tested", "пикселей проверено"},
         {"ru", "counter:pixels-written", "пикселей записано"},
-        {"ru", "counter:steps", "шагов сделано"},
     };
 
     explicit WeilerAtherton(const hsr::sdk::Params& p)

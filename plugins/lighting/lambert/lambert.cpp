@@ -20,24 +20,12 @@ public:
         hsr::shading::param::two_sided(),
     };
 
-    static inline const hsr::sdk::TranslationSpec translations[] = {
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
         {"ru", "description",
          "модель Ламберта: диффузное отражение и фоновое освещение; по умолчанию плоское затенение"},
-        {"ru", "param:interpolation", "затенение"},
-        {"ru", "help:interpolation",
-         "плоское — один цвет на грань; по Гуро — цвета, найденные в вершинах, интерполируются вдоль грани; по "
-         "Фонгу — интерполируется нормаль, и модель вычисляется в каждом пикселе"},
-        {"ru", "choice:interpolation:flat", "плоское"},
-        {"ru", "choice:interpolation:gouraud", "по Гуро"},
-        {"ru", "choice:interpolation:phong", "по Фонгу"},
-        {"ru", "param:ambient", "коэффициент фонового освещения"},
-        {"ru", "help:ambient", "коэффициент ka рассеянного фонового света (умножается на цвет грани)"},
-        {"ru", "param:diffuse", "коэффициент диффузного отражения"},
-        {"ru", "help:diffuse", "коэффициент kd диффузного отражения (умножается на цвет грани)"},
-        {"ru", "param:two-sided", "двустороннее освещение"},
-        {"ru", "help:two-sided",
-         "освещать обратную сторону грани так же, как лицевую (для незамкнутых сеток и взгляда изнутри)"},
     };
+    static constexpr auto translations = hsr::sdk::join_translations(
+        own_translations, hsr::shading::param::diffuse_translations);
 
     explicit Lambert(const hsr::sdk::Params& p)
         : ShadedLightingModel(hsr::shading::read_material(p, /*with_specular=*/false)) {}

@@ -23,31 +23,12 @@ public:
         hsr::shading::param::two_sided(),
     };
 
-    static inline const hsr::sdk::TranslationSpec translations[] = {
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
         {"ru", "description",
          "модель освещения Фонга (блик по R·V); по умолчанию затенение по Фонгу (нормаль в каждом пикселе)"},
-        {"ru", "param:interpolation", "затенение"},
-        {"ru", "help:interpolation",
-         "плоское — один цвет на грань; по Гуро — цвета, найденные в вершинах, интерполируются вдоль грани; по "
-         "Фонгу — интерполируется нормаль, и модель вычисляется в каждом пикселе"},
-        {"ru", "choice:interpolation:flat", "плоское"},
-        {"ru", "choice:interpolation:gouraud", "по Гуро"},
-        {"ru", "choice:interpolation:phong", "по Фонгу"},
-        {"ru", "param:ambient", "коэффициент фонового освещения"},
-        {"ru", "help:ambient", "коэффициент ka рассеянного фонового света (умножается на цвет грани)"},
-        {"ru", "param:diffuse", "коэффициент диффузного отражения"},
-        {"ru", "help:diffuse", "коэффициент kd диффузного отражения (умножается на цвет грани)"},
-        {"ru", "param:specular", "коэффициент зеркального отражения"},
-        {"ru", "help:specular", "коэффициент ks зеркального отражения"},
-        {"ru", "param:shininess", "показатель блеска"},
-        {"ru", "help:shininess",
-         "показатель степени n зеркальной составляющей: чем он больше, тем блик меньше и резче"},
-        {"ru", "param:specular-color", "цвет блика"},
-        {"ru", "help:specular-color", "цвет зеркального блика"},
-        {"ru", "param:two-sided", "двустороннее освещение"},
-        {"ru", "help:two-sided",
-         "освещать обратную сторону грани так же, как лицевую (для незамкнутых сеток и взгляда изнутри)"},
     };
+    static constexpr auto translations = hsr::sdk::join_translations(
+        own_translations, hsr::shading::param::diffuse_translations, hsr::shading::param::specular_translations);
 
     explicit Phong(const hsr::sdk::Params& p)
         : ShadedLightingModel(hsr::shading::read_material(p, /*with_specular=*/true)) {}

@@ -136,6 +136,11 @@ constexpr auto join_translations(const Lists&... lists) {
 inline constexpr std::array<TranslationSpec, 1> step_counter_translations{{
     {"ru", "counter:steps", "шагов сделано"},
 }};
+// The counter the SDK adds to every hidden-line render ("segments": the pieces returned), in
+// Russian; every hidden-line remover's table gets it, unless the class gives its own.
+inline constexpr std::array<TranslationSpec, 1> segment_counter_translations{{
+    {"ru", "counter:segments", "отрезков всего"},
+}};
 
 // ABI 1.5: whether the host asked for step texts in `code` ("ru"); English is the default.
 inline bool wants_language(const char* asked, const char* code) {
@@ -971,6 +976,8 @@ const hsr_translation* translation_table(uint32_t& count) {
             for (const TranslationSpec& spec : T::translations) add(spec);
         if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_SURFACE_REMOVER)
             for (const TranslationSpec& spec : step_counter_translations) add(spec);
+        if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_LINE_REMOVER)
+            for (const TranslationSpec& spec : segment_counter_translations) add(spec);
         return entries;
     }();
     count = static_cast<uint32_t>(table.size());

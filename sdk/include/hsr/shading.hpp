@@ -39,6 +39,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -148,6 +149,34 @@ constexpr sdk::ParamSpec two_sided() {
     return sdk::ParamSpec::boolean("two-sided", true,
                                    "light the back of a face as if it were the front (open meshes, inside views)");
 }
+
+// Their texts in Russian (ABI 1.6), to join with a plugin's own (sdk::join_translations): the
+// diffuse set (interpolation, ambient, diffuse, two-sided) and the specular one (specular,
+// shininess, specular-color).
+inline constexpr std::array<sdk::TranslationSpec, 11> diffuse_translations{{
+    {"ru", "param:interpolation", "затенение"},
+    {"ru", "help:interpolation",
+     "плоское — один цвет на грань; по Гуро — цвета, найденные в вершинах, интерполируются вдоль грани; по "
+     "Фонгу — интерполируется нормаль, и модель вычисляется в каждом пикселе"},
+    {"ru", "choice:interpolation:flat", "плоское"},
+    {"ru", "choice:interpolation:gouraud", "по Гуро"},
+    {"ru", "choice:interpolation:phong", "по Фонгу"},
+    {"ru", "param:ambient", "коэффициент фонового освещения"},
+    {"ru", "help:ambient", "коэффициент ka рассеянного фонового света (умножается на цвет грани)"},
+    {"ru", "param:diffuse", "коэффициент диффузного отражения"},
+    {"ru", "help:diffuse", "коэффициент kd диффузного отражения (умножается на цвет грани)"},
+    {"ru", "param:two-sided", "двустороннее освещение"},
+    {"ru", "help:two-sided",
+     "освещать обратную сторону грани так же, как лицевую (для незамкнутых сеток и взгляда изнутри)"},
+}};
+inline constexpr std::array<sdk::TranslationSpec, 6> specular_translations{{
+    {"ru", "param:specular", "коэффициент зеркального отражения"},
+    {"ru", "help:specular", "коэффициент ks зеркального отражения"},
+    {"ru", "param:shininess", "показатель блеска"},
+    {"ru", "help:shininess", "показатель степени n зеркальной составляющей: чем он больше, тем блик меньше и резче"},
+    {"ru", "param:specular-color", "цвет блика"},
+    {"ru", "help:specular-color", "цвет зеркального блика"},
+}};
 }  // namespace param
 
 // Reads the parameters above; with_specular = false for models without a specular term (they do
