@@ -26,8 +26,8 @@ std::vector<uint8_t> encode_picture_png(uint32_t width, uint32_t height, int cha
 void write_png16(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint16_t> samples);
 
 // The PNG file's bytes, for a server: each row filtered by the one above (PNG's Up), compressed
-// by ISA-L's igzip at level 1 in one pass. The bunny at 512x512 takes a fifth of the time of
-// libpng at zlib level 1 with the Sub filter, in 7 % fewer bytes (docs/measurements/viewer.md).
+// by ISA-L's igzip at level 1 in one pass. The bunny at 512x512 takes a fifth of the CPU time of
+// libpng at zlib level 1 with the Sub filter, in 6 % fewer bytes (docs/measurements/viewer.md).
 // Throws hsr::Error as write_png does.
 std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels);
 
