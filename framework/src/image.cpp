@@ -53,13 +53,17 @@ public:
     static constexpr size_t kKeptBytes = size_t(16) << 20;
     uint8_t* get(size_t size) {
         if (size > size_) {
+            bytes_.reset();
             bytes_ = std::make_unique_for_overwrite<uint8_t[]>(size);  // uninitialised: written before read
             size_ = size;
         }
         return bytes_.get();
     }
     void release_if_large() {
-        if (size_ > kKeptBytes) bytes_.reset(), size_ = 0;
+        if (size_ > kKeptBytes) {
+            bytes_.reset();
+            size_ = 0;
+        }
     }
 
 private:
