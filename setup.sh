@@ -13,7 +13,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")"
 
 # What building hsr and its plugins needs.
 build_packages=(g++ cmake make pkg-config libboost-dev libboost-program-options-dev libboost-filesystem-dev
-                libopenmesh-dev libglm-dev libfmt-dev libpng-dev libcairo2-dev libmuparser-dev
+                libopenmesh-dev libglm-dev libfmt-dev libpng-dev libisal-dev libcairo2-dev libmuparser-dev
                 libcpp-httplib-dev nlohmann-json3-dev libcmark-gfm-dev libcmark-gfm-extensions-dev libembree-dev libtbb-dev libhwy-dev
                 libtinygltf-dev libopenexr-dev)
 # What the tests need besides: Catch2; valgrind, GNU time, clang and its sanitizer runtime; the

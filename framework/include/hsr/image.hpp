@@ -1,4 +1,4 @@
-// Image output: 8-bit (and 16-bit data) PNG through libpng, into an AtomicFile (hsr/atomic_file.hpp) that the caller
+// Image output: 8-bit (and 16-bit data) PNG, compressed by ISA-L's igzip (read back through libpng), into an AtomicFile (hsr/atomic_file.hpp) that the caller
 // commits, or, given a path, into a file of its own committed at once, or into memory.
 #pragma once
 
@@ -25,12 +25,11 @@ std::vector<uint8_t> encode_picture_png(uint32_t width, uint32_t height, int cha
 // the --id-out PNG).
 void write_png16(AtomicFile& file, uint32_t width, uint32_t height, int channels, std::span<const uint16_t> samples);
 
-// The PNG file's bytes, for a server: zlib level 1 unless another (0-9) is given, each row filtered
-// by its left neighbour (PNG's Sub). On the bunny at 512x512, level 1 compresses in a third of
-// level 6's time (3.9 against 11.8 ms) to 17 % more bytes (65 against 55 kB). Throws hsr::Error as
-// write_png does.
-std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels,
-                                int zlib_level = 1);
+// The PNG file's bytes, for a server: each row filtered by the one above (PNG's Up), compressed
+// by ISA-L's igzip at level 1 in one pass. The bunny at 512x512 takes a fifth of the CPU time of
+// libpng at zlib level 1 with the Sub filter, in 6 % fewer bytes (docs/measurements/viewer.md).
+// Throws hsr::Error as write_png does.
+std::vector<uint8_t> encode_png(uint32_t width, uint32_t height, int channels, std::span<const uint8_t> pixels);
 
 struct Image {
     uint32_t width = 0;
