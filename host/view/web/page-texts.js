@@ -30,6 +30,10 @@ export const PAGE_TEXTS = {
   'model-heading': { en: 'Model', ru: 'Модель' },
   'model': { en: 'model', ru: 'модель' },
   'upload': { en: 'upload', ru: 'загрузить' },
+  'upload-choose': {
+    text: { en: 'choose a file…', ru: 'выбрать файл…' },
+    title: { en: 'choose a model file on this computer', ru: 'выбрать файл модели на этом компьютере' },
+  },
   'drop-hint': { en: 'or drop a model file anywhere on the page', ru: 'или перетащите файл модели в любое место страницы' },
   'algorithm-heading': { en: 'Algorithm', ru: 'Алгоритм' },
   'visibility': { en: 'visibility', ru: 'метод' },
