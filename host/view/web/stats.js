@@ -2,6 +2,16 @@
 
 import { tr, numberText } from './i18n.js';
 
+// What the host counts for every plugin, as `hsr render --stats` names it; each row keeps that
+// name as its title. A plugin's own counters show under their own names.
+const HOST_COUNTERS = {
+  'triangles': { en: 'triangles', ru: 'треугольники' },
+  'fragments-shaded': { en: 'fragments-shaded', ru: 'закрашенные фрагменты' },
+  'shading-batches': { en: 'shading-batches', ru: 'пакеты закраски' },
+  'fragments': { en: 'fragments', ru: 'фрагменты' },
+  'edges-requested': { en: 'edges-requested', ru: 'рёбра на входе' },
+};
+
 const ms = (v) => (Number.isFinite(v) ? tr({ en: `${v.toFixed(1)} ms`, ru: `${v.toFixed(1).replace('.', ',')} мс` }) : '–');
 
 export function renderStats(element, title, stats, roundTripMs) {
@@ -23,11 +33,13 @@ export function renderStats(element, title, stats, roundTripMs) {
   element.append(timings);
   const table = document.createElement('table');
   const rows = Object.entries(stats.counters || {});
-  if (Number.isFinite(stats.triangles)) rows.unshift([tr({ en: 'triangles', ru: 'треугольники' }), stats.triangles]);
+  if (Number.isFinite(stats.triangles)) rows.unshift(['triangles', stats.triangles]);
   for (const [name, value] of rows) {
-    const tr = table.insertRow();
-    tr.insertCell().textContent = name;
-    const cell = tr.insertCell();
+    const row = table.insertRow();
+    const label = row.insertCell();
+    label.textContent = HOST_COUNTERS[name] ? tr(HOST_COUNTERS[name]) : name;
+    if (label.textContent !== name) label.title = name;
+    const cell = row.insertCell();
     cell.textContent = typeof value === 'number' ? numberText(value) : String(value);
     cell.className = 'number';
   }
