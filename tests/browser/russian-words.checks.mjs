@@ -236,7 +236,7 @@ export default async (h) => {
     await check('the file picker is the page\'s own, in its language, and uploads the file chosen', async () => {
       await andFrame(() => page.selectOption('#algorithm', 'zbuffer'));
       const text = async (selector) => (await page.textContent(selector)).trim();
-      assert(await text('#upload-choose') === 'выбрать файл…', `button: ${await text('#upload-choose')}`);
+      assert(await text('#upload-choose') === 'загрузить файл…', `button: ${await text('#upload-choose')}`);
       assert(await text('#upload-name') === 'файл не выбран', `file name: ${await text('#upload-name')}`);
       assert(await page.$eval('#upload', (input) => !input.checkVisibility()), 'the browser\'s own file input shows');
       const [chooser] = await Promise.all([page.waitForEvent('filechooser'), page.click('#upload-choose')]);
@@ -245,7 +245,7 @@ export default async (h) => {
       assert((await page.$eval('#model', (s) => s.value)).startsWith('upload/'), 'the chosen file is not the model shown');
       assert(await text('#upload-name') === 'one-triangle.obj', `file name: ${await text('#upload-name')}`);
       await page.click('.language-choice button[data-language="en"]');
-      assert(await text('#upload-choose') === 'choose a file…', `button in English: ${await text('#upload-choose')}`);
+      assert(await text('#upload-choose') === 'upload a file…', `button in English: ${await text('#upload-choose')}`);
       assert(await text('#upload-name') === 'one-triangle.obj', `file name in English: ${await text('#upload-name')}`);
     });
   } finally {
