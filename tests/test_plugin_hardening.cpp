@@ -111,6 +111,7 @@ TEST_CASE("plugin hardening: a name without a NUL within 256 bytes", "[plugin-ha
 TEST_CASE("plugin hardening: a parameter count past the parameter array", "[plugin-hardening]") {
     require_refused("huge-param-count", "it declares 2147483648 parameters, more than the 256 allowed");
     require_refused("huge-phase-count", "it declares 2147483648 phases, more than the 256 allowed");
+    require_refused("huge-translation-count", "it declares 2147483648 translations, more than the 8192 allowed");
 }
 
 TEST_CASE("plugin hardening: a kind outside hsr_plugin_kind", "[plugin-hardening]") {

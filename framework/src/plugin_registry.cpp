@@ -28,6 +28,7 @@
 #include <iostream>
 #include <new>
 #include <optional>
+#include <set>
 #include <string_view>
 #include <system_error>
 
@@ -41,6 +42,8 @@ constexpr size_t frozen_descriptor_size = offsetof(hsr_plugin_descriptor, kind) 
 constexpr size_t descriptor_size_1_0 = offsetof(hsr_plugin_descriptor, interface_table) + sizeof(void*);
 constexpr size_t descriptor_size_1_5 = offsetof(hsr_plugin_descriptor, phase_count) + sizeof(uint32_t);
 constexpr size_t phase_desc_size_1_5 = sizeof(hsr_phase_desc);
+constexpr size_t descriptor_size_1_6 = offsetof(hsr_plugin_descriptor, translation_count) + sizeof(uint32_t);
+constexpr size_t translation_size_1_6 = sizeof(hsr_translation);
 constexpr size_t remover_size_1_0 = offsetof(IHiddenSurfaceRemover, extension);
 constexpr size_t lighting_size_1_0 = offsetof(ILightingModel, extension);
 constexpr size_t line_remover_size_1_2 = offsetof(IHiddenLineRemover, extension);
@@ -52,6 +55,8 @@ constexpr size_t max_name_length = 256;    // api, name, version, parameter name
 constexpr size_t max_text_length = 4096;   // descriptions, defaults, choices, help
 constexpr uint32_t max_param_count = 256;
 constexpr uint32_t max_phase_count = 256;
+constexpr uint32_t max_translation_count = 8192;
+constexpr size_t max_key_length = 2 * max_name_length + 16; // "choice:<param>:<choice>"
 constexpr uint32_t max_struct_size = 4096; // a parameter description or an interface table
 
 // The string, if s is not NULL and ends within max_length bytes (never reading further).
@@ -151,6 +156,12 @@ bool entry_is_function(void* address) {
 
 }  // namespace
 
+const std::string* Plugin::translated(std::string_view language, std::string_view key) const {
+    for (const PluginTranslation& t : translations)
+        if (t.language == language && t.key == key) return &t.text;
+    return nullptr;
+}
+
 const char* kind_name(uint32_t kind) {
     switch (kind) {
     case HSR_KIND_HIDDEN_SURFACE_REMOVER: return "hidden-surface";
@@ -158,6 +169,89 @@ const char* kind_name(uint32_t kind) {
     case HSR_KIND_HIDDEN_LINE_REMOVER: return "hidden-line";
     }
     return "unknown-kind";
+}
+
+namespace {
+
+bool is_language_code(std::string_view code) {
+    return (code.size() == 2 || code.size() == 3) &&
+           std::all_of(code.begin(), code.end(), [](char c) { return c >= 'a' && c <= 'z'; });
+}
+
+bool has_param(const hsr_plugin_descriptor& d, std::string_view name) {
+    for (uint32_t i = 0; i < d.param_count; ++i)
+        if (name == param_desc(d, i).name) return true;
+    return false;
+}
+
+bool has_choice(const hsr_plugin_descriptor& d, std::string_view param, std::string_view choice) {
+    for (uint32_t i = 0; i < d.param_count; ++i) {
+        const hsr_param_desc& p = param_desc(d, i);
+        if (param != p.name || p.type != HSR_PARAM_ENUM) continue;
+        std::string_view choices = p.choices;
+        while (!choices.empty()) {
+            const size_t bar = choices.find('|');
+            if (choices.substr(0, bar) == choice) return true;
+            if (bar == std::string_view::npos) break;
+            choices.remove_prefix(bar + 1);
+        }
+    }
+    return false;
+}
+
+bool has_phase(const hsr_plugin_descriptor& d, std::string_view name) {
+    if (d.abi_minor < 5 || d.struct_size < descriptor_size_1_5) return false;
+    for (uint32_t i = 0; i < d.phase_count; ++i)
+        if (name == HSR_ELEMENT(hsr_phase_desc, d.phases, i)->name) return true;
+    return false;
+}
+
+// Why the key cannot be one of this plugin's texts, or empty when it can.
+std::string check_translation_key(const hsr_plugin_descriptor& d, std::string_view key) {
+    if (key == "description") return {};
+    const size_t colon = key.find(':');
+    if (colon == std::string_view::npos || colon + 1 == key.size()) return "is not one the ABI lists";
+    const std::string_view kind = key.substr(0, colon), name = key.substr(colon + 1);
+    if (kind == "param" || kind == "help") return has_param(d, name) ? "" : "names no parameter of the plugin";
+    if (kind == "phase") return has_phase(d, name) ? "" : "names no phase of the plugin";
+    if (kind == "choice") {
+        const size_t second = name.find(':');
+        if (second == std::string_view::npos) return "needs choice:<parameter>:<choice>";
+        return has_choice(d, name.substr(0, second), name.substr(second + 1)) ? "" : "names no choice of the plugin";
+    }
+    if (kind == "counter" || kind == "buffer") return {};
+    return "is not one the ABI lists";
+}
+
+}  // namespace
+
+std::string check_translations(const hsr_plugin_descriptor& d) {
+    if (d.translation_count > max_translation_count)
+        return fmt::format("it declares {} translations, more than the {} allowed", d.translation_count,
+                           max_translation_count);
+    if (d.translations == nullptr) return "its translation table is missing";
+    const uint32_t element_size = d.translations[0].struct_size;
+    if (element_size < translation_size_1_6 || element_size > max_struct_size)
+        return fmt::format("its translation table has elements of {} bytes", element_size);
+    std::set<std::pair<std::string_view, std::string_view>> seen;
+    for (uint32_t i = 0; i < d.translation_count; ++i) {
+        const hsr_translation& t = *HSR_ELEMENT(hsr_translation, d.translations, i);
+        const auto language = bounded_string(t.language, max_name_length);
+        const auto key = bounded_string(t.key, max_key_length);
+        const auto text = bounded_string(t.text, max_text_length);
+        if (t.struct_size != element_size || !language || !key || !text)
+            return fmt::format("its translation #{} is malformed", i);
+        if (!is_language_code(*language))
+            return fmt::format("its translation #{} has the language '{}', not a two- or three-letter code", i,
+                               printable(*language, 16));
+        if (text->empty()) return fmt::format("its translation '{}' ({}) is empty", printable(*key, 80), *language);
+        const std::string key_problem = check_translation_key(d, *key);
+        if (!key_problem.empty())
+            return fmt::format("its translation key '{}' {}", printable(*key, 80), key_problem);
+        if (!seen.emplace(*language, *key).second)
+            return fmt::format("its translation '{}' ({}) is given twice", printable(*key, 80), *language);
+    }
+    return {};
 }
 
 std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major, uint32_t host_minor) {
@@ -227,6 +321,10 @@ std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major
                 return fmt::format("its phase #{} is malformed", i);
         }
     }
+    if (d.abi_minor >= 6 && d.struct_size >= descriptor_size_1_6 && d.translation_count > 0) {
+        std::string reason = check_translations(d);
+        if (!reason.empty()) return reason;
+    }
     const uint32_t table_size = *static_cast<const uint32_t*>(d.interface_table);
     const size_t needed = d.kind == HSR_KIND_HIDDEN_SURFACE_REMOVER ? remover_size_1_0
                            : d.kind == HSR_KIND_LIGHTING_MODEL    ? lighting_size_1_0
@@ -277,6 +375,14 @@ std::vector<Plugin> load_plugin_library(const fs::path& path) {
         if (d->abi_minor < 5) {
             p.descriptor.phases = nullptr;
             p.descriptor.phase_count = 0;
+        }
+        if (d->abi_minor < 6) {
+            p.descriptor.translations = nullptr;
+            p.descriptor.translation_count = 0;
+        }
+        for (uint32_t i = 0; i < p.descriptor.translation_count; ++i) {
+            const hsr_translation& t = *HSR_ELEMENT(hsr_translation, p.descriptor.translations, i);
+            p.translations.push_back({t.language, t.key, t.text});
         }
         for (uint32_t i = 0; i < p.descriptor.phase_count; ++i) {
             const hsr_phase_desc& phase = *HSR_ELEMENT(hsr_phase_desc, p.descriptor.phases, i);

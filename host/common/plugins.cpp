@@ -6,7 +6,9 @@
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <optional>
 #include <system_error>
 #include <utility>
@@ -29,6 +31,10 @@ std::string describe_plugin(const hsr::Plugin& p, const std::string& indent) {
         for (std::size_t i = 0; i < p.phases.size(); ++i) out += (i == 0 ? " " : ", ") + p.phases[i].name;
         out += "\n";
     }
+    std::vector<std::string> languages;
+    for (const hsr::PluginTranslation& t : p.translations)
+        if (std::find(languages.begin(), languages.end(), t.language) == languages.end()) languages.push_back(t.language);
+    if (!languages.empty()) out += indent + fmt::format("    its texts also in: {}\n", fmt::join(languages, ", "));
     return out;
 }
 

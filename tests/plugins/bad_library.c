@@ -83,6 +83,10 @@ __attribute__((constructor)) static void fill_name(void) { memset(long_name, 'a'
 #define NAME BAD_NAME
 #endif
 
+#ifdef BAD_HUGE_TRANSLATION_COUNT
+static const hsr_translation translations[] = {{sizeof(hsr_translation), "ru", "description", "сломан нарочно"}};
+#endif
+
 static const hsr_plugin_descriptor descriptor = {
     sizeof(hsr_plugin_descriptor),
 #ifdef BAD_NULL_API
@@ -123,7 +127,12 @@ static const hsr_plugin_descriptor descriptor = {
 #endif
     ,
 #ifdef BAD_HUGE_PHASE_COUNT
-    0, 0x80000000u
+    0, 0x80000000u,
+#else
+    0, 0,
+#endif
+#ifdef BAD_HUGE_TRANSLATION_COUNT
+    translations, 0x80000000u
 #else
     0, 0
 #endif

@@ -109,6 +109,9 @@ static const hsr_plugin_descriptor descriptor = {
 #if HSR_ABI_MINOR >= 5
     0, 0,
 #endif
+#if HSR_ABI_MINOR >= 6
+    0, 0,
+#endif
 };
 
 HSR_EXPORT const hsr_plugin_descriptor* hsr_plugin_entry(uint32_t index) {

@@ -81,7 +81,7 @@ static const IHiddenLineRemover table = {sizeof(IHiddenLineRemover), create, des
 static const hsr_plugin_descriptor descriptor = {
     sizeof(hsr_plugin_descriptor), HSR_API_NAME, HSR_ABI_MAJOR, HANDMADE_LINES_MINOR,
     HSR_KIND_HIDDEN_LINE_REMOVER, "handmade-lines", "0.1.0", "hidden-line test plugin written in C (hides nothing)",
-    0, 0, &table, 0, 0};
+    0, 0, &table, 0, 0, 0, 0};
 
 HSR_EXPORT const hsr_plugin_descriptor* hsr_plugin_entry(uint32_t index) {
     return index == 0 ? &descriptor : 0;

@@ -101,7 +101,7 @@ const IHiddenSurfaceRemover table = {sizeof(IHiddenSurfaceRemover), create, dest
 const hsr_plugin_descriptor descriptor = {
     sizeof(hsr_plugin_descriptor), HSR_API_NAME, HSR_ABI_MAJOR, HSR_ABI_MINOR, HSR_KIND_HIDDEN_SURFACE_REMOVER,
     MISBEHAVING_NAME, "0.1.0", "crashes, aborts, exits, throws, allocates or loops on request (test plugin)",
-    params, sizeof params / sizeof params[0], &table, nullptr, 0};
+    params, sizeof params / sizeof params[0], &table, nullptr, 0, nullptr, 0};
 
 }  // namespace
 

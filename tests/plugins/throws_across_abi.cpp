@@ -28,7 +28,7 @@ const IHiddenSurfaceRemover table = {sizeof(IHiddenSurfaceRemover), create, dest
 
 const hsr_plugin_descriptor descriptor = {
     sizeof(hsr_plugin_descriptor), HSR_API_NAME, HSR_ABI_MAJOR, HSR_ABI_MINOR, HSR_KIND_HIDDEN_SURFACE_REMOVER,
-    "throws-across-abi", "0.1.0", "lets an int exception out of render (test plugin)", nullptr, 0, &table, nullptr, 0};
+    "throws-across-abi", "0.1.0", "lets an int exception out of render (test plugin)", nullptr, 0, &table, nullptr, 0, nullptr, 0};
 
 }  // namespace
 

@@ -24,6 +24,9 @@ namespace hsr {
 std::string check_descriptor(const hsr_plugin_descriptor& d, uint32_t host_major = HSR_ABI_MAJOR,
                              uint32_t host_minor = HSR_ABI_MINOR);
 
+// The reason a descriptor's translation table (ABI 1.6) is refused, or empty; check_descriptor calls it.
+std::string check_translations(const hsr_plugin_descriptor& d);
+
 const char* kind_name(uint32_t kind);  // an hsr_plugin_kind: "hidden-surface" / "lighting" / "hidden-line"
 
 // One plugin found in a library. Keeps the library loaded for as long as it (or any instance made
@@ -33,11 +36,20 @@ struct PluginPhase {
     std::string name, title;
 };
 
+// One of a plugin's texts in another language (ABI 1.6, hsr_translation), copied from the plugin.
+struct PluginTranslation {
+    std::string language, key, text;
+};
+
 struct Plugin {
     std::shared_ptr<boost::dll::shared_library> library;
     std::filesystem::path path;
     hsr_plugin_descriptor descriptor{};  // copy, zero-filled beyond the plugin's struct_size
     std::vector<PluginPhase> phases;     // the descriptor's, in its order; empty before ABI 1.5
+    std::vector<PluginTranslation> translations;  // in the descriptor's order; empty before ABI 1.6
+
+    // The text `key` (an hsr_translation key) in `language`, or nullptr when the plugin gives none.
+    const std::string* translated(std::string_view language, std::string_view key) const;
 };
 
 struct RejectedLibrary {

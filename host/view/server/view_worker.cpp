@@ -68,7 +68,11 @@ json describe_plugin(const hsr::Plugin& plugin, bool steps) {
     }
     json phases = json::array();
     for (const hsr::PluginPhase& phase : plugin.phases) phases.push_back({{"name", phase.name}, {"title", phase.title}});
+    // {"ru": {"description": ..., "param:depth-test": ..., ...}}: the page looks a text up by its ABI key.
+    json translations = json::object();
+    for (const hsr::PluginTranslation& t : plugin.translations) translations[t.language][t.key] = t.text;
     return {{"name", d.name},
+            {"translations", std::move(translations)},
             {"version", d.version ? d.version : ""},
             {"phases", std::move(phases)},
             {"description", d.description ? d.description : ""},

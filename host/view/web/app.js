@@ -18,12 +18,12 @@ import {
 import { linkHash, readLink } from './link.js';
 import { compareRequest, showCompare, hideCompare, compareMismatch, showCompareNote } from './compare.js';
 import { showRefusal } from './refusal.js';
-import { renderStats } from './stats.js';
+import { renderStats, counterLabels } from './stats.js';
 import { LatestWins } from './scheduler.js';
 import { SceneEditor } from './editor.js';
 import { loadSettings, saveSettings } from './settings.js';
 import { TheoryPane } from './theory.js';
-import { tr, language, setLanguage, onLanguageChange, browserLanguage, numberText } from './i18n.js';
+import { tr, language, setLanguage, onLanguageChange, browserLanguage, numberText, pluginText, pluginBufferText } from './i18n.js';
 import { applyPageTexts } from './page-texts.js';
 import { PresentationView } from './presentation.js';
 
@@ -105,10 +105,15 @@ const lightingForm = new ParamForm($('lighting-params'), (values) => {
 });
 
 
+function algorithmDescribed() {
+  const algorithm = currentAlgorithm();
+  $('algorithm-description').textContent = algorithm ? pluginText(algorithm, 'description', algorithm.description) : '';
+}
+
 function algorithmChosen() {
   const algorithm = currentAlgorithm();
-  $('algorithm-description').textContent = algorithm ? algorithm.description : '';
-  paramForm.setSchema(algorithm ? algorithm.params : [], settings.params[settings.algorithm] || {});
+  algorithmDescribed();
+  paramForm.setSchema(algorithm, settings.params[settings.algorithm] || {});
   const lines = algorithm && algorithm.kind === 'hidden_line';
   $('lighting').disabled = lines;
   $('lighting-params').classList.toggle('disabled', lines);
@@ -121,7 +126,7 @@ function algorithmChosen() {
 
 function lightingChosen() {
   const lighting = pluginByName(settings.lighting);
-  lightingForm.setSchema(lighting ? lighting.params : [], settings.lightingParams[settings.lighting] || {});
+  lightingForm.setSchema(lighting, settings.lightingParams[settings.lighting] || {});
 }
 
 // ---- camera and steps ------------------------------------------------------------------------
@@ -141,7 +146,8 @@ const steps = new StepControls({
   text: $('step-text'), totalText: $('step-total'),
 }, () => requestFrame());
 
-const phaseTitle = (name) => currentAlgorithm()?.phases?.find((phase) => phase.name === name)?.title || name;
+const phaseTitle = (name) => pluginText(currentAlgorithm(), `phase:${name}`,
+  currentAlgorithm()?.phases?.find((phase) => phase.name === name)?.title || name);
 const outlineBar = new OutlineBar(document.querySelector('#steps .step-buttons'), steps, phaseTitle);
 const stepExport = new StepExport($('steps'), steps);
 
@@ -262,10 +268,13 @@ async function runJob(job, isStale) {
     if (job.kind === 'compare') {
       showCompare(compareElements, response, {
         a: `${request.algorithm}`, b: `${job.body.b.algorithm}`,
-      }, roundTrip);
+      }, roundTrip, {
+        a: counterLabels([currentAlgorithm(), pluginByName(settings.lighting)]),
+        b: counterLabels([pluginByName(job.body.b.algorithm), pluginByName(settings.lighting)]),
+      });
     } else {
       hideCompare(compareElements);
-      renderStats($('stats'), '', frame.stats, roundTrip);
+      renderStats($('stats'), '', frame.stats, roundTrip, counterLabels([currentAlgorithm(), pluginByName(settings.lighting)]));
       askOutline(request);
     }
     clearFieldErrors();
@@ -340,7 +349,7 @@ function showOutline() {
   if (outlineBar.outline !== current) outlineBar.setOutline(current);
   fillWorkedExample($('theory'), current, {
     modelName: settings.model.replace(/^\d+\//, ''),
-    phases: currentAlgorithm()?.phases ?? [],
+    phases: (currentAlgorithm()?.phases ?? []).map((phase) => ({ ...phase, title: phaseTitle(phase.name) })),
     goToStep: (k) => steps.go(k),
   });
 }
@@ -538,7 +547,9 @@ function updateBufferOptions() {
   for (const option of [...select.options]) {
     if (option.value.startsWith('step:')) option.remove();
   }
-  for (const b of shown.stepBuffers) select.add(new Option(`${b.name} (${b.width}×${b.height})`, `step:${b.name}`));
+  for (const b of shown.stepBuffers) {
+    select.add(new Option(`${pluginBufferText(currentAlgorithm(), b.name)} (${b.width}×${b.height})`, `step:${b.name}`));
+  }
   if (![...select.options].some((o) => o.value === settings.bufferView)) {
     // A step buffer of an earlier step: keep asking for it, the next step may have it again.
     if (settings.bufferView.startsWith('step:')) select.add(new Option(settings.bufferView.slice(5), settings.bufferView));
@@ -924,7 +935,8 @@ onLanguageChange(() => {
   if (!plugins.hidden_surface.length && !plugins.lighting.length) return;  // still starting
   fillPluginSelects();
   settings.model = modelList.set(modelList.models, settings.model);
-  paramForm.setSchema(currentAlgorithm()?.params || [], settings.params[settings.algorithm] || {});
+  algorithmDescribed();
+  paramForm.setSchema(currentAlgorithm(), settings.params[settings.algorithm] || {});
   lightingChosen();
   if (shown) redraw();
   requestFrame();

@@ -12,7 +12,8 @@ export function compareRequest(frameRequest, algorithm) {
   return { a, b };
 }
 
-export function showCompare(el, response, names, roundTripMs) {
+// labels: {a, b}, each a counter name -> the label shown (stats.js counterLabels).
+export function showCompare(el, response, names, roundTripMs, labels = {}) {
   for (const figure of el.figures) figure.hidden = false;
   el.statsB.hidden = false;
   el.imageB.src = response.b.png;
@@ -21,8 +22,8 @@ export function showCompare(el, response, names, roundTripMs) {
   el.captionB.textContent = names.b;
   el.diffCount.textContent = numberText(Number(response.differing_pixels));
   el.pictures.classList.add('comparing');
-  renderStats(el.statsA, names.a, response.a.stats, roundTripMs);
-  renderStats(el.statsB, names.b, response.b.stats, roundTripMs);
+  renderStats(el.statsA, names.a, response.a.stats, roundTripMs, labels.a);
+  renderStats(el.statsB, names.b, response.b.stats, roundTripMs, labels.b);
 }
 
 export function hideCompare(el) {

@@ -3,7 +3,7 @@
 // as the strings the CLI takes; only those that differ from the default are sent, so the request
 // reads like the shortest equivalent command line.
 
-import { tr } from './i18n.js';
+import { tr, pluginText } from './i18n.js';
 
 function colorToHex(text) {
   const t = String(text).trim();
@@ -14,7 +14,7 @@ function colorToHex(text) {
     .toString(16).padStart(2, '0')).join('');
 }
 
-function makeInput(param) {
+function makeInput(param, plugin) {
   let input;
   switch (param.type) {
     case 'bool':
@@ -23,7 +23,9 @@ function makeInput(param) {
       break;
     case 'enum':
       input = document.createElement('select');
-      for (const choice of param.choices || []) input.add(new Option(choice, choice));
+      for (const choice of param.choices || []) {
+        input.add(new Option(pluginText(plugin, `choice:${param.name}:${choice}`, choice), choice));
+      }
       break;
     case 'int':
     case 'float':
@@ -71,9 +73,12 @@ export class ParamForm {
     form.addEventListener('submit', (e) => e.preventDefault());
   }
 
-  // Builds the fields of `params`, showing `values` (name -> text) where given, defaults elsewhere.
-  setSchema(params, values = {}) {
-    this.params = params || [];
+  // Builds the fields of `plugin`'s params (an /api/plugins entry, or null for none), showing
+  // `values` (name -> text) where given, defaults elsewhere, in the plugin's words for the page's
+  // language where it gives them.
+  setSchema(plugin, values = {}) {
+    this.plugin = plugin;
+    this.params = plugin?.params || [];
     this.userValues = {};
     this.form.replaceChildren();
     if (this.params.length === 0) {
@@ -90,13 +95,15 @@ export class ParamForm {
       const label = document.createElement('label');
       const name = document.createElement('span');
       name.className = 'field-name';
-      name.textContent = param.name;
-      const input = makeInput(param);
+      name.textContent = pluginText(plugin, `param:${param.name}`, param.name);
+      const help = pluginText(plugin, `help:${param.name}`, param.help);
+      const input = makeInput(param, plugin);
       const given = values[param.name];
       const text = typeof given === 'string' ? given : String(param.default);
       writeInput(param, input, text);
       if (!isDefault(param, text)) this.userValues[param.name] = text;
-      if (param.help) label.title = param.help;
+      // The identifier the command line takes, for a label in another language.
+      label.title = name.textContent === param.name ? help || '' : `${param.name}${help ? ` — ${help}` : ''}`;
       input.addEventListener('change', () => this.fieldChanged(param, input));
       if (param.type === 'bool') label.append(input, name);
       else label.append(name, input);
@@ -104,11 +111,11 @@ export class ParamForm {
       error.className = 'field-error';
       error.setAttribute('role', 'alert');
       field.append(label, error);
-      if (param.help) {
-        const help = document.createElement('small');
-        help.className = 'field-help';
-        help.textContent = param.help;
-        field.append(help);
+      if (help) {
+        const helpLine = document.createElement('small');
+        helpLine.className = 'field-help';
+        helpLine.textContent = help;
+        field.append(helpLine);
       }
       this.form.append(field);
     }
@@ -117,7 +124,7 @@ export class ParamForm {
     reset.className = 'secondary small';
     reset.textContent = tr({ en: 'defaults', ru: 'по умолчанию' });
     reset.addEventListener('click', () => {
-      this.setSchema(this.params, {});
+      this.setSchema(this.plugin, {});
       this.onChange(this.values());
     });
     this.form.append(reset);

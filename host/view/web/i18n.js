@@ -41,3 +41,20 @@ export function browserLanguage(languages = navigator.languages?.length ? naviga
 export function numberText(value) {
   return value.toLocaleString(current === 'ru' ? 'ru-RU' : 'en-US');
 }
+
+// A plugin's own text in the page's language: its translation under the ABI key `key`
+// ("description", "param:<name>", "help:<name>", "choice:<param>:<choice>", "phase:<name>",
+// "counter:<name>"; /api/plugins lists them), or `english` when the plugin gives none.
+export function pluginText(plugin, key, english) {
+  return plugin?.translations?.[current]?.[key] ?? english;
+}
+
+// A step buffer's name as a person reads it: "buffer:<name>", or "buffer:<stem>" and the trailing
+// number of a name like "z-pyramid-3".
+export function pluginBufferText(plugin, name) {
+  const own = plugin?.translations?.[current];
+  if (own?.[`buffer:${name}`]) return own[`buffer:${name}`];
+  const numbered = /^(.*)-(\d+)$/.exec(name);
+  if (numbered && own?.[`buffer:${numbered[1]}`]) return `${own[`buffer:${numbered[1]}`]} ${numbered[2]}`;
+  return name;
+}

@@ -1,9 +1,10 @@
 // The stats panel: the current frame's timings and the algorithm's counters (as `hsr render --stats`).
 
-import { tr, numberText } from './i18n.js';
+import { tr, numberText, pluginText } from './i18n.js';
 
 // What the host counts for every plugin, as `hsr render --stats` names it; each row keeps that
-// name as its title. A plugin's own counters show under their own names.
+// name as its title. A plugin's translation of a counter of the same name (weiler-atherton counts
+// its own "fragments") comes first.
 const HOST_COUNTERS = {
   'triangles': { en: 'triangles', ru: 'треугольники' },
   'fragments-shaded': { en: 'fragments-shaded', ru: 'закрашенные фрагменты' },
@@ -14,7 +15,19 @@ const HOST_COUNTERS = {
 
 const ms = (v) => (Number.isFinite(v) ? tr({ en: `${v.toFixed(1)} ms`, ru: `${v.toFixed(1).replace('.', ',')} мс` }) : '–');
 
-export function renderStats(element, title, stats, roundTripMs) {
+// A counter's label in the page's language, from the first of `plugins` (/api/plugins entries) that
+// translates it; else its name. The name stays on hover, as `hsr render --stats` prints it.
+export function counterLabels(plugins) {
+  return (name) => {
+    for (const plugin of plugins) {
+      const text = pluginText(plugin, `counter:${name}`, null);
+      if (text) return text;
+    }
+    return name;
+  };
+}
+
+export function renderStats(element, title, stats, roundTripMs, counterLabel = (name) => name) {
   element.replaceChildren();
   if (title) {
     const h = document.createElement('h3');
@@ -37,7 +50,8 @@ export function renderStats(element, title, stats, roundTripMs) {
   for (const [name, value] of rows) {
     const row = table.insertRow();
     const label = row.insertCell();
-    label.textContent = HOST_COUNTERS[name] ? tr(HOST_COUNTERS[name]) : name;
+    const pluginLabel = counterLabel(name);
+    label.textContent = pluginLabel !== name || !HOST_COUNTERS[name] ? pluginLabel : tr(HOST_COUNTERS[name]);
     if (label.textContent !== name) label.title = name;
     const cell = row.insertCell();
     cell.textContent = typeof value === 'number' ? numberText(value) : String(value);

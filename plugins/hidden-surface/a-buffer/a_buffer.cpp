@@ -65,6 +65,27 @@ public:
         {"resolve", "sort each pixel's fragments front to back and merge their coverage"},
     };
 
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
+        {"ru", "description", "A-буфер (Карпентер, 1984): списки фрагментов в каждом пикселе с масками покрытия 4×8"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не рисовать треугольники, повёрнутые к камере нелицевой стороной"},
+        {"ru", "param:max-fragments", "предел числа фрагментов"},
+        {"ru", "help:max-fragments",
+         "сколько фрагментов может хранить кадр; кадр, которому нужно больше, не рисуется (28 байт памяти на фрагмент)"},
+        {"ru", "phase:rasterize",
+         "растеризовать треугольник во фрагменты с масками покрытия и добавить их в списки пикселей"},
+        {"ru", "phase:resolve", "отсортировать фрагменты каждого пикселя от ближних к дальним и объединить их покрытие"},
+        {"ru", "counter:fragments-made", "фрагментов создано"},
+        {"ru", "counter:fragments-hidden", "фрагментов закрыто более близкими"},
+        {"ru", "counter:fragments-kept", "фрагментов оставлено"},
+        {"ru", "counter:pixels-partly-covered", "частично покрытых пикселей"},
+        {"ru", "counter:fragments-per-pixel-max", "наибольшее число фрагментов в пикселе"},
+        {"ru", "buffer:coverage", "покрытие пикселей"},
+    };
+    static constexpr auto translations =
+        hsr::sdk::join_translations(own_translations, raster::triangle_counter_translations,
+                                    raster::depth_test_counter_translations);
+
     explicit ABuffer(const hsr::sdk::Params& p)
         : cull_backfaces_(p.boolean("cull-backfaces")), max_fragments_(uint64_t(p.integer("max-fragments"))) {}
 

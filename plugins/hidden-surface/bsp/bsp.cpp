@@ -145,13 +145,12 @@ private:
                      hsr::sdk::Counters& counters, Steps& steps) {
         raster::validate_frame(info.name, scene.raw(), camera, target.raw());
 
-        bool built = false;
-        hsr::sdk::timed_build(counters, [&] { return built = prepare(scene); });
+        hsr::sdk::timed_build(counters, [&] { return prepare(scene); });
 
         begin_frame(camera, target);
         stats_ = FrameStats{};
         try {
-            if constexpr (Steps::enabled) build_step(built, steps);
+            if constexpr (Steps::enabled) build_step(steps);
             if (!tree_.nodes.empty()) draw(steps);
         } catch (const hsr::sdk::StepLimitReached&) {
             report(counters);
@@ -214,21 +213,23 @@ private:
     }
 
     template <class Steps>
-    void build_step(bool built, Steps& steps) const {
+    void build_step(Steps& steps) const {
         const bsp::BuildStats& b = tree_.stats;
         const unsigned long long in = b.polygons_in, split = b.polygons_split, pieces = b.polygons_after_splits,
                                  nodes = tree_.nodes.size(), depth = b.depth;
         hsr::sdk::Steps::Event event{"build"};
         event.phase = "build";
         if (steps.russian())
-            steps.step(event, "BSP-дерево %s: %llu %s, рассечено %llu; частей %llu, узлов %llu, глубина %llu",
-                       built ? "построено" : "взято готовым (построено для этой сцены раньше)", in,
-                       russian_plural(in, "многоугольник", "многоугольника", "многоугольников"), split, pieces, nodes,
-                       depth);
+            steps.step(event,
+                       "BSP-дерево строится один раз для сцены и от положения наблюдателя не зависит: %llu %s, "
+                       "рассечено %llu; частей %llu, узлов %llu, глубина %llu",
+                       in, russian_plural(in, "многоугольник", "многоугольника", "многоугольников"), split, pieces,
+                       nodes, depth);
         else
-            steps.step(event, "BSP tree %s: %llu polygon%s, %llu split; %llu pieces in %llu nodes, depth %llu",
-                       built ? "built" : "reused (built for this scene before)", in, in == 1 ? "" : "s", split,
-                       pieces, nodes, depth);
+            steps.step(event,
+                       "the BSP tree is built once per scene, whatever the eye: %llu polygon%s, %llu split; "
+                       "%llu pieces in %llu nodes, depth %llu",
+                       in, in == 1 ? "" : "s", split, pieces, nodes, depth);
     }
 
     // At a node: the order its subtrees and polygons are drawn in, from the eye's side of its plane.

@@ -67,6 +67,22 @@ public:
         {"cast", "cast a ray through each pixel centre and keep its nearest hit"},
     };
 
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
+        {"ru", "description", "метод бросания лучей с библиотекой Intel Embree 3 (Вальд и др., 2014) в роли ядра трассировки"},
+        {"ru", "param:threads", "число потоков"},
+        {"ru", "help:threads", "сколько потоков бросают лучи (0 — по одному на ядро)"},
+        {"ru", "param:tile-size", "размер тайла"},
+        {"ru", "help:tile-size", "сторона в пикселях квадратных тайлов, которые разбирают потоки"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не рисовать треугольники, повёрнутые к камере нелицевой стороной"},
+        {"ru", "phase:build", "поручить Embree построить свою иерархию ограничивающих объёмов"},
+        {"ru", "phase:cast", "бросить луч через центр каждого пикселя и оставить ближайшее пересечение"},
+        {"ru", "counter:rays", "лучей брошено"},
+        {"ru", "counter:hits", "попаданий лучей"},
+    };
+    static constexpr auto translations = hsr::sdk::join_translations(
+        own_translations, hsr::sdk::build_time_counter_translations);
+
     explicit Embree(const hsr::sdk::Params& p)
         : threads_(uint32_t(p.integer("threads"))),
           tile_size_(uint32_t(p.integer("tile-size"))),

@@ -560,6 +560,48 @@ public:
         {"write", "write the nearer pixels and mark their pyramid cells"},
     };
 
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
+        {"ru", "description",
+         "иерархический z-буфер (Грин, Касс и Миллер, 1993): треугольники, плитки и экземпляры отсекаются по "
+         "z-пирамиде"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не рисовать треугольники, повёрнутые к камере нелицевой стороной"},
+        {"ru", "param:tile-size", "размер плитки"},
+        {"ru", "help:tile-size",
+         "сторона в пикселях плиток, на которые делится при растеризации большой треугольник; каждая плитка "
+         "сначала проверяется по z-пирамиде, а треугольник, оболочка которого умещается в плитку, рисуется целиком"},
+        {"ru", "param:front-to-back", "рисовать от ближних к дальним"},
+        {"ru", "help:front-to-back",
+         "рисовать экземпляры начиная с ближних (по ближайшей вершине их оболочки в мировых координатах), чтобы "
+         "z-пирамида закрывала те, что лежат позади"},
+        {"ru", "param:cull-instances", "отсекать экземпляры целиком"},
+        {"ru", "help:cull-instances",
+         "пропускать весь экземпляр, если его спроецированная оболочка закрыта, ещё до преобразования вершин"},
+        {"ru", "param:screen-tile-size", "размер экранного тайла"},
+        {"ru", "help:screen-tile-size",
+         "сторона в пикселях экранных тайлов, которые рисуются параллельно; округляется вверх до кратного 8 "
+         "(0 — всё изображение одним тайлом)"},
+        {"ru", "phase:instance-cull", "пропустить экземпляр вне области видимости или закрытый z-пирамидой"},
+        {"ru", "phase:cull", "отбросить треугольник, если он нелицевой или лежит вне области видимости"},
+        {"ru", "phase:pyramid-test", "проверить оболочку треугольника по z-пирамиде"},
+        {"ru", "phase:rasterize", "найти центры пикселей, которые покрывает треугольник"},
+        {"ru", "phase:depth-test", "сравнить глубину треугольника с буфером глубины"},
+        {"ru", "phase:write", "записать более близкие пиксели и пометить их ячейки z-пирамиды"},
+        {"ru", "counter:triangles-culled-by-pyramid", "треугольников отброшено z-пирамидой"},
+        {"ru", "counter:clipped-pieces-culled-by-pyramid", "частей отсечённых треугольников отброшено z-пирамидой"},
+        {"ru", "counter:triangles-untested", "треугольников нарисовано без проверки по z-пирамиде"},
+        {"ru", "counter:tiles-tested", "плиток проверено по z-пирамиде"},
+        {"ru", "counter:tiles-culled", "плиток отброшено z-пирамидой"},
+        {"ru", "counter:instances-culled", "экземпляров закрыто целиком"},
+        {"ru", "counter:instances-outside", "экземпляров вне области видимости"},
+        {"ru", "counter:triangles-in-skipped-instances", "треугольников в пропущенных экземплярах"},
+        {"ru", "counter:pyramid-cells-visited", "ячеек z-пирамиды прочитано"},
+        {"ru", "counter:pyramid-cells-updated", "ячеек z-пирамиды пересчитано"},
+    };
+    static constexpr auto translations = hsr::sdk::join_translations(
+        own_translations, raster::triangle_counter_translations, raster::depth_test_counter_translations,
+        raster::zpyramid_buffer_translations);
+
 private:
     friend class hsr::sdk::StepwiseRemover<HierarchicalZBuffer>;
 

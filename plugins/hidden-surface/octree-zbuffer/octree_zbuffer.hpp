@@ -62,6 +62,50 @@ public:
         {"write", "write the nearer pixels and mark their pyramid cells"},
     };
 
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
+        {"ru", "description",
+         "z-буфер с октодеревом (Грин, Касс и Миллер, 1993): октодеревья объектов обходятся от ближних узлов к "
+         "дальним и отсекаются по z-пирамиде"},
+        {"ru", "param:max-depth", "наибольшая глубина октодерева"},
+        {"ru", "help:max-depth", "самый глубокий уровень октодерева (корень — уровень 0)"},
+        {"ru", "param:leaf-triangles", "треугольников в листе"},
+        {"ru", "help:leaf-triangles", "ячейка октодерева, в которой не больше стольких треугольников, дальше не делится"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не рисовать треугольники, повёрнутые к камере нелицевой стороной"},
+        {"ru", "param:tile-size", "размер экранного тайла"},
+        {"ru", "help:tile-size",
+         "сторона в пикселях экранных тайлов, которые рисуются параллельно; округляется вверх до кратного 8 "
+         "(0 — всё изображение одним тайлом)"},
+        {"ru", "phase:node-outside", "пропустить узел, оболочка которого лежит вне области видимости"},
+        {"ru", "phase:node-hidden", "отбросить узел, оболочка которого закрыта z-пирамидой"},
+        {"ru", "phase:node-visit", "обойти узел, который может быть виден: его потомков от ближних к дальним или его треугольники"},
+        {"ru", "phase:cull", "отбросить треугольник листа, лежащий вне области видимости"},
+        {"ru", "phase:pyramid-test", "проверить треугольник листа по z-пирамиде"},
+        {"ru", "phase:rasterize", "найти центры пикселей, которые покрывает треугольник"},
+        {"ru", "phase:depth-test", "сравнить глубину треугольника с буфером глубины"},
+        {"ru", "phase:write", "записать более близкие пиксели и пометить их ячейки z-пирамиды"},
+        {"ru", "counter:triangles-in-culled-nodes", "треугольников в закрытых узлах"},
+        {"ru", "counter:triangles-culled-by-pyramid", "треугольников отброшено z-пирамидой"},
+        {"ru", "counter:octree-nodes", "узлов октодерева"},
+        {"ru", "counter:octree-nodes-visited", "узлов октодерева проверено"},
+        {"ru", "counter:octree-nodes-culled", "узлов октодерева закрыто z-пирамидой"},
+        {"ru", "counter:octree-nodes-outside", "узлов октодерева вне области видимости"},
+        {"ru", "counter:octree-leaves-drawn", "листьев октодерева нарисовано"},
+        {"ru", "counter:octree-leaves-deferred", "листьев октодерева отложено"},
+        {"ru", "counter:instance-nodes", "узлов иерархии экземпляров"},
+        {"ru", "counter:instance-nodes-visited", "узлов иерархии экземпляров проверено"},
+        {"ru", "counter:instance-nodes-culled", "узлов иерархии экземпляров закрыто z-пирамидой"},
+        {"ru", "counter:instance-nodes-outside", "узлов иерархии экземпляров вне области видимости"},
+        {"ru", "counter:placements-visited", "экземпляров обойдено"},
+        {"ru", "counter:vertices-transformed", "вершин преобразовано"},
+        {"ru", "counter:tiles-tested", "плиток проверено по z-пирамиде"},
+        {"ru", "counter:tiles-culled", "плиток отброшено z-пирамидой"},
+        {"ru", "counter:pyramid-updates", "обновлений z-пирамиды"},
+    };
+    static constexpr auto translations = hsr::sdk::join_translations(
+        own_translations, raster::triangle_counter_translations, raster::depth_test_counter_translations,
+        raster::zpyramid_buffer_translations, hsr::sdk::build_time_counter_translations);
+
 private:
     friend class hsr::sdk::StepwiseRemover<OctreeZBuffer>;
 

@@ -112,6 +112,33 @@ public:
         {"cast", "cast a ray through each pixel centre and keep its nearest hit"},
     };
 
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
+        {"ru", "description",
+         "метод бросания лучей (Аппель, 1968): луч через центр каждого пикселя, иерархия ограничивающих объёмов "
+         "по эвристике площади поверхности (SAH), «водонепроницаемый» тест пересечения луча с треугольником"},
+        {"ru", "param:precision", "точность вычислений"},
+        {"ru", "help:precision", "арифметика тестов пересечения луча с треугольником и с параллелепипедом"},
+        {"ru", "choice:precision:double", "двойная (double)"},
+        {"ru", "choice:precision:float", "одинарная (float)"},
+        {"ru", "param:threads", "число потоков"},
+        {"ru", "help:threads", "сколько потоков бросают лучи (0 — по одному на ядро)"},
+        {"ru", "param:tile-size", "размер тайла"},
+        {"ru", "help:tile-size", "сторона в пикселях квадратных тайлов, которые разбирают потоки"},
+        {"ru", "param:leaf-triangles", "треугольников в листе"},
+        {"ru", "help:leaf-triangles", "узел иерархии, в котором не больше стольких треугольников, становится листом"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не рисовать треугольники, повёрнутые к камере нелицевой стороной"},
+        {"ru", "phase:build", "построить иерархию ограничивающих объёмов над треугольниками"},
+        {"ru", "phase:cast", "бросить луч через центр каждого пикселя и оставить ближайшее пересечение"},
+        {"ru", "counter:rays", "лучей брошено"},
+        {"ru", "counter:hits", "попаданий лучей"},
+        {"ru", "counter:bvh-nodes", "узлов иерархии ограничивающих объёмов"},
+        {"ru", "counter:triangle-tests", "тестов пересечения луча с треугольником"},
+        {"ru", "counter:nodes-visited", "узлов иерархии посещено"},
+    };
+    static constexpr auto translations = hsr::sdk::join_translations(
+        own_translations, hsr::sdk::build_time_counter_translations);
+
     explicit Raycast(const hsr::sdk::Params& p)
         : double_precision_(p.choice("precision") == 0),
           threads_(uint32_t(p.integer("threads"))),

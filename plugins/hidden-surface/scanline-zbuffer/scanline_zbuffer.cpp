@@ -147,6 +147,32 @@ public:
         {"depth-test", "depth-test overlapping spans in the one-row depth buffer"},
     };
 
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
+        {"ru", "description",
+         "построчный z-буфер (Уайли и др., 1967; Уоткинс, 1970): таблица многоугольников по y, пары активных "
+         "рёбер, буфер глубины длиной в одну строку"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не рисовать треугольники, повёрнутые к камере нелицевой стороной"},
+        {"ru", "param:band-rows", "строк в полосе"},
+        {"ru", "help:band-rows",
+         "сколько строк развёртки в полосе, полосы обрабатываются параллельно (0 — высота изображения, делённая "
+         "на удвоенное число потоков, но не меньше 64; высота изображения или больше — один проход)"},
+        {"ru", "phase:active-edges",
+         "обновить список активных: многоугольники, начинающиеся на этой строке, входят в него, закончившиеся — выходят"},
+        {"ru", "phase:spans", "заполнить интервал каждого активного многоугольника между его парой рёбер"},
+        {"ru", "phase:depth-test", "сравнить по глубине перекрывающиеся интервалы в буфере глубины строки"},
+        {"ru", "counter:polygons-in-table", "многоугольников в таблице"},
+        {"ru", "counter:polygons-empty", "пустых многоугольников отброшено"},
+        {"ru", "counter:scanlines", "строк развёртки с многоугольниками"},
+        {"ru", "counter:edge-pairs-processed", "пар рёбер обработано"},
+        {"ru", "counter:active-polygons-max", "наибольшее число активных многоугольников"},
+        {"ru", "counter:active-edges-max", "наибольшее число активных рёбер"},
+        {"ru", "counter:polygon-records-max", "наибольшее число записей о многоугольниках"},
+    };
+    static constexpr auto translations =
+        hsr::sdk::join_translations(own_translations, raster::triangle_counter_translations,
+                                    raster::depth_test_counter_translations);
+
 private:
     struct Stats {
         uint64_t depth_tested = 0;

@@ -52,6 +52,23 @@ public:
         {"write", "write the nearer pixels to the depth and frame buffers"},
     };
 
+    static constexpr hsr::sdk::TranslationSpec own_translations[] = {
+        {"ru", "description", "обычный z-буфер (Кэтмелл, 1974): треугольники растеризуются по одному с помощью рёберных функций"},
+        {"ru", "param:cull-backfaces", "отбрасывать нелицевые грани"},
+        {"ru", "help:cull-backfaces", "не рисовать треугольники, повёрнутые к камере нелицевой стороной"},
+        {"ru", "param:depth-test", "тест глубины"},
+        {"ru", "help:depth-test", "оставлять ближайшую поверхность (less) или самую дальнюю (greater)"},
+        {"ru", "choice:depth-test:less", "ближайшая (less)"},
+        {"ru", "choice:depth-test:greater", "самая дальняя (greater)"},
+        {"ru", "phase:cull", "отбросить треугольник, если он нелицевой или лежит вне области видимости"},
+        {"ru", "phase:rasterize", "найти центры пикселей, которые покрывает треугольник"},
+        {"ru", "phase:depth-test", "сравнить глубину треугольника с буфером глубины"},
+        {"ru", "phase:write", "записать более близкие пиксели в буфер глубины и буфер кадра"},
+    };
+    static constexpr auto translations =
+        hsr::sdk::join_translations(own_translations, raster::triangle_counter_translations,
+                                    raster::depth_test_counter_translations);
+
 private:
     struct PixelStats {
         uint64_t depth_tested = 0;

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -99,6 +100,13 @@ struct DepthTest {
     }
 };
 
+// The names a z-buffer reports DepthTest's counts under ("pixels-depth-tested": `tested`,
+// "pixels-written": `written`), in Russian, for the plugin's `translations`.
+inline constexpr std::array<hsr::sdk::TranslationSpec, 2> depth_test_counter_translations{{
+    {"ru", "counter:pixels-depth-tested", "тестов глубины выполнено"},
+    {"ru", "counter:pixels-written", "пикселей прошло тест глубины"},
+}};
+
 // ---------------------------------------------------------------------------------------------- //
 // Whole-frame geometry: input checks, per-vertex transform, per-triangle cull/clip/setup
 
@@ -132,6 +140,16 @@ struct TriangleStats {
         counters.set("triangles-rasterized", rasterized);
     }
 };
+
+// The counters TriangleStats::report sets, in Russian, for the plugin's `translations`.
+inline constexpr std::array<hsr::sdk::TranslationSpec, 6> triangle_counter_translations{{
+    {"ru", "counter:triangles-in", "треугольников на входе"},
+    {"ru", "counter:triangles-backface-culled", "треугольников отброшено как нелицевые"},
+    {"ru", "counter:triangles-clipped", "треугольников пересекло ближнюю плоскость"},
+    {"ru", "counter:triangles-outside", "треугольников вне области видимости"},
+    {"ru", "counter:triangles-degenerate", "вырожденных треугольников"},
+    {"ru", "counter:triangles-rasterized", "треугольников растеризовано"},
+}};
 
 // Reports the step of a triangle the geometry stage dropped between the stats `before` and `after`
 // (back-facing or outside the view: phase "cull"; too thin to hold a pixel centre, or

@@ -8,6 +8,7 @@
 #include "hsr/sdk.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -97,5 +98,10 @@ void timed_build(Counters& counters, Build&& build) {
         std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start).count();
     counters.set("build-time-us", built ? std::max<uint64_t>(1, uint64_t(us)) : 0);
 }
+
+// The counter timed_build sets, in Russian, for the plugin's `translations`.
+inline constexpr std::array<TranslationSpec, 1> build_time_counter_translations{{
+    {"ru", "counter:build-time-us", "время построения, мкс"},
+}};
 
 }  // namespace hsr::sdk

@@ -23,6 +23,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -100,6 +101,41 @@ struct TranslationSpec {
     const char* key;
     const char* text;
 };
+
+namespace detail {
+template <class List>
+struct TranslationListSize;
+template <std::size_t N>
+struct TranslationListSize<TranslationSpec[N]> {
+    static constexpr std::size_t value = N;
+};
+template <std::size_t N>
+struct TranslationListSize<std::array<TranslationSpec, N>> {
+    static constexpr std::size_t value = N;
+};
+}  // namespace detail
+
+// Joins lists of translations (C arrays or std::arrays of TranslationSpec) into one std::array, in
+// order, for a plugin that adds its own texts to those of the SDK code it uses:
+//   static constexpr hsr::sdk::TranslationSpec own_translations[] = {{"ru", "description", "..."}, ...};
+//   static constexpr auto translations =
+//       hsr::sdk::join_translations(hsr::raster::triangle_counter_translations, own_translations);
+template <class... Lists>
+constexpr auto join_translations(const Lists&... lists) {
+    std::array<TranslationSpec, (detail::TranslationListSize<Lists>::value + ... + 0)> joined{};
+    std::size_t next = 0;
+    auto append = [&](const auto& list) {
+        for (const TranslationSpec& spec : list) joined[next++] = spec;
+    };
+    (append(lists), ...);
+    return joined;
+}
+
+// The counter the SDK adds to a render with steps ("steps": how many were taken), in Russian.
+// Every hidden-surface remover's table gets it (translation_table), unless the class gives its own.
+inline constexpr std::array<TranslationSpec, 1> step_counter_translations{{
+    {"ru", "counter:steps", "шагов сделано"},
+}};
 
 // ABI 1.5: whether the host asked for step texts in `code` ("ru"); English is the default.
 inline bool wants_language(const char* asked, const char* code) {
@@ -924,19 +960,21 @@ const hsr_phase_desc* phase_table(uint32_t& count) {
 
 template <class T>
 const hsr_translation* translation_table(uint32_t& count) {
-    if constexpr (requires { T::translations; }) {
-        static const std::vector<hsr_translation> table = [] {
-            std::vector<hsr_translation> entries;
-            for (const TranslationSpec& spec : T::translations)
-                entries.push_back({sizeof(hsr_translation), spec.language, spec.key, spec.text});
-            return entries;
-        }();
-        count = static_cast<uint32_t>(table.size());
-        return table.empty() ? nullptr : table.data();
-    } else {
-        count = 0;
-        return nullptr;
-    }
+    static const std::vector<hsr_translation> table = [] {
+        std::vector<hsr_translation> entries;
+        auto add = [&](const TranslationSpec& spec) {
+            for (const hsr_translation& t : entries)
+                if (std::strcmp(t.language, spec.language) == 0 && std::strcmp(t.key, spec.key) == 0) return;
+            entries.push_back({sizeof(hsr_translation), spec.language, spec.key, spec.text});
+        };
+        if constexpr (requires { T::translations; })
+            for (const TranslationSpec& spec : T::translations) add(spec);
+        if constexpr (kind_of<T>() == HSR_KIND_HIDDEN_SURFACE_REMOVER)
+            for (const TranslationSpec& spec : step_counter_translations) add(spec);
+        return entries;
+    }();
+    count = static_cast<uint32_t>(table.size());
+    return table.empty() ? nullptr : table.data();
 }
 
 template <class T>

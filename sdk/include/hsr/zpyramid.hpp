@@ -45,7 +45,10 @@
 // Depth convention: window depth, smaller is nearer, +infinity = nothing drawn yet.
 #pragma once
 
+#include "hsr/sdk.hpp"
+
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -506,5 +509,11 @@ private:
     mutable uint64_t cells_visited_ = 0;
     mutable uint64_t cells_updated_ = 0;
 };
+
+// The step buffers of ZPyramid::add_step_buffers ("z-pyramid-<level>") in Russian, for the plugin's
+// `translations`.
+inline constexpr std::array<hsr::sdk::TranslationSpec, 1> zpyramid_buffer_translations{{
+    {"ru", "buffer:z-pyramid", "z-пирамида"},
+}};
 
 }  // namespace hsr::raster
