@@ -139,13 +139,20 @@ export default async (h) => {
   const russian = (p) => p.translations?.ru ?? {};
   const untranslatedTexts = new Set();  // descriptions, help, phase titles: found inside a text
   const untranslatedNames = new Set();  // parameter names, choices, phase names: a whole word
+  const translatedNames = new Set();  // parameter names and choices the page must not show alone
   for (const p of all) {
     const ru = russian(p);
     if (!ru.description && p.description) untranslatedTexts.add(p.description.trim());
+    // Parameter names and choices are also identifiers the command line takes (-p depth-test=less),
+    // which a Russian text may name beside its words; shown alone they must be translated if they can.
     for (const param of p.params || []) {
-      if (!ru[`param:${param.name}`]) untranslatedNames.add(param.name);
+      untranslatedNames.add(param.name);
+      if (ru[`param:${param.name}`]) translatedNames.add(param.name);
       if (!ru[`help:${param.name}`] && param.help) untranslatedTexts.add(param.help.trim());
-      for (const choice of param.choices || []) if (!ru[`choice:${param.name}:${choice}`]) untranslatedNames.add(choice);
+      for (const choice of param.choices || []) {
+        untranslatedNames.add(choice);
+        if (ru[`choice:${param.name}:${choice}`]) translatedNames.add(choice);
+      }
     }
     for (const phase of p.phases || []) {
       if (!ru[`phase:${phase.name}`]) {
@@ -169,6 +176,7 @@ export default async (h) => {
     for (const t of types) names.add(t);
     const found = [];
     for (const { text, where, theory } of await pageTexts(page)) {
+      if (translatedNames.has(text)) found.push(`«${text}» (${where}: the plugin translates it)`);
       let rest = text;
       for (const plugin of untranslatedTexts) rest = rest.split(plugin).join(' ');
       if (theory) rest = rest.replace(/\((?:[A-Za-z][\w-]*\s*)+\)/g, ' ');
