@@ -804,10 +804,7 @@ function wire() {
     showSizeFields();
     changed({ resetSteps: true });
   });
-  $('upload').addEventListener('change', (e) => {
-    if (e.target.files[0]) modelList.upload(e.target.files[0]);
-    e.target.value = '';
-  });
+  modelList.acceptPicks($('upload'), $('upload-choose'), $('upload-name'));
   $('algorithm').addEventListener('change', (e) => {
     settings.algorithm = e.target.value;
     algorithmChosen();

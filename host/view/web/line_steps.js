@@ -176,7 +176,6 @@ function makeKey(general) {
   const key = document.createElement('div');
   key.id = 'line-step-key';
   key.className = 'line-step-key';
-  key.setAttribute('aria-label', 'legend');
   const container = document.getElementById('steps');
   if (general) general.after(key);
   else container?.append(key);
@@ -187,6 +186,7 @@ function fillKey(key, figure) {
   const algorithm = KEYS[figure.algorithm] ? figure.algorithm : 'other';
   const colors = lineStepPalette(figure.background);
   key.dataset.algorithm = algorithm;
+  key.setAttribute('aria-label', tr({ en: 'legend', ru: 'условные обозначения' }));
   key.replaceChildren();
   const items = document.createElement('div');
   items.className = 'line-keys';

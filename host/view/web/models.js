@@ -1,9 +1,11 @@
 // The model list: the served models (/api/models) and the uploaded ones in one select, and the
-// upload of a model file chosen or dropped anywhere on the page (POST /api/upload).
+// upload of a model file chosen or dropped anywhere on the page (POST /api/upload). The file picker
+// is the page's own button and file name, in the page's language (the browser's own input speaks the
+// browser's language); the <input type=file> it opens stays hidden.
 
 import { uploadModel } from './api.js';
 import { fillSelect } from './form.js';
-import { tr } from './i18n.js';
+import { tr, onLanguageChange } from './i18n.js';
 
 const sizeText = (bytes) => (!bytes ? ''
   : bytes < 1e6 ? tr({ en: ` (${Math.ceil(bytes / 1024)} KB)`, ru: ` (${Math.ceil(bytes / 1024)} КБ)` })
@@ -17,6 +19,26 @@ export class ModelList {
     this.onUploaded = onUploaded;
     this.onError = onError;
     this.onStatus = onStatus;
+    this.fileName = null;     // the last file uploaded, chosen or dropped
+    this.nameElement = null;
+  }
+
+  // Wires the page's button to the hidden file input, and shows the last file's name in nameElement.
+  acceptPicks(input, button, nameElement) {
+    this.nameElement = nameElement;
+    button.addEventListener('click', () => input.click());
+    input.addEventListener('change', () => {
+      if (input.files[0]) this.upload(input.files[0]);
+      input.value = '';
+    });
+    onLanguageChange(() => this.showFileName());
+    this.showFileName();
+  }
+
+  showFileName() {
+    if (!this.nameElement) return;
+    this.nameElement.textContent = this.fileName ?? tr({ en: 'no file chosen', ru: 'файл не выбран' });
+    this.nameElement.title = this.fileName ?? '';
   }
 
   // Fills the select with `models`, choosing `selected` if it is there; returns the id chosen.
@@ -33,6 +55,8 @@ export class ModelList {
   }
 
   async upload(file) {
+    this.fileName = file.name;
+    this.showFileName();
     this.onStatus(tr({ en: `uploading ${file.name}…`, ru: `загрузка ${file.name}…` }));
     try {
       const { id } = await uploadModel(file);

@@ -29,7 +29,10 @@ export const PAGE_TEXTS = {
   'controls': { label: { en: 'controls', ru: 'управление' } },
   'model-heading': { en: 'Model', ru: 'Модель' },
   'model': { en: 'model', ru: 'модель' },
-  'upload': { en: 'upload', ru: 'загрузить' },
+  'upload': {
+    text: { en: 'upload a file…', ru: 'загрузить файл…' },
+    title: { en: 'send a model file from this computer to the viewer', ru: 'передать программе файл модели с этого компьютера' },
+  },
   'drop-hint': { en: 'or drop a model file anywhere on the page', ru: 'или перетащите файл модели в любое место страницы' },
   'algorithm-heading': { en: 'Algorithm', ru: 'Алгоритм' },
   'visibility': { en: 'visibility', ru: 'метод' },

@@ -2,6 +2,17 @@
 
 import { tr, numberText, pluginText } from './i18n.js';
 
+// What the host counts for every plugin, as `hsr render --stats` names it; each row keeps that
+// name as its title. A plugin's translation of a counter of the same name (weiler-atherton counts
+// its own "fragments") comes first.
+const HOST_COUNTERS = {
+  'triangles': { en: 'triangles', ru: 'треугольники' },
+  'fragments-shaded': { en: 'fragments-shaded', ru: 'закрашенные фрагменты' },
+  'shading-batches': { en: 'shading-batches', ru: 'пакеты закраски' },
+  'fragments': { en: 'fragments', ru: 'фрагменты' },
+  'edges-requested': { en: 'edges-requested', ru: 'рёбра на входе' },
+};
+
 const ms = (v) => (Number.isFinite(v) ? tr({ en: `${v.toFixed(1)} ms`, ru: `${v.toFixed(1).replace('.', ',')} мс` }) : '–');
 
 // A counter's label in the page's language, from the first of `plugins` (/api/plugins entries) that
@@ -35,13 +46,14 @@ export function renderStats(element, title, stats, roundTripMs, counterLabel = (
   element.append(timings);
   const table = document.createElement('table');
   const rows = Object.entries(stats.counters || {});
-  if (Number.isFinite(stats.triangles)) rows.unshift([tr({ en: 'triangles', ru: 'треугольники' }), stats.triangles]);
+  if (Number.isFinite(stats.triangles)) rows.unshift(['triangles', stats.triangles]);
   for (const [name, value] of rows) {
-    const tr = table.insertRow();
-    const label = tr.insertCell();
-    label.textContent = counterLabel(name);
+    const row = table.insertRow();
+    const label = row.insertCell();
+    const pluginLabel = counterLabel(name);
+    label.textContent = pluginLabel !== name || !HOST_COUNTERS[name] ? pluginLabel : tr(HOST_COUNTERS[name]);
     if (label.textContent !== name) label.title = name;
-    const cell = tr.insertCell();
+    const cell = row.insertCell();
     cell.textContent = typeof value === 'number' ? numberText(value) : String(value);
     cell.className = 'number';
   }
