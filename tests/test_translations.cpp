@@ -1,7 +1,7 @@
 // A plugin's own texts in other languages (ABI 1.6, hsr_translation). The host's policy: what a
 // translation table may hold, checked on descriptors built here. And every built-in plugin: it gives
 // Russian for its description, every parameter's name and help, every choice, every phase and every
-// counter and step buffer it reports on the test scenes, each text with Cyrillic letters.
+// counter, step buffer and step type it reports on the test scenes, each text with Cyrillic letters.
 #include "hsr/abi.h"
 #include "hsr/edges.hpp"
 #include "hsr/params.hpp"
@@ -103,7 +103,7 @@ TEST_CASE("translations: a plugin of ABI 1.5 has none, whatever lies past its de
 namespace {
 
 struct Reported {
-    std::set<std::string> counters, buffers;
+    std::set<std::string> counters, buffers, step_types;
 };
 
 void record_counter(void* context, const char* name, uint64_t) {
@@ -112,11 +112,16 @@ void record_counter(void* context, const char* name, uint64_t) {
 
 uint32_t record_step(void* context, const hsr_step_event* e) {
     auto& reported = *static_cast<Reported*>(context);
+    if (e->type != nullptr) reported.step_types.insert(e->type);
     for (uint32_t i = 0; i < e->buffer_count; ++i) {
         const hsr_step_buffer& b = *HSR_ELEMENT(hsr_step_buffer, e->buffers, i);
         reported.buffers.insert(b.name);
     }
     return 0;
+}
+
+void record_event(void* context, const hsr_trace_event* e) {
+    if (e->type != nullptr) static_cast<Reported*>(context)->step_types.insert(e->type);
 }
 
 hsr_status accept_segments(void*, const hsr_segment_batch*) { return HSR_OK; }
@@ -157,7 +162,8 @@ Reported reported_by(const std::string& name, bool lines) {
             const hsr::EdgeList edges = hsr::classify_edges(scene, camera, 40.0, hsr::EdgeSelection::kFeatures);
             const hsr_line_request request = edges.request(true);
             const hsr_segment_sink segments{nullptr, &accept_segments};
-            remover.render_lines(scene, camera, request, segments, nullptr, &counters);
+            const hsr_trace_sink trace{&reported, &record_event, "ru"};
+            remover.render_lines(scene, camera, request, segments, &trace, &counters);
             continue;
         }
         hsr::HiddenSurfaceRemover remover(plugin(name), {});
@@ -197,6 +203,7 @@ void check_russian(const std::string& name, bool lines, bool renders) {
     const Reported reported = reported_by(name, lines);
     CHECK_FALSE(reported.counters.empty());
     for (const std::string& counter : reported.counters) check_text("counter:" + counter);
+    for (const std::string& type : reported.step_types) check_text("step:" + type);
     for (const std::string& buffer : reported.buffers) {
         INFO("step buffer " << buffer);
         const size_t dash = buffer.find_last_of('-');

@@ -219,7 +219,7 @@ std::string check_translation_key(const hsr_plugin_descriptor& d, std::string_vi
         if (second == std::string_view::npos) return "needs choice:<parameter>:<choice>";
         return has_choice(d, name.substr(0, second), name.substr(second + 1)) ? "" : "names no choice of the plugin";
     }
-    if (kind == "counter" || kind == "buffer") return {};
+    if (kind == "counter" || kind == "buffer" || kind == "step") return {};
     return "is not one the ABI lists";
 }
 

@@ -325,7 +325,7 @@ async function askOutline(request) {
     const body = outlineBody(request);
     delete body.lighting;
     delete body.lighting_params;
-    const value = new StepOutline(await postJsonAside('/api/steps', body));
+    const value = new StepOutline(await postJsonAside('/api/steps', body), pluginByName(body.algorithm));
     outline = { key, value };
   } catch {
     // the count comes with the first step instead

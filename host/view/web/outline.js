@@ -2,11 +2,13 @@
 // phase and level. It gives the step bar its coarse units (the next phase, level, culled node, …)
 // and where a step lies in the run, and it fills the worked example of the theory pane.
 
-import { tr } from './i18n.js';
+import { tr, pluginText } from './i18n.js';
 
 // The unit one coarse step moves by: 'step', 'phase', 'level' or 'type:<name>'.
 export class StepOutline {
-  constructor(answer) {
+  // answer: /api/steps; plugin: the algorithm's /api/plugins entry, for its names of step types.
+  constructor(answer, plugin = null) {
+    this.plugin = plugin;
     this.total = answer.total;
     this.runs = answer.runs;          // [first, count, type, phase, level]
     this.truncated = answer.truncated;
@@ -83,7 +85,7 @@ export class StepOutline {
     const units = [['step', tr({ en: 'one step', ru: 'один шаг' })]];
     if (this.phases.length > 1) units.push(['phase', tr({ en: 'next phase', ru: 'следующий этап' })]);
     if (this.hasLevels) units.push(['level', tr({ en: 'next level', ru: 'следующий уровень' })]);
-    for (const type of this.types) units.push([`type:${type}`, typeLabel(type)]);
+    for (const type of this.types) units.push([`type:${type}`, typeLabel(type, this.plugin)]);
     return units;
   }
 
@@ -116,7 +118,11 @@ const TYPE_LABELS = {
   'edge-begin': { en: 'next edge', ru: 'следующее ребро' },
 };
 
-function typeLabel(type) {
+// A step type's label: the plugin's own name for it in the page's language (ABI 1.6 key
+// "step:<type>"), else the page's, else the type itself.
+function typeLabel(type, plugin) {
+  const own = pluginText(plugin, `step:${type}`, null);
+  if (own) return tr({ en: `next step: ${own}`, ru: `следующий шаг: ${own}` });
   const known = TYPE_LABELS[type];
   return known ? tr(known) : tr({ en: `next “${type}”`, ru: `следующий шаг «${type}»` });
 }

@@ -544,6 +544,8 @@ typedef struct IHiddenLineRemover {
  *   "counter:<name>"           a counter the plugin reports
  *   "buffer:<name>"            a step buffer; a name ending in "-<number>" may be translated
  *                              without it ("buffer:z-pyramid" covers "z-pyramid-3")
+ *   "step:<type>"              the type of a step (hsr_step_event.type, hsr_trace_event.type) as a
+ *                              person names it, e.g. "step:node-culled" -> "отсечённый узел"
  * The names inside keys are the plugin's own identifiers, which stay what the command line takes.
  * At most one entry per (language, key); the host refuses a list with duplicates, an empty text, a
  * language that is not two or three lower-case letters, or a key naming a parameter, choice or
