@@ -113,6 +113,10 @@ public:
         {"ru", "counter:piercings", "пересечений граней"},
         {"ru", "counter:qi-changes", "изменений количественной невидимости"},
         {"ru", "counter:qi-conflicts", "противоречий в количественной невидимости"},
+        {"ru", "step:component-seed", "начальная вершина части"},
+        {"ru", "step:edge-begin", "обход ребра"},
+        {"ru", "step:qi-change", "смена количественной невидимости"},
+        {"ru", "step:edge-end", "итог по ребру"},
     };
 
     explicit Appel(const hsr::sdk::Params& p)

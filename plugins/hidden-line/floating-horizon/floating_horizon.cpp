@@ -135,6 +135,12 @@ public:
         {"ru", "counter:horizon-columns", "столбцов горизонтов"},
         {"ru", "counter:column-tests", "сравнений с горизонтами по столбцам"},
         {"ru", "counter:columns-updated", "значений горизонтов изменено"},
+        {"ru", "step:sort", "сортировка кривых"},
+        {"ru", "step:curve-begin", "очередная кривая"},
+        {"ru", "step:edge-begin", "очередной отрезок"},
+        {"ru", "step:visible-from", "начало видимого участка"},
+        {"ru", "step:hidden-from", "начало невидимого участка"},
+        {"ru", "step:horizon-update", "обновление горизонтов"},
     };
 
     explicit FloatingHorizon(const hsr::sdk::Params& p)

@@ -163,6 +163,18 @@ public:
         {"ru", "counter:body-pairs-overlapping", "пар тел с перекрытием габаритов"},
         {"ru", "counter:penetration-lines", "линий пересечения тел"},
         {"ru", "counter:penetration-pieces-visible", "видимых отрезков линий пересечения"},
+        {"ru", "step:body", "нелицевые грани тела"},
+        {"ru", "step:edge-begin", "очередное ребро"},
+        {"ru", "step:edge-behind-eye", "ребро позади наблюдателя"},
+        {"ru", "step:back-edge", "нелицевое ребро"},
+        {"ru", "step:rejected-by-depth", "тело дальше ребра"},
+        {"ru", "step:rejected-by-bounds", "тело в стороне от ребра"},
+        {"ru", "step:hidden-by", "участок, закрытый телом"},
+        {"ru", "step:visible", "видимый участок"},
+        {"ru", "step:edge-end", "итог по ребру"},
+        {"ru", "step:penetration-begin", "линия пересечения тел"},
+        {"ru", "step:penetration-body", "грань с линией пересечения"},
+        {"ru", "step:penetration-end", "итог по линии пересечения"},
     };
 
     explicit Roberts(const hsr::sdk::Params&) {}

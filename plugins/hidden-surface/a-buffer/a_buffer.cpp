@@ -81,6 +81,8 @@ public:
         {"ru", "counter:pixels-partly-covered", "частично покрытых пикселей"},
         {"ru", "counter:fragments-per-pixel-max", "наибольшее число фрагментов в пикселе"},
         {"ru", "buffer:coverage", "покрытие пикселей"},
+        {"ru", "step:triangle", "треугольник"},
+        {"ru", "step:row", "строка изображения"},
     };
     static constexpr auto translations =
         hsr::sdk::join_translations(own_translations, raster::triangle_counter_translations,

@@ -165,6 +165,9 @@ public:
         {"ru", "counter:pixels-painted", "пикселей закрашено"},
         {"ru", "counter:pixels-skipped-covered", "пикселей пропущено как уже закрытые"},
         {"ru", "buffer:coverage", "маска покрытия"},
+        {"ru", "step:build", "построение BSP-дерева"},
+        {"ru", "step:node", "узел дерева"},
+        {"ru", "step:polygon", "многоугольник"},
     };
     static constexpr auto translations = hsr::sdk::join_translations(own_translations, hsr::sdk::build_time_counter_translations);
 

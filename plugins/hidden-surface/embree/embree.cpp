@@ -79,6 +79,8 @@ public:
         {"ru", "phase:cast", "бросить луч через центр каждого пикселя и оставить ближайшее пересечение"},
         {"ru", "counter:rays", "лучей брошено"},
         {"ru", "counter:hits", "попаданий лучей"},
+        {"ru", "step:build", "построение иерархии Embree"},
+        {"ru", "step:tile", "тайл"},
     };
     static constexpr auto translations = hsr::sdk::join_translations(
         own_translations, hsr::sdk::build_time_counter_translations);

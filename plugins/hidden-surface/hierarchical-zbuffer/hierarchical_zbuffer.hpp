@@ -597,10 +597,12 @@ public:
         {"ru", "counter:triangles-in-skipped-instances", "треугольников в пропущенных экземплярах"},
         {"ru", "counter:pyramid-cells-visited", "ячеек z-пирамиды прочитано"},
         {"ru", "counter:pyramid-cells-updated", "ячеек z-пирамиды пересчитано"},
+        {"ru", "step:instance-outside", "экземпляр вне области видимости"},
+        {"ru", "step:instance-culled", "экземпляр, закрытый z-пирамидой"},
     };
     static constexpr auto translations = hsr::sdk::join_translations(
         own_translations, raster::triangle_counter_translations, raster::depth_test_counter_translations,
-        raster::zpyramid_buffer_translations);
+        raster::zpyramid_buffer_translations, raster::triangle_step_translations);
 
 private:
     friend class hsr::sdk::StepwiseRemover<HierarchicalZBuffer>;

@@ -101,10 +101,13 @@ public:
         {"ru", "counter:tiles-tested", "плиток проверено по z-пирамиде"},
         {"ru", "counter:tiles-culled", "плиток отброшено z-пирамидой"},
         {"ru", "counter:pyramid-updates", "обновлений z-пирамиды"},
+        {"ru", "step:node-culled", "отсечённый узел"},
+        {"ru", "step:node-visited", "посещённый узел"},
     };
     static constexpr auto translations = hsr::sdk::join_translations(
         own_translations, raster::triangle_counter_translations, raster::depth_test_counter_translations,
-        raster::zpyramid_buffer_translations, hsr::sdk::build_time_counter_translations);
+        raster::zpyramid_buffer_translations, raster::triangle_step_translations,
+        hsr::sdk::build_time_counter_translations);
 
 private:
     friend class hsr::sdk::StepwiseRemover<OctreeZBuffer>;

@@ -132,6 +132,10 @@ public:
         {"ru", "counter:test-5-q-before-p-plane-passed", "проверка 5 (Q перед плоскостью P): успешных"},
         {"ru", "counter:test-6-projections-run", "проверка 6 (проекции не пересекаются): выполнений"},
         {"ru", "counter:test-6-projections-passed", "проверка 6 (проекции не пересекаются): успешных"},
+        {"ru", "step:sort", "сортировка по глубине"},
+        {"ru", "step:split", "рассечение треугольника"},
+        {"ru", "step:reorder", "перестановка в списке"},
+        {"ru", "step:polygon", "многоугольник"},
     };
 
     explicit Painter(const hsr::sdk::Params& p)

@@ -135,6 +135,8 @@ public:
         {"ru", "counter:bvh-nodes", "узлов иерархии ограничивающих объёмов"},
         {"ru", "counter:triangle-tests", "тестов пересечения луча с треугольником"},
         {"ru", "counter:nodes-visited", "узлов иерархии посещено"},
+        {"ru", "step:build", "построение иерархии объёмов"},
+        {"ru", "step:tile", "тайл"},
     };
     static constexpr auto translations = hsr::sdk::join_translations(
         own_translations, hsr::sdk::build_time_counter_translations);

@@ -168,6 +168,7 @@ public:
         {"ru", "counter:active-polygons-max", "наибольшее число активных многоугольников"},
         {"ru", "counter:active-edges-max", "наибольшее число активных рёбер"},
         {"ru", "counter:polygon-records-max", "наибольшее число записей о многоугольниках"},
+        {"ru", "step:scanline", "строка развёртки"},
     };
     static constexpr auto translations =
         hsr::sdk::join_translations(own_translations, raster::triangle_counter_translations,

@@ -133,6 +133,7 @@ public:
         {"ru", "counter:pixels-written", "пикселей записано"},
         {"ru", "counter:pixels-depth-tested", "пиксельных операций всего"},
         {"ru", "counter:quadtree-depth", "глубина дерева квадрантов"},
+        {"ru", "step:window", "окно"},
     };
     static constexpr auto translations = hsr::sdk::join_translations(own_translations, hsr::raster::triangle_counter_translations);
 

@@ -108,6 +108,10 @@ public:
         {"ru", "counter:recursive-subdivisions", "рекурсивных разбиений"},
         {"ru", "counter:pixels-depth-tested", "пикселей проверено"},
         {"ru", "counter:pixels-written", "пикселей записано"},
+        {"ru", "step:sort", "сортировка по глубине"},
+        {"ru", "step:clip-polygon", "отсекающий многоугольник"},
+        {"ru", "step:fragment", "видимый фрагмент"},
+        {"ru", "step:recurse", "рекурсивное разбиение"},
     };
 
     explicit WeilerAtherton(const hsr::sdk::Params& p)

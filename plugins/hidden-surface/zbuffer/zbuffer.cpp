@@ -67,7 +67,7 @@ public:
     };
     static constexpr auto translations =
         hsr::sdk::join_translations(own_translations, raster::triangle_counter_translations,
-                                    raster::depth_test_counter_translations);
+                                    raster::depth_test_counter_translations, raster::triangle_step_translations);
 
 private:
     struct PixelStats {

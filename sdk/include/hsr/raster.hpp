@@ -201,6 +201,12 @@ void triangle_step(StepsT& steps, const TriangleStats& before, const TriangleSta
     }
 }
 
+// The step type of dropped_triangle_step and triangle_step ("triangle") in Russian, for the plugin's
+// `translations`.
+inline constexpr std::array<hsr::sdk::TranslationSpec, 1> triangle_step_translations{{
+    {"ru", "step:triangle", "треугольник"},
+}};
+
 // Lines of a step (ABI 1.3): the outline of the pixels [x0, x1] x [y0, y1], clipped to a width x
 // height image (nothing when the box misses it).
 template <class StepsT>
