@@ -20,11 +20,6 @@ namespace {
 
 using namespace surface_tests;
 
-const char* const kHiddenSurface[] = {"zbuffer",  "hierarchical-zbuffer", "octree-zbuffer", "scanline-zbuffer",
-                                      "a-buffer", "painter",              "bsp",            "warnock",
-                                      "weiler-atherton", "raycast",       "embree"};
-const char* const kHiddenLine[] = {"roberts", "appel", "floating-horizon"};
-
 struct Case {
     std::string name;
     hsr_scene scene;
@@ -145,13 +140,13 @@ void check_plugin(const std::string& name, bool lines) {
 }  // namespace
 
 TEST_CASE("phases: every hidden-surface plugin names a listed phase on every step, in both languages", "[phases]") {
-    for (const char* name : kHiddenSurface) {
+    for (const char* name : kBuiltinHiddenSurface) {
         DYNAMIC_SECTION(name) { check_plugin(name, false); }
     }
 }
 
 TEST_CASE("phases: every hidden-line plugin names a listed phase on every step, in both languages", "[phases]") {
-    for (const char* name : kHiddenLine) {
+    for (const char* name : kBuiltinHiddenLine) {
         DYNAMIC_SECTION(name) { check_plugin(name, true); }
     }
 }

@@ -20,12 +20,6 @@ namespace {
 
 using namespace surface_tests;
 
-const char* const kHiddenSurface[] = {"zbuffer",  "hierarchical-zbuffer", "octree-zbuffer", "scanline-zbuffer",
-                                      "a-buffer", "painter",              "bsp",            "warnock",
-                                      "weiler-atherton", "raycast",       "embree"};
-const char* const kHiddenLine[] = {"roberts", "appel", "floating-horizon"};
-const char* const kLighting[] = {"blinn-phong", "facecolor", "gooch", "lambert", "phong"};
-
 bool has_cyrillic(const std::string& text) {
     for (unsigned char c : text)
         if (c >= 0xD0 && c <= 0xD3) return true;
@@ -217,19 +211,19 @@ void check_russian(const std::string& name, bool lines, bool renders) {
 }  // namespace
 
 TEST_CASE("translations: every hidden-surface plugin's texts in Russian", "[translations]") {
-    for (const char* name : kHiddenSurface) {
+    for (const char* name : kBuiltinHiddenSurface) {
         DYNAMIC_SECTION(name) { check_russian(name, false, true); }
     }
 }
 
 TEST_CASE("translations: every hidden-line plugin's texts in Russian", "[translations]") {
-    for (const char* name : kHiddenLine) {
+    for (const char* name : kBuiltinHiddenLine) {
         DYNAMIC_SECTION(name) { check_russian(name, true, true); }
     }
 }
 
 TEST_CASE("translations: every lighting model's texts in Russian", "[translations]") {
-    for (const char* name : kLighting) {
+    for (const char* name : kBuiltinLighting) {
         DYNAMIC_SECTION(name) { check_russian(name, false, false); }
     }
 }

@@ -31,6 +31,13 @@
 
 namespace surface_tests {
 
+// The built-in plugins, by kind.
+inline const char* const kBuiltinHiddenSurface[] = {
+    "zbuffer", "hierarchical-zbuffer", "octree-zbuffer", "scanline-zbuffer", "a-buffer", "painter",
+    "bsp",     "warnock",              "weiler-atherton", "raycast",         "embree"};
+inline const char* const kBuiltinHiddenLine[] = {"roberts", "appel", "floating-horizon"};
+inline const char* const kBuiltinLighting[] = {"blinn-phong", "facecolor", "gooch", "lambert", "phong"};
+
 using Settings = std::vector<hsr::Setting>;
 
 // ---------------------------------------------------------------------------------------------- //
