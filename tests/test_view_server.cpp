@@ -998,3 +998,88 @@ TEST_CASE("view: the outline of a run's steps", "[view]") {
     bad["language"] = "fr";
     CHECK(s.post_json("/api/steps", bad, 400)["field"] == "language");
 }
+
+TEST_CASE("view: steps from..to as a ZIP of PNGs", "[view]") {
+    RunningServer s;
+    json request = frame_request("0/cube.obj", "zbuffer", 96);
+    request["from"] = 2;
+    request["to"] = 6;
+    httplib::Result r = s.post("/api/steps-zip", request);
+    REQUIRE(r);
+    INFO(r->body.substr(0, 400));
+    REQUIRE(r->status == 200);
+    CHECK(r->get_header_value("Content-Type") == "application/zip");
+    CHECK(r->get_header_value("Content-Disposition") == "attachment; filename=\"zbuffer-steps-2-6.zip\"");
+
+    // Python's zipfile reads the archive independently: its names, and every entry's CRC checked.
+    const fs::path zip = cli::write_file("steps.zip", r->body);
+    const fs::path unpacked = cli::scratch_dir() / "steps-unpacked";
+    fs::remove_all(unpacked);
+    const fs::path listing = cli::scratch_dir() / "steps-listing.txt";
+    const std::string command = fmt::format(
+        "/usr/bin/python3 -c \"import sys, zipfile; z = zipfile.ZipFile(sys.argv[1]); bad = z.testzip(); "
+        "print(bad if bad else 'ok'); [print(i.filename, i.compress_type, i.file_size) for i in z.infolist()]; "
+        "z.extractall(sys.argv[2])\" '{}' '{}' > '{}'",
+        zip.string(), unpacked.string(), listing.string());
+    REQUIRE(std::system(command.c_str()) == 0);
+    std::istringstream lines(cli::slurp(listing));
+    std::string line;
+    std::getline(lines, line);
+    CHECK(line == "ok");
+    std::vector<std::string> names;
+    while (std::getline(lines, line)) {
+        std::istringstream words(line);
+        std::string name;
+        int method = -1;
+        words >> name >> method;
+        CHECK(method == 0);  // stored
+        names.push_back(name);
+    }
+    CHECK(names == std::vector<std::string>{"step-001.png", "step-002.png", "step-003.png", "step-004.png", "step-005.png"});
+
+    // Each entry a PNG of the size asked; the last one is /api/frame's picture at step 6, pixel for
+    // pixel, and the first (step 2) is a different one.
+    std::vector<hsr::Image> pictures;
+    for (const std::string& name : names) {
+        pictures.push_back(hsr::read_png_rgb(unpacked / name));
+        CHECK(pictures.back().width == 96);
+        CHECK(pictures.back().height == 96);
+    }
+    json at_to = frame_request("0/cube.obj", "zbuffer", 96);
+    at_to["step"] = 6;
+    const fs::path frame_png = cli::write_file("step-6.png", png_bytes(s.post_json("/api/frame", at_to)));
+    const hsr::Image expected = hsr::read_png_rgb(frame_png);
+    CHECK(pictures.back().pixels == expected.pixels);
+    CHECK(pictures.front().pixels != expected.pixels);
+
+    // Ranges refused with one line: backward, over 200 steps, not numbers; a model that is not there.
+    auto refused = [&](json body, int status, const std::string& field, const std::string& words) {
+        const json answer = s.post_json("/api/steps-zip", body, status);
+        CHECK(answer["field"] == field);
+        const std::string message = answer["error"];
+        CHECK(message.find('\n') == std::string::npos);
+        CHECK_THAT(message, Catch::Contains(words));
+    };
+    json backward = request;
+    backward["from"] = 7;
+    refused(backward, 400, "to", "7..6 ends before it starts");
+    json many = request;
+    many["from"] = 1;
+    many["to"] = 201;
+    refused(many, 400, "to", "201 steps; one archive holds at most 200");
+    many["language"] = "ru";
+    refused(many, 400, "to", "не больше 200");
+    json zero = request;
+    zero["from"] = 0;
+    refused(zero, 400, "from", "from 1");
+    json text = request;
+    text["to"] = "6";
+    refused(text, 400, "to", "step numbers");
+    json big = frame_request("0/cube.obj", "zbuffer", 2048);
+    big["from"] = 1;
+    big["to"] = 100;
+    refused(big, 400, "to", "pixels, over the limit");
+    json missing = request;
+    missing["model"] = "0/nothing.obj";
+    refused(missing, 404, "model", "no model");
+}

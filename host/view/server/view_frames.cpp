@@ -7,8 +7,10 @@
 #include "view/server/view_line_steps.hpp"
 #include "view/server/view_request.hpp"
 #include "view/server/view_steps.hpp"
+#include "view/server/view_zip.hpp"
 
 #include "hsr/image.hpp"
+#include "hsr/language.hpp"
 #include "hsr/line_image.hpp"
 #include "hsr/lines.hpp"
 #include "hsr/params.hpp"
@@ -602,6 +604,54 @@ json hsr::host::FrameRenderer::steps(const json& request, hsr::StepProgress* pro
     const FrameRequest q = parse_frame_request(request);
     std::lock_guard lock(state_->mutex);
     return state_->outline(request, q, progress);
+}
+
+std::string hsr::host::FrameRenderer::steps_zip(const json& request) {
+    json frame_request = request;
+    const json from_field = request.is_object() ? request.value("from", json()) : json();
+    const json to_field = request.is_object() ? request.value("to", json()) : json();
+    if (frame_request.is_object()) {
+        frame_request.erase("from");
+        frame_request.erase("to");
+        frame_request["step"] = 1;
+    }
+    FrameRequest q = parse_frame_request(frame_request);
+    const hsr::Language language = hsr::language_from_code(q.language);
+    for (const auto* field : {&from_field, &to_field})
+        if (!field->is_number_integer() || field->get<int64_t>() < 1)
+            throw ViewError(400, field == &from_field ? "from" : "to",
+                            hsr::say(language, "steps-zip: 'from' and 'to' are step numbers, from 1",
+                                     "архив шагов: «from» и «to» — номера шагов, считая с 1"));
+    const uint64_t from = from_field.get<uint64_t>(), to = to_field.get<uint64_t>();
+    if (to < from)
+        throw ViewError(400, "to", hsr::say(language, "steps-zip: the range {}..{} ends before it starts",
+                                            "архив шагов: диапазон {}..{} кончается раньше, чем начинается", from, to));
+    const uint64_t count = to - from + 1;
+    if (count > kMaxZipSteps)
+        throw ViewError(400, "to", hsr::say(language, "steps-zip: {} steps; one archive holds at most {}",
+                                            "архив шагов: {} шагов, а в один архив входит не больше {}", count,
+                                            kMaxZipSteps));
+    const uint64_t pixels = count * q.width * q.height;
+    if (pixels > kMaxZipPixels)
+        throw ViewError(400, "to", hsr::say(language,
+                                            "steps-zip: {} steps of {}x{} are {} pixels, over the limit of {} "
+                                            "(fewer steps or a smaller picture)",
+                                            "архив шагов: {} шагов по {}x{} — это {} пикселей, больше предела {} "
+                                            "(возьмите меньше шагов или картинку меньше)",
+                                            count, q.width, q.height, pixels, kMaxZipPixels));
+    q.picture = false;
+    q.buffers.clear();
+    std::vector<ZipEntry> entries;
+    entries.reserve(count);
+    std::lock_guard lock(state_->mutex);
+    for (uint64_t step = from; step <= to; ++step) {
+        q.step = step;
+        ArrayBlock arrays;
+        const hsr::Frame frame = state_->render(q, arrays).frame;
+        entries.push_back({fmt::format("step-{:03}.png", step - from + 1),
+                           hsr::encode_picture_png(frame.width, frame.height, 3, frame.rgb)});
+    }
+    return stored_zip(entries);
 }
 
 hsr::host::FrameAnswer hsr::host::FrameRenderer::compare(const json& request) {

@@ -29,6 +29,11 @@ struct FrameAnswer {
 inline constexpr const char* kFrameWithArraysType = "application/vnd.hsr.frame";
 std::string frame_with_arrays_head(const FrameAnswer& answer);
 
+// The most steps, and pixels over all of them, one POST /api/steps-zip renders: each step renders
+// the algorithm again up to it, and the archive is held in memory.
+inline constexpr uint64_t kMaxZipSteps = 200;
+inline constexpr uint64_t kMaxZipPixels = kMaxZipSteps * 1024 * 1024;
+
 class FrameRenderer {
 public:
     // find_model: the entry of a model id (ViewError 404 for none); read_policy: what a model's
@@ -48,6 +53,12 @@ public:
     // POST /api/steps: the outline of a frame request's steps (hsr/step_outline.hpp) as JSON, made
     // in one whole run step by step and kept for the last few requests. progress counts the run.
     nlohmann::json steps(const nlohmann::json& request, hsr::StepProgress* progress = nullptr);
+    // POST /api/steps-zip: the pictures of steps `from`..`to` of a frame request (its fields
+    // "from" and "to"), each rendered as POST /api/frame renders it and encoded as hsr render
+    // --step writes it, as a stored ZIP of step-001.png, step-002.png, ... Throws ViewError 400
+    // for a range that is not one, over kMaxZipSteps steps or over kMaxZipPixels pixels in all.
+    std::string steps_zip(const nlohmann::json& request);
+
 
 private:
     struct State;

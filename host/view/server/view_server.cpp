@@ -312,6 +312,31 @@ struct hsr::host::ViewServer::State {
                                        affinity, what, page.cancel()));
             });
         });
+        // Steps from..to of a frame request as a ZIP of PNGs, named after the algorithm and the range
+        // for the browser to save; a newer one from the same page cancels it.
+        server.Post("/api/steps-zip", [this](const httplib::Request& req, httplib::Response& res) {
+            guarded(res, [&] {
+                json request = parse_body(req);
+                json models = job_models({&request});
+                const std::string affinity = string_field(&request, "model");
+                const std::string what = "exporting the steps of " + doing(&request).substr(std::string("rendering ").size());
+                std::string name = string_field(&request, "algorithm");
+                for (char& c : name)
+                    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+                const auto number = [&](const char* field) {
+                    const auto it = request.is_object() ? request.find(field) : request.end();
+                    return it != request.end() && it->is_number_integer() ? it->dump() : std::string("0");
+                };
+                const std::string file = fmt::format("{}-steps-{}-{}.zip", name.substr(0, 64), number("from"), number("to"));
+                const std::string page_id = page_of(req);
+                const PageRequest page(*this, page_id.empty() ? "" : page_id + "-zip");
+                Answer answer = workers.call({{"op", "steps-zip"}, {"request", std::move(request)}, {"models", std::move(models)}},
+                                             affinity, what, page.cancel());
+                const bool ok = answer.status == 200;
+                send(res, std::move(answer));
+                if (ok) res.set_header("Content-Disposition", fmt::format("attachment; filename=\"{}\"", file));
+            });
+        });
         server.Post("/api/compare", [this](const httplib::Request& req, httplib::Response& res) {
             guarded(res, [&] {
                 json request = parse_body(req);

@@ -213,6 +213,7 @@ Answer run_job(const json& job, JobModels& models, hsr::host::FrameRenderer& fra
         const ProgressReporter reporter(progress);
         return hsr::host::json_answer(200, frames.steps(job.at("request"), &progress));
     }
+    if (op == "steps-zip") return {200, "application/zip", frames.steps_zip(job.at("request")), {}};
     if (op == "compare") return frame_answer(frames.compare(job.at("request")));
     if (op == "plugins") return hsr::host::json_answer(200, describe_plugins(registry, job.value("skip", json::array())));
     if (op == "theory") return hsr::host::json_answer(200, hsr::host::theory_page(registry, job.at("name").get<std::string>(), job.value("language", "en")));

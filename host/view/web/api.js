@@ -77,6 +77,34 @@ export const postJsonAside = (path, value) => call(path, {
   body: JSON.stringify(value),
 });
 
+// A file the server makes for the page to save (POST /api/steps-zip): {blob, name}, the name from
+// the answer's Content-Disposition; an error answer throws an ApiError as call() does.
+export async function postForFile(path, value, fallbackName) {
+  let response;
+  try {
+    response = await fetch(path, {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json', 'X-HSR-Page': PAGE_ID },
+      body: JSON.stringify(value),
+    });
+  } catch (e) {
+    throw new ApiError(tr({ en: `the server does not answer (${e.message})`, ru: `сервер не отвечает (${e.message})` }), 0, null);
+  }
+  if (!response.ok) {
+    let body = null;
+    try {
+      body = await response.json();
+    } catch {
+      body = null;
+    }
+    throw new ApiError(body && typeof body.error === 'string' ? body.error : `${path}: HTTP ${response.status}`,
+      response.status, body && body.field);
+  }
+  const disposition = response.headers.get('Content-Disposition') || '';
+  const match = /filename="([^"]+)"/.exec(disposition);
+  return { blob: await response.blob(), name: match ? match[1] : fallbackName };
+}
+
 // How far this page's frame in flight has got: {running, ms, progress: {steps, total} or null}.
 export const getProgress = () => call('/api/progress', { headers: { Accept: 'application/json', 'X-HSR-Page': PAGE_ID } });
 

@@ -638,7 +638,7 @@ function updateCli(body, response) {
   const words = ['hsr render', path, '-a', withParams(body.algorithm, body.params)];
   if (!algorithm || algorithm.kind !== 'hidden_line') words.push('-l', withParams(body.lighting, body.lighting_params));
   words.push(`--width ${response.width}`, `--height ${response.height}`, ...cliCameraOptions(body.camera));
-  stepExport.setBase(algorithm && algorithm.kind === 'hidden_line' ? null : [...words]);
+  stepExport.setBase(algorithm && algorithm.kind === 'hidden_line' ? null : [...words], body);
   if (body.step) words.push(`--step ${body.step}`);
   words.push('-o', algorithm && algorithm.kind === 'hidden_line' ? 'drawing.png' : 'picture.png');
   $('cli').textContent = words.join(' ');

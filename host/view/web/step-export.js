@@ -1,12 +1,15 @@
-// Export of a range of steps, for slides: the page shows the hsr render command line that writes
-// the steps from..to of the current view as numbered PNGs (hsr render --step A..B, docs/cli.md),
-// with a copy button. A browser cannot zip files without a library; the command line can, and
-// it is fast.
+// Export of a range of steps, for slides: a download of the steps from..to of the current view as
+// a ZIP of numbered PNGs, which the server renders (POST /api/steps-zip, docs/viewer.md), and the
+// hsr render command line that writes them on the machine that has hsr (hsr render --step A..B,
+// docs/cli.md), with a copy button.
 
 import { tr, onLanguageChange } from './i18n.js';
+import { postForFile } from './api.js';
 
 // hsr render renders each step of a range again up to it: it takes at most this many.
 export const MAX_EXPORT_STEPS = 1000;
+// The server's bound on one download (kMaxZipSteps in view_frames.hpp).
+export const MAX_DOWNLOAD_STEPS = 200;
 
 export class StepExport {
   // stepBox: the step bar (#steps); steps: the StepControls (total, current).
@@ -31,7 +34,12 @@ export class StepExport {
     this.copy.type = 'button';
     this.copy.id = 'step-export-copy';
     this.copy.className = 'secondary';
-    fields.append(this.fromLabel, this.toLabel, this.copy);
+    this.download = document.createElement('button');
+    this.download.type = 'button';
+    this.download.id = 'step-export-zip';
+    this.download.className = 'secondary';
+    this.downloading = false;
+    fields.append(this.fromLabel, this.toLabel, this.download, this.copy);
     this.command = document.createElement('code');
     this.command.id = 'step-export-command';
     this.command.className = 'step-export-command';
@@ -46,14 +54,17 @@ export class StepExport {
     });
     for (const field of [this.from, this.to]) field.addEventListener('input', () => this.show());
     this.copy.addEventListener('click', () => this.copyCommand());
+    this.download.addEventListener('click', () => this.downloadZip());
     onLanguageChange(() => this.show());
     this.show();
   }
 
   // The command's words up to the step range: hsr render MODEL -a ... --width ... (app.js).
   // null hides the control: hidden-line plugins draw their steps in the page only.
-  setBase(words) {
+  // request: the page's frame request of the picture shown, which the download renders step by step.
+  setBase(words, request = null) {
     this.baseWords = words;
+    this.request = request;
     this.box.hidden = !words;
     this.show();
   }
@@ -93,7 +104,14 @@ export class StepExport {
     });
     this.fromText.textContent = tr({ en: 'from', ru: 'с' });
     this.toText.textContent = tr({ en: 'to', ru: 'по' });
-    this.copy.textContent = tr({ en: 'copy', ru: 'копировать' });
+    this.copy.textContent = tr({ en: 'copy command', ru: 'копировать команду' });
+    this.download.textContent = this.downloading
+      ? tr({ en: 'rendering the steps…', ru: 'шаги рисуются…' })
+      : tr({ en: 'download ZIP', ru: 'скачать ZIP' });
+    this.download.title = tr({
+      en: `the steps as PNG files in one ZIP archive, rendered by the server (at most ${MAX_DOWNLOAD_STEPS} steps)`,
+      ru: `шаги в файлах PNG одним архивом ZIP; их рисует сервер (не больше ${MAX_DOWNLOAD_STEPS} шагов)`,
+    });
     if (this.steps.total) {
       this.from.max = String(this.steps.total);
       this.to.max = String(this.steps.total);
@@ -102,10 +120,46 @@ export class StepExport {
     const text = this.commandText();
     this.command.textContent = text ?? '';
     this.copy.disabled = !text;
-    this.note.textContent = r.error ?? (r.from !== undefined ? tr({
-      en: `step-000.png is step ${r.from}, step-001.png step ${r.from + 1}, …; each step renders the algorithm again up to it`,
-      ru: `step-000.png — шаг ${r.from}, step-001.png — шаг ${r.from + 1} и т. д.; каждый шаг алгоритм проходит заново с начала`,
+    const tooMany = !r.error && r.to - r.from >= MAX_DOWNLOAD_STEPS;
+    this.download.disabled = !text || !this.request || tooMany || this.downloading;
+    if (this.downloading) return;
+    this.note.textContent = r.error ?? (tooMany ? tr({
+      en: `a download holds at most ${MAX_DOWNLOAD_STEPS} steps; the command line writes up to ${MAX_EXPORT_STEPS}`,
+      ru: `в архив входит не больше ${MAX_DOWNLOAD_STEPS} шагов; командная строка сохраняет до ${MAX_EXPORT_STEPS}`,
+    }) : r.from !== undefined ? tr({
+      en: `the ZIP: step-001.png is step ${r.from}, step-002.png step ${r.from + 1}, …; the command: step-000.png is step ${r.from}, …; each step renders the algorithm again up to it`,
+      ru: `в архиве step-001.png — шаг ${r.from}, step-002.png — шаг ${r.from + 1} и т. д.; у команды step-000.png — шаг ${r.from}; каждый шаг алгоритм проходит заново с начала`,
     }) : '');
+  }
+
+  // The server renders the steps and answers with the ZIP, which the browser saves.
+  async downloadZip() {
+    const r = this.range();
+    if (r.error || !this.request || this.downloading) return;
+    const request = { ...this.request, step: null, buffers: [], from: r.from, to: r.to };
+    this.downloading = true;
+    this.show();
+    this.note.textContent = tr({
+      en: `the server renders steps ${r.from}..${r.to}…`,
+      ru: `сервер рисует шаги ${r.from}..${r.to}…`,
+    });
+    let message;
+    try {
+      const { blob, name } = await postForFile('/api/steps-zip', request, `${request.algorithm}-steps-${r.from}-${r.to}.zip`);
+      const link = document.createElement('a');
+      link.href = URL.createObjectURL(blob);
+      link.download = name;
+      document.body.append(link);
+      link.click();
+      link.remove();
+      setTimeout(() => URL.revokeObjectURL(link.href), 60000);
+      message = tr({ en: `saved ${name}`, ru: `сохранён файл ${name}` });
+    } catch (e) {
+      message = e.message;
+    }
+    this.downloading = false;
+    this.show();
+    this.note.textContent = message;
   }
 
   async copyCommand() {
