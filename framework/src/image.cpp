@@ -106,7 +106,7 @@ std::vector<uint8_t> compress_rows(uint32_t width, uint32_t height, int channels
     size_t room = std::min<size_t>(filtered_size + filtered_size / 1024 + 1024, std::numeric_limits<uint32_t>::max());
     for (;;) {
         uint8_t* const compressed = output.get(room);
-        isal_zstream stream;
+        isal_zstream stream{};  // zeroed: the init leaves fields that igzip reads (valgrind saw them)
         isal_deflate_stateless_init(&stream);
         stream.gzip_flag = IGZIP_ZLIB;
         stream.level = 1;
