@@ -13,14 +13,14 @@
 //   the command line does);
 // - the program's name (hsr view, the page's title and heading);
 // - single letters, with an index or a power (the variables x, y, z, n² of formulas and
-//   coordinates), numbers with an exponent;
+//   coordinates), numbers with an exponent, and the reflection coefficients ka, kd, ks, written as
+//   the textbooks write them;
 // - in the theory page, an English term in parentheses beside its Russian one, «Z-конфликты
 //   (z-fighting)», as a Russian textbook gives it;
 // - the names in NAMES below: the program's name, language codes, file formats and key caps;
 // - a plugin's own texts (description, parameter name and help, choices, phase titles, counters,
-//   step buffers) that the plugin gives no Russian for in /api/plugins' `translations`; where it
-//   gives one, the page must show it. The kinds of step (the events' types, in the step bar's
-//   «следующий шаг «…»») have no translation key yet and are let through as identifiers.
+//   step buffers, step types) that the plugin gives no Russian for in /api/plugins' `translations`;
+//   where it gives one, the page must show it.
 
 // The counters the host adds to every plugin's (framework/src/pipeline.cpp, fragment_lists.cpp,
 // lines.cpp): the page has Russian names for them.
@@ -37,7 +37,7 @@ const NAMES = new Set([
 
 const FILE_NAME = /^\.?[\w-]+(\.[\w-]+)*\.(scene|obj|off|ply|stl|glb|gltf|md|png|json|so|dll|dylib)$/i;
 const EXTENSION = /^\.(scene|obj|off|ply|stl|glb|gltf|md|png|json)$/i;
-const VARIABLE = /^[A-Za-z][\d²³⁰-⁹]*$|^(?:[A-Za-z][\d²³⁰-⁹₀-₉]+(?:\.\.)?)+$/;
+const VARIABLE = /^[A-Za-z][\d²³⁰-⁹]*$|^(?:[A-Za-z][\d²³⁰-⁹₀-₉]+(?:\.\.)?)+$|^k[ads]$/;
 const NUMBER = /^[\d.,]*\d[eE][-+]?\d+$/;
 const CYRILLIC = /[\u0400-\u04FF]/;
 const LATIN = /[A-Za-z]/;
@@ -172,11 +172,10 @@ export default async (h) => {
     const lacks = (key) => shownPlugins.some((name) => !russian(all.find((p) => p.name === name) || {})[key]);
     for (const c of counters) if (!HOST_COUNTERS.has(c) && lacks(`counter:${c}`)) names.add(c);
     for (const b of buffers) if (lacks(`buffer:${b.replace(/-\d+$/, '')}`)) names.add(b);
-    // The kinds of step (the events' types) have no key of their own among the plugin's translations.
-    for (const t of types) names.add(t);
+    for (const t of types) if (lacks(`step:${t}`)) names.add(t);
     const found = [];
     for (const { text, where, theory } of await pageTexts(page)) {
-      if (translatedNames.has(text)) found.push(`«${text}» (${where}: the plugin translates it)`);
+      if (translatedNames.has(text) && !pluginNames.has(text)) found.push(`«${text}» (${where}: the plugin translates it)`);
       let rest = text;
       for (const plugin of untranslatedTexts) rest = rest.split(plugin).join(' ');
       if (theory) rest = rest.replace(/\((?:[A-Za-z][\w-]*\s*)+\)/g, ' ');
