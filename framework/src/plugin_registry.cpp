@@ -1,5 +1,7 @@
 // Finding and loading plugin libraries: each is probed in a child process, its descriptors are
 // checked defensively (docs/abi.md section 4), and the instance wrappers call through the C ABI.
+// Over 700 lines because every check of what a plugin declares (descriptor, parameters, phases,
+// translations) reads the same bounded-string rules, and the child-process probe runs those checks.
 #include "hsr/plugin_registry.hpp"
 
 #include "hsr/error.hpp"

@@ -1,6 +1,7 @@
 // hsr view's frames (view_frames.hpp): a request checked (view_request.cpp), the model's renderer
 // (hsr/renderer.hpp) and the plugin instances taken from small caches, one render at a time under a
-// mutex, and the response with the picture PNG-encoded (zlib level 1) and base64'd.
+// mutex, and the response with the picture PNG-encoded (hsr/image.hpp) and base64'd. Over 700 lines:
+// frames, step outlines and step ZIPs share the request checking, the caches and that one mutex.
 #include "view/server/view_frames.hpp"
 
 #include "common/options.hpp"

@@ -16,6 +16,8 @@
 // is E = (direction toward the viewer, 0): the same formulas serve both.
 //
 // docs/algorithms/roberts.md describes the steps, the counters and the limits.
+// The file is just over 700 lines: the per-edge tests, the penetration lines and the steps that
+// narrate both share one frame's bodies, and its Russian texts sit beside the English ones.
 #include "bodies.hpp"
 #include "parametric_test.hpp"
 #include "penetration.hpp"

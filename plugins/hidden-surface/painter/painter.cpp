@@ -13,6 +13,8 @@
 // (GeometryStage::rasterize_polygon) at the pixel centres its cut planes keep, so coverage, depth
 // and barycentrics are the zbuffer's. Candidates for the tests come from screen-space bins.
 // docs/algorithms/painter.md describes the steps and counters.
+// The file is over 700 lines: the sort, its six tests, the splits and the steps that narrate them
+// share one frame's polygon store and bins, and its Russian texts sit beside the English ones.
 #include "polygons.hpp"
 
 #include "hsr/raster.hpp"
