@@ -18,6 +18,7 @@
 #include "hsr/raster.hpp"
 #include "hsr/sdk.hpp"
 #include "hsr/tiles.hpp"
+#include "hsr/triangle_setup_batch.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -283,22 +284,22 @@ private:
         constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
         uint32_t tx0, ty0, tx1, ty1;
         grid_.rect(k, tx0, ty0, tx1, ty1);
-        raster::TriangleSetup unclipped;
-        for (uint32_t c = 0; c < pending; ++c) {
-            Chunk& chunk = chunks_[c];
-            for (const BinEntry& binned : chunk.bins[k]) {
-                const uint32_t entry = binned.entry;
-                const raster::TriangleSetup* setup = &unclipped;
-                uint32_t face = entry;
-                if (entry & kPieceBit) {
-                    const ClippedPiece& piece = chunk.pieces[entry & ~kPieceBit];
-                    setup = &piece.setup;
-                    face = piece.face;
-                } else {
-                    geometry_.setup_unclipped_corners(binned.corner[0], binned.corner[1], binned.corner[2], unclipped);
-                }
-                const raster::TriangleSetup& s = *setup;
-                raster::DepthTest<rule, kCountTests> test(buffers, face, chunk.instance);
+        // The tile's triangles, in scene order across the chunks, are set up kSetupBatch at a time in
+        // SIMD (clipped pieces come set up), then drawn in that order.
+        struct Queued {
+            const raster::TriangleSetup* setup;  // a clipped piece's, or nullptr: the next of the batch
+            uint32_t face, instance;
+        };
+        Queued queue[raster::kSetupBatch];
+        const raster::WindowVertex* corners[raster::kSetupBatch][3];
+        raster::TriangleSetup batch[raster::kSetupBatch];
+        size_t queued = 0, batched = 0;
+        auto draw_queue = [&] {
+            raster::setup_whole_triangles(corners, batched, grid_.width, grid_.height, batch);
+            const raster::TriangleSetup* next = batch;
+            for (size_t n = 0; n < queued; ++n) {
+                const raster::TriangleSetup& s = queue[n].setup != nullptr ? *queue[n].setup : *next++;
+                raster::DepthTest<rule, kCountTests> test(buffers, queue[n].face, queue[n].instance);
                 raster::for_each_covered_pixel_in(
                     s, std::max(s.min_x, int32_t(tx0)), std::max(s.min_y, int32_t(ty0)),
                     std::min(s.max_x, int32_t(tx1) - 1), std::min(s.max_y, int32_t(ty1) - 1),
@@ -306,8 +307,30 @@ private:
                 stats.depth_tested += test.tested;
                 stats.written += test.written;
             }
-            chunk.bins[k].clear();
+            queued = batched = 0;
+        };
+        for (uint32_t c = 0; c < pending; ++c) {
+            Chunk& chunk = chunks_[c];
+            for (const BinEntry& binned : chunk.bins[k]) {
+                if (binned.entry & kPieceBit) {
+                    const ClippedPiece& piece = chunk.pieces[binned.entry & ~kPieceBit];
+                    queue[queued++] = {&piece.setup, piece.face, chunk.instance};
+                } else {
+                    for (int corner = 0; corner < 3; ++corner) {
+                        // Read when the batch is full: fetched now, they arrive meanwhile.
+                        const raster::WindowVertex* v = &geometry_.window_vertex(binned.corner[corner]);
+                        __builtin_prefetch(v);
+                        __builtin_prefetch(reinterpret_cast<const char*>(v) + sizeof *v - 1);
+                        corners[batched][corner] = v;
+                    }
+                    ++batched;
+                    queue[queued++] = {nullptr, binned.entry, chunk.instance};
+                }
+                if (queued == raster::kSetupBatch) draw_queue();
+            }
         }
+        if (queued > 0) draw_queue();
+        for (uint32_t c = 0; c < pending; ++c) chunks_[c].bins[k].clear();
     }
 
     bool cull_backfaces_;

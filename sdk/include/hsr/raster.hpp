@@ -361,9 +361,7 @@ public:
             const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
             viewport_.to_window(to_clip(clip_from_object, p), 0.0, 0.0, v[c]);  // succeeded in place()
         }
-        v[1].b1 = 1.0;
-        v[2].b2 = 1.0;
-        setup_triangle(v[0], v[1], v[2], width_, height_, s);  // kOk, as in process()
+        setup_whole_triangle(v[0], v[1], v[2], width_, height_, s);  // kOk, as in process()
     }
 
     // Window-space vertex k of the current placement, when its outcode is clean (no clipping needed,
@@ -400,11 +398,8 @@ public:
         if ((c0 | c1 | c2) & (kNeedsClipping | kNonFinite)) return false;
         ++stats.in;
         if (culled(i0, i1, i2, c0 & c1 & c2, stats)) return true;
-        WindowVertex v0 = window_[i0], v1 = window_[i1], v2 = window_[i2];
-        v1.b1 = 1.0;
-        v2.b2 = 1.0;
         TriangleSetup setup;
-        switch (setup_triangle(v0, v1, v2, width_, height_, setup)) {
+        switch (setup_whole_triangle(window_[i0], window_[i1], window_[i2], width_, height_, setup)) {
             case SetupResult::kOk:
                 ++stats.rasterized;
                 emit(setup);
@@ -441,10 +436,7 @@ public:
     }
     // setup_unclipped for the triangle with these vertex indices (its corners, in order).
     void setup_unclipped_corners(uint32_t i0, uint32_t i1, uint32_t i2, TriangleSetup& setup) const {
-        WindowVertex v0 = window_[i0], v1 = window_[i1], v2 = window_[i2];
-        v1.b1 = 1.0;
-        v2.b2 = 1.0;
-        setup_triangle(v0, v1, v2, width_, height_, setup);
+        setup_whole_triangle(window_[i0], window_[i1], window_[i2], width_, height_, setup);
     }
 
     const TriangleStats& stats() const { return stats_; }

@@ -361,8 +361,11 @@ inline SetupResult triangle_pixel_bounds(const WindowVertex& v0, const WindowVer
     return SetupResult::kOk;
 }
 
-inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, uint32_t width,
-                                  uint32_t height, TriangleSetup& s) {
+// setup_triangle with the barycentrics (b1[k], b2[k]) of the original triangle at corner k given
+// apart from the corners (whose own b1, b2 are not read).
+inline SetupResult setup_triangle(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
+                                  const double (&b1)[3], const double (&b2)[3], uint32_t width, uint32_t height,
+                                  TriangleSetup& s) {
     PixelBounds bounds;
     const SetupResult result = triangle_pixel_bounds(v0, v1, v2, width, height, bounds);
     if (result != SetupResult::kOk) return result;
@@ -372,12 +375,13 @@ inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex
     s.max_y = bounds.max_y;
     int64_t area = int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y);
     s.front_facing = area < 0;
-    if (area < 0) {  // make the interior the positive side of every edge function
-        std::swap(v1, v2);
-        area = -area;
-    }
+    // Corner order with the interior on the positive side of every edge function: corners 1 and 2
+    // swap places when the triangle is clockwise.
+    const int c1 = area < 0 ? 2 : 1, c2 = area < 0 ? 1 : 2;
+    if (area < 0) area = -area;
+    const WindowVertex* v[3] = {&v0, c1 == 1 ? &v1 : &v2, c2 == 2 ? &v2 : &v1};
+    const int corner[3] = {0, c1, c2};
 
-    const WindowVertex* v[3] = {&v0, &v1, &v2};
     const int64_t origin_x = int64_t(s.min_x) * kSubpixelScale + kHalfPixel;
     const int64_t origin_y = int64_t(s.min_y) * kSubpixelScale + kHalfPixel;
     for (int k = 0; k < 3; ++k) {
@@ -394,21 +398,24 @@ inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex
     // 1/512 pixel) changes which samples are covered but not the values found at them; that matters
     // where depth changes steeply, near the near plane. A sliver that snapping reshaped (area off by
     // more than a factor of 2) uses the snapped corners instead, whose values stay bounded.
+    const WindowVertex &w0 = *v[0], &w1 = *v[1], &w2 = *v[2];
     const double grid_area = double(area) / (double(kSubpixelScale) * kSubpixelScale);
-    const double exact_area = (v1.exact_x - v0.exact_x) * (v2.exact_y - v0.exact_y) -
-                              (v2.exact_x - v0.exact_x) * (v1.exact_y - v0.exact_y);
+    const double exact_area = (w1.exact_x - w0.exact_x) * (w2.exact_y - w0.exact_y) -
+                              (w2.exact_x - w0.exact_x) * (w1.exact_y - w0.exact_y);
     const bool use_exact = exact_area > 0.5 * grid_area && exact_area < 2.0 * grid_area;
     const double inv_area = 1.0 / (use_exact ? exact_area : grid_area);
-    auto corner_x = [&](const WindowVertex& c) { return use_exact ? c.exact_x : double(c.x) / kSubpixelScale; };
-    auto corner_y = [&](const WindowVertex& c) { return use_exact ? c.exact_y : double(c.y) / kSubpixelScale; };
+    double cx[3], cy[3];
+    for (int k = 0; k < 3; ++k) {
+        cx[k] = use_exact ? v[k]->exact_x : double(v[k]->x) / kSubpixelScale;
+        cy[k] = use_exact ? v[k]->exact_y : double(v[k]->y) / kSubpixelScale;
+    }
     const double centre_x = s.min_x + 0.5, centre_y = s.min_y + 0.5;
     double lambda_origin[3], lambda_dx[3], lambda_dy[3];  // barycentric weight of corner k in window space
     for (int k = 0; k < 3; ++k) {
-        const WindowVertex& a = *v[(k + 1) % 3];
-        const WindowVertex& b = *v[(k + 2) % 3];
-        const double dx = corner_x(b) - corner_x(a);
-        const double dy = corner_y(b) - corner_y(a);
-        lambda_origin[k] = (dx * (centre_y - corner_y(a)) - dy * (centre_x - corner_x(a))) * inv_area;
+        const int a = (k + 1) % 3, b = (k + 2) % 3;
+        const double dx = cx[b] - cx[a];
+        const double dy = cy[b] - cy[a];
+        lambda_origin[k] = (dx * (centre_y - cy[a]) - dy * (centre_x - cx[a])) * inv_area;
         lambda_dx[k] = -dy * inv_area;
         lambda_dy[k] = dx * inv_area;
     }
@@ -417,11 +424,28 @@ inline SetupResult setup_triangle(WindowVertex v0, WindowVertex v1, WindowVertex
                      f0 * lambda_dx[0] + f1 * lambda_dx[1] + f2 * lambda_dx[2],
                      f0 * lambda_dy[0] + f1 * lambda_dy[1] + f2 * lambda_dy[2]};
     };
-    s.depth = plane(v0.depth, v1.depth, v2.depth);
-    s.inv_w = plane(v0.inv_w, v1.inv_w, v2.inv_w);
-    s.b1_over_w = plane(v0.b1 * v0.inv_w, v1.b1 * v1.inv_w, v2.b1 * v2.inv_w);
-    s.b2_over_w = plane(v0.b2 * v0.inv_w, v1.b2 * v1.inv_w, v2.b2 * v2.inv_w);
+    s.depth = plane(w0.depth, w1.depth, w2.depth);
+    s.inv_w = plane(w0.inv_w, w1.inv_w, w2.inv_w);
+    s.b1_over_w = plane(b1[0] * w0.inv_w, b1[corner[1]] * w1.inv_w, b1[corner[2]] * w2.inv_w);
+    s.b2_over_w = plane(b2[0] * w0.inv_w, b2[corner[1]] * w1.inv_w, b2[corner[2]] * w2.inv_w);
     return SetupResult::kOk;
+}
+
+// Sets up the triangle v0 v1 v2 for rasterization, each corner carrying its own barycentrics.
+inline SetupResult setup_triangle(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
+                                  uint32_t width, uint32_t height, TriangleSetup& s) {
+    const double b1[3] = {v0.b1, v1.b1, v2.b1}, b2[3] = {v0.b2, v1.b2, v2.b2};
+    return setup_triangle(v0, v1, v2, b1, b2, width, height, s);
+}
+
+// The barycentrics of a whole triangle's corners: (0, 0), (1, 0), (0, 1).
+inline constexpr double kWholeTriangleB1[3] = {0.0, 1.0, 0.0};
+inline constexpr double kWholeTriangleB2[3] = {0.0, 0.0, 1.0};
+
+// Sets up a whole (unclipped) triangle, whatever b1, b2 its corners hold.
+inline SetupResult setup_whole_triangle(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
+                                        uint32_t width, uint32_t height, TriangleSetup& s) {
+    return setup_triangle(v0, v1, v2, kWholeTriangleB1, kWholeTriangleB2, width, height, s);
 }
 
 // The snapped corners of a setup in its own corner order (edge k runs from corner k+1 to corner
