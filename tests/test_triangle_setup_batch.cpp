@@ -93,7 +93,8 @@ std::vector<std::array<WindowVertex, 3>> random_triangles(std::mt19937_64& rando
 TEST_CASE("triangle setup in SIMD batches equals the scalar setup bit for bit", "[zbuffer]") {
     std::mt19937_64 random(20261130);
     size_t slivers_on_snapped_corners = 0;
-    for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{1024, 1024}, {37, 5}, {1, 1}, {16384, 300}}) {
+    for (const auto& size : {std::pair<uint32_t, uint32_t>{1024, 1024}, {37, 5}, {1, 1}, {16384, 300}}) {
+        const uint32_t width = size.first, height = size.second;  // named: clang 14 lambdas cannot capture bindings
         const auto triangles = random_triangles(random, width, height, 4000);
         std::vector<TriangleSetup> expected(triangles.size());
         for (size_t t = 0; t < triangles.size(); ++t) {
