@@ -2,8 +2,8 @@
 // interpolation: the reflection model of LightEnvironment::reflect evaluated on as many fragments at
 // once as a vector has float lanes. Every lane does the float operations of the scalar code in the
 // same order (no fused multiply-adds; the build has -ffp-contract=off), comparisons and selects
-// stand for its branches, and the specular power is glibc's powf bit for bit (shading_powf-inl.h) or
-// std::pow lane by lane, so the colours equal the scalar ones exactly. Highway per-target header
+// stand for its branches, and the specular power is specular_power's (shading_powf-inl.h), so the
+// colours equal the scalar ones exactly. Highway per-target header
 // (re-included once per target by hwy/foreach_target.h from hsr/shading.hpp).
 #if defined(HSR_SHADING_KERNELS_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef HSR_SHADING_KERNELS_INL_H_
@@ -31,31 +31,14 @@ HWY_BEFORE_NAMESPACE();
 namespace hsr::shading::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// base^shininess in the lanes of `needed`, zero in the others.
+// base^shininess in the lanes of `needed` (specular_power), zero in the others.
 template <class DF>
 HWY_INLINE hn::Vec<DF> SpecularPower(DF df, hn::Vec<DF> base, hn::Mask<DF> needed, float shininess) {
     using namespace hn;
     if (AllFalse(df, needed)) return Zero(df);
-#ifdef HSR_EXACT_SIMD_POWF
-    // Lanes not needed compute 1^n; subnormal or infinite bases (never in practice) go to std::pow.
-    const RebindToUnsigned<DF> du;
+    // Lanes not needed compute 1^n.
     const auto x = IfThenElse(needed, base, Set(df, 1.0f));
-    const auto normal = Lt(Sub(BitCast(du, x), Set(du, 0x00800000u)), Set(du, 0x7f000000u));
-    auto power = IfThenElseZero(needed, ExactPowf(df, x, double(shininess)));
-    if (AllTrue(df, RebindMask(df, normal))) return power;
-#else
-    auto power = Zero(df);
-    const auto normal = Lt(Zero(df), Zero(df));  // no lane: every needed lane takes std::pow
-#endif
-    HWY_ALIGN float lanes[HWY_MAX_BYTES / sizeof(float)];
-    HWY_ALIGN float powers[HWY_MAX_BYTES / sizeof(float)];
-    HWY_ALIGN float scalar[HWY_MAX_BYTES / sizeof(float)];
-    Store(base, df, lanes);
-    Store(power, df, powers);
-    Store(IfThenElseZero(AndNot(RebindMask(df, normal), needed), Set(df, 1.0f)), df, scalar);
-    for (size_t i = 0; i < Lanes(df); ++i)
-        if (scalar[i] != 0.0f) powers[i] = std::pow(lanes[i], shininess);
-    return Load(df, powers);
+    return IfThenElseZero(needed, SpecularPowerLanes(df, x, shininess));
 }
 
 // The colours of fragments [0, k) of `batch`, k the largest multiple of the vector's lane count
