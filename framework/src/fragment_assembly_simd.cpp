@@ -68,12 +68,19 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const Placements& placeme
     while (i < vector_end) {
         const uint32_t block = std::min(kBlock, vector_end - i);
         for (uint32_t j = 0; j < block; ++j) {
-            // The corner data comes in screen order, not memory order: ask for it ahead.
+            // The corner data comes in screen order, not memory order: ask for it ahead, the
+            // triangle's corner indices twice as far ahead as the positions they lead to, and the
+            // face normal and colour, which the lighting kernel reads next.
+            if (i + j + 2 * kPrefetchDistance < n) {
+                const uint32_t far_ahead = out.face[i + j + 2 * kPrefetchDistance];
+                hwy::Prefetch(scene.indices + 3 * size_t{far_ahead});
+                hwy::Prefetch(scene.corner_normals + 9 * size_t{far_ahead});
+                hwy::Prefetch(scene.corner_normals + 9 * size_t{far_ahead} + 8);
+                hwy::Prefetch(scene.face_normals + 3 * size_t{far_ahead});
+                if (scene.face_colors != nullptr) hwy::Prefetch(scene.face_colors + 3 * size_t{far_ahead});
+            }
             if (i + j + kPrefetchDistance < n) {
-                const uint32_t ahead = out.face[i + j + kPrefetchDistance];
-                hwy::Prefetch(scene.corner_normals + 9 * size_t{ahead});
-                hwy::Prefetch(scene.corner_normals + 9 * size_t{ahead} + 8);
-                const uint32_t* ahead_tri = scene.indices + 3 * size_t{ahead};
+                const uint32_t* ahead_tri = scene.indices + 3 * size_t{out.face[i + j + kPrefetchDistance]};
                 for (int c = 0; c < 3; ++c) hwy::Prefetch(scene.positions + 3 * size_t{ahead_tri[c]});
             }
             const uint32_t t = out.face[i + j];

@@ -35,6 +35,7 @@
 #include "hsr/abi.h"
 #include "hsr/parallel.hpp"
 #include "hsr/sdk.hpp"
+#include "hsr/specular_power.hpp"
 
 #include <glm/glm.hpp>
 
@@ -62,7 +63,7 @@ inline glm::vec3 mirror_direction(glm::vec3 n, glm::vec3 l) { return 2.0f * glm:
 inline float phong_specular(glm::vec3 n, glm::vec3 l, glm::vec3 v, float shininess) {
     if (glm::dot(n, l) <= 0.0f) return 0.0f;
     const float r_dot_v = glm::dot(mirror_direction(n, l), v);
-    return r_dot_v > 0.0f ? std::pow(r_dot_v, shininess) : 0.0f;
+    return r_dot_v > 0.0f ? specular_power(r_dot_v, shininess) : 0.0f;
 }
 
 // Blinn (1977): (N.H)^shininess with the half vector H = normalize(L + V); zero when N.L <= 0.
@@ -72,7 +73,7 @@ inline float blinn_phong_specular(glm::vec3 n, glm::vec3 l, glm::vec3 v, float s
     const float length_squared = glm::dot(sum, sum);
     if (length_squared <= 0.0f) return 0.0f;  // L = -V: no half vector
     const float n_dot_h = glm::dot(n, sum) / std::sqrt(length_squared);
-    return n_dot_h > 0.0f ? std::pow(n_dot_h, shininess) : 0.0f;
+    return n_dot_h > 0.0f ? specular_power(n_dot_h, shininess) : 0.0f;
 }
 
 // Specular terms as types, so ShadedLightingModel is compiled once per term and its per-fragment

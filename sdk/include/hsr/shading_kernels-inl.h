@@ -2,8 +2,8 @@
 // interpolation: the reflection model of LightEnvironment::reflect evaluated on as many fragments at
 // once as a vector has float lanes. Every lane does the float operations of the scalar code in the
 // same order (no fused multiply-adds; the build has -ffp-contract=off), comparisons and selects
-// stand for its branches, and the specular power is glibc's powf bit for bit (shading_powf-inl.h) or
-// std::pow lane by lane, so the colours equal the scalar ones exactly. Highway per-target header
+// stand for its branches, and the specular power is specular_power's (shading_powf-inl.h), so the
+// colours equal the scalar ones exactly. Highway per-target header
 // (re-included once per target by hwy/foreach_target.h from hsr/shading.hpp).
 #if defined(HSR_SHADING_KERNELS_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef HSR_SHADING_KERNELS_INL_H_
@@ -14,8 +14,10 @@
 
 #include "hsr/shading_powf-inl.h"
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -31,31 +33,14 @@ HWY_BEFORE_NAMESPACE();
 namespace hsr::shading::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// base^shininess in the lanes of `needed`, zero in the others.
+// base^shininess in the lanes of `needed` (specular_power), zero in the others.
 template <class DF>
 HWY_INLINE hn::Vec<DF> SpecularPower(DF df, hn::Vec<DF> base, hn::Mask<DF> needed, float shininess) {
     using namespace hn;
     if (AllFalse(df, needed)) return Zero(df);
-#ifdef HSR_EXACT_SIMD_POWF
-    // Lanes not needed compute 1^n; subnormal or infinite bases (never in practice) go to std::pow.
-    const RebindToUnsigned<DF> du;
+    // Lanes not needed compute 1^n.
     const auto x = IfThenElse(needed, base, Set(df, 1.0f));
-    const auto normal = Lt(Sub(BitCast(du, x), Set(du, 0x00800000u)), Set(du, 0x7f000000u));
-    auto power = IfThenElseZero(needed, ExactPowf(df, x, double(shininess)));
-    if (AllTrue(df, RebindMask(df, normal))) return power;
-#else
-    auto power = Zero(df);
-    const auto normal = Lt(Zero(df), Zero(df));  // no lane: every needed lane takes std::pow
-#endif
-    HWY_ALIGN float lanes[HWY_MAX_BYTES / sizeof(float)];
-    HWY_ALIGN float powers[HWY_MAX_BYTES / sizeof(float)];
-    HWY_ALIGN float scalar[HWY_MAX_BYTES / sizeof(float)];
-    Store(base, df, lanes);
-    Store(power, df, powers);
-    Store(IfThenElseZero(AndNot(RebindMask(df, normal), needed), Set(df, 1.0f)), df, scalar);
-    for (size_t i = 0; i < Lanes(df); ++i)
-        if (scalar[i] != 0.0f) powers[i] = std::pow(lanes[i], shininess);
-    return Load(df, powers);
+    return IfThenElseZero(needed, SpecularPowerLanes(df, x, shininess));
 }
 
 // The colours of fragments [0, k) of `batch`, k the largest multiple of the vector's lane count
@@ -69,29 +54,39 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
     const auto zero = Zero(df);
     const auto one = Set(df, 1.0f);
     const uint32_t vector_count = count - count % uint32_t(lanes);
+    // Each fragment's face normal and colour, copied lane by lane into columns a block at a time
+    // (gathers are slow on some CPUs; a vector load right after its lanes' stores would wait for them).
+    constexpr uint32_t kBlock = HWY_MAX_BYTES / sizeof(float) > 64 ? uint32_t(HWY_MAX_BYTES / sizeof(float)) : 64;
+    constexpr uint32_t kPrefetchDistance = 24;
+    HWY_ALIGN float face_data[6][kBlock];
     for (uint32_t i = 0; i < vector_count; i += uint32_t(lanes)) {
+        const uint32_t j = i % kBlock;
+        if (j == 0) {
+            const uint32_t block = std::min(kBlock, vector_count - i);
+            const bool with_normals = in.fragment_face_normals == nullptr;
+            for (uint32_t b = 0; b < block; ++b) {
+                // Fragments come in screen order, not in the order of the face arrays: ask ahead.
+                if (i + b + kPrefetchDistance < count) {
+                    const size_t ahead = 3 * size_t{batch.face[i + b + kPrefetchDistance]};
+                    if (with_normals) hwy::Prefetch(in.face_normals + ahead);
+                    hwy::Prefetch(in.face_colors + ahead);
+                }
+                const size_t f3 = 3 * size_t{batch.face[i + b]};
+                for (int k = 0; k < 3; ++k) {
+                    if (with_normals) face_data[k][b] = in.face_normals[f3 + k];
+                    face_data[3 + k][b] = in.face_colors[f3 + k];
+                }
+            }
+        }
         Vec<decltype(df)> px, py, pz, nx, ny, nz;
         LoadInterleaved3(df, batch.position + 3 * size_t{i}, px, py, pz);
         LoadInterleaved3(df, batch.normal + 3 * size_t{i}, nx, ny, nz);
-        // Each fragment's face normal and colour, loaded lane by lane (gathers are slow on some CPUs).
-        HWY_ALIGN float face_data[6][HWY_MAX_BYTES / sizeof(float)];
         Vec<decltype(df)> fx, fy, fz;
         if (in.fragment_face_normals == nullptr) {
-            for (size_t j = 0; j < lanes; ++j) {
-                const size_t f3 = 3 * size_t{batch.face[i + j]};
-                for (int k = 0; k < 3; ++k) {
-                    face_data[k][j] = in.face_normals[f3 + k];
-                    face_data[3 + k][j] = in.face_colors[f3 + k];
-                }
-            }
-            fx = Load(df, face_data[0]);
-            fy = Load(df, face_data[1]);
-            fz = Load(df, face_data[2]);
+            fx = Load(df, face_data[0] + j);
+            fy = Load(df, face_data[1] + j);
+            fz = Load(df, face_data[2] + j);
         } else {
-            for (size_t j = 0; j < lanes; ++j) {
-                const size_t f3 = 3 * size_t{batch.face[i + j]};
-                for (int k = 0; k < 3; ++k) face_data[3 + k][j] = in.face_colors[f3 + k];
-            }
             LoadInterleaved3(df, in.fragment_face_normals + 3 * size_t{i}, fx, fy, fz);
         }
 
@@ -176,9 +171,9 @@ HWY_NOINLINE uint32_t ShadePhongFragments(const PhongKernelInput& in, const hsr_
             c = IfThenElse(Lt(c, zero), zero, c);
             return IfThenElse(Lt(one, c), one, c);
         };
-        StoreInterleaved3(color(face_data[3], diffuse_r, specular_r, in.specular_factor[0]),
-                          color(face_data[4], diffuse_g, specular_g, in.specular_factor[1]),
-                          color(face_data[5], diffuse_b, specular_b, in.specular_factor[2]), df,
+        StoreInterleaved3(color(face_data[3] + j, diffuse_r, specular_r, in.specular_factor[0]),
+                          color(face_data[4] + j, diffuse_g, specular_g, in.specular_factor[1]),
+                          color(face_data[5] + j, diffuse_b, specular_b, in.specular_factor[2]), df,
                           batch.color + 3 * size_t{i});
     }
     return vector_count;
