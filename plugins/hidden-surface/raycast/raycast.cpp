@@ -15,7 +15,9 @@
 // farther ones. "Nearest" is judged in the float depth the buffer stores, and hits at the same float
 // depth go to the lower instance, then the lower face (as the z-buffer keeps the surface it draws
 // first), whatever the traversal order: after each hit the search goes on to the ray parameter
-// where the depth passes the next float.
+// where the depth passes the next float. A hit counts only where the rasterizers' fill rule gives
+// its triangle the pixel centre (the corners snapped to their 1/256-pixel grid, the top-left rule):
+// a centre on an edge is drawn as the z-buffer draws it. Both rules are hsr/visibility_rules.hpp's.
 //
 // The hit test runs in double (the default: the reference other algorithms are judged by) or float.
 // The image is cut into tiles, cast by `threads` threads; each pixel's answer depends on nothing else,
@@ -88,6 +90,7 @@ struct Nearest {
     double b1 = 0.0, b2 = 0.0;
     float depth = 0.0f;             // window depth, rounded to what the buffer stores
     uint32_t face = HSR_NO_FACE, instance = 0;
+    int64_t sample_x = 0, sample_y = 0;  // the pixel centre on the rasterizers' 1/256-pixel grid
 };
 
 // Hits a little outside t in [0, 1] (rounding at the near and far planes) are still looked at; the
@@ -308,6 +311,8 @@ private:
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
         window_to_world_ = glm::inverse(view_projection_);
         planes_ = hsr::sdk::ClipPlanes(camera);
+        viewport_ = hsr::raster::Viewport(width_, height_);
+        guard_ = hsr::raster::GuardBand(width_, height_);
         for (size_t k = 0; k < placed_.size(); ++k)
             clip_from_object_[k] = view_projection_ * placed_[k].world_from_object;
         depth_ = target.depth();
@@ -353,6 +358,8 @@ private:
         ++stats.rays;
         Nearest hit{1.0 + kTSlack, view_projection_ * glm::dvec4(origin, 1.0),
                     view_projection_ * glm::dvec4(direction, 0.0)};
+        hit.sample_x = int64_t(x) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
+        hit.sample_y = int64_t(y) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
         uint64_t tests = 0;
         if (std::isfinite(origin.x + origin.y + origin.z + direction.x + direction.y + direction.z) && !placed_.empty())
             tests = cast<Real>(origin, direction, hit, stats);
@@ -461,8 +468,9 @@ private:
 
     // Makes h the nearest hit when its point lies in the view volume, on the kept side of every
     // clip plane, and nearer than the nearest so far in the depth the buffer stores; at the same
-    // stored depth the lower instance, then the lower face wins (the surface the z-buffer draws
-    // first, and keeps on an equal depth).
+    // stored depth the lower instance, then the lower face wins (the tie rule of
+    // hsr/visibility_rules.hpp: the surface the z-buffer draws first, and keeps on an equal depth);
+    // and when the rasterizers' fill rule gives the triangle this pixel centre.
     void consider(uint32_t k, const Triangle& tri, const TriangleHit& h, Nearest& hit) const {
         glm::dvec3 corner[3];
         for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2]);
@@ -472,14 +480,12 @@ private:
         if (!(exact_depth >= 0.0 && exact_depth <= 1.0)) return;
         const float depth = float(exact_depth);
         const PlacedObject& o = placed_[k];
-        if (hit.face != HSR_NO_FACE &&
-            (depth > hit.depth || (depth == hit.depth && (o.instance > hit.instance ||
-                                                          (o.instance == hit.instance && tri.face > hit.face)))))
-            return;
+        if (!hsr::raster::replaces(depth, o.instance, tri.face, hit.depth, hit.instance, hit.face)) return;
         if (planes_.count > 0) {
             const glm::dvec3 world = o.identity ? point : glm::dvec3(o.world_from_object * glm::dvec4(point, 1.0));
             if (!planes_.keeps(world)) return;
         }
+        if (!covers_pixel_centre(k, tri, hit)) return;
         hit.b1 = h.b1;
         hit.b2 = h.b2;
         hit.depth = depth;
@@ -487,6 +493,26 @@ private:
         hit.instance = o.instance;
         hit.t_limit = std::max(h.t, ray_parameter_at(hit, std::nextafter(depth, 2.0f)));
         hit.t_limit += kTSlack * std::abs(hit.t_limit);
+    }
+
+    // The fill rule (hsr/visibility_rules.hpp) at the ray's pixel centre: the triangle's corners
+    // taken to the window and snapped to the 1/256-pixel grid exactly as the z-buffer snaps them, so
+    // that a centre on an edge, or within a snapping step of one, is drawn as the rasterizers draw it
+    // (a centre on an edge two triangles share by one of them). A triangle the rasterizers clip
+    // first (a corner beyond the near or far plane or the guard band) keeps the ray's own answer.
+    bool covers_pixel_centre(uint32_t k, const Triangle& tri, const Nearest& ray) const {
+        int64_t x[3], y[3];
+        for (int c = 0; c < 3; ++c) {
+            const glm::dvec4 clip =
+                clip_from_object_[k] * glm::dvec4(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2], 1.0);
+            hsr::raster::WindowVertex w;
+            if ((hsr::raster::outcode(clip, guard_) & (hsr::raster::kNeedsClipping | hsr::raster::kNonFinite)) ||
+                !viewport_.to_window(clip, 0.0, 0.0, w))
+                return true;
+            x[c] = w.x;
+            y[c] = w.y;
+        }
+        return hsr::raster::covers_sample(x, y, ray.sample_x, ray.sample_y);
     }
 
     // Where the ray reaches window depth `depth` (+infinity when it never does): depth is
@@ -579,6 +605,8 @@ private:
     uint32_t width_ = 0, height_ = 0;
     glm::dmat4 view_projection_{1.0}, window_to_world_{1.0};
     hsr::sdk::ClipPlanes planes_{hsr_camera{}};
+    hsr::raster::Viewport viewport_;
+    hsr::raster::GuardBand guard_;
     std::vector<glm::dmat4> clip_from_object_;  // per placed_
     float* depth_ = nullptr;
     uint32_t* face_ = nullptr;
