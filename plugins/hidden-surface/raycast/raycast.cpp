@@ -456,10 +456,11 @@ private:
                 const Triangle& tri = triangles_[i];
                 ++tests;
                 TriangleHit h;
-                if (!intersect(ray, tri.corner[0], tri.corner[1], tri.corner[2], h)) continue;
+                const Meets meets = intersect(ray, tri.corner[0], tri.corner[1], tri.corner[2], h);
+                if (meets == Meets::kMiss) continue;
                 if (h.t < -kTSlack || h.t > hit.t_limit) continue;
                 if (cull_backfaces_ && h.front == o.mirrored) continue;
-                consider(k, tri, h, hit);
+                consider(k, tri, h, meets == Meets::kNearMiss, hit);
             }
         }
         stats.triangle_tests += tests;
@@ -471,7 +472,7 @@ private:
     // stored depth the lower instance, then the lower face wins (the tie rule of
     // hsr/visibility_rules.hpp: the surface the z-buffer draws first, and keeps on an equal depth);
     // and when the rasterizers' fill rule gives the triangle this pixel centre.
-    void consider(uint32_t k, const Triangle& tri, const TriangleHit& h, Nearest& hit) const {
+    void consider(uint32_t k, const Triangle& tri, const TriangleHit& h, bool near_miss, Nearest& hit) const {
         glm::dvec3 corner[3];
         for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2]);
         const glm::dvec3 point = corner[0] + h.b1 * (corner[1] - corner[0]) + h.b2 * (corner[2] - corner[0]);
@@ -485,9 +486,22 @@ private:
             const glm::dvec3 world = o.identity ? point : glm::dvec3(o.world_from_object * glm::dvec4(point, 1.0));
             if (!planes_.keeps(world)) return;
         }
-        if (!covers_pixel_centre(k, tri, hit)) return;
-        hit.b1 = h.b1;
-        hit.b2 = h.b2;
+        switch (fill_rule(k, tri, hit)) {
+            case Fill::kCovered: break;
+            case Fill::kNotCovered: return;
+            case Fill::kUnknown:
+                if (near_miss) return;
+                break;
+        }
+        // A near miss the rasterizers cover: its barycentrics held inside the triangle, as theirs.
+        double b1 = std::max(h.b1, 0.0), b2 = std::max(h.b2, 0.0);
+        if (b1 + b2 > 1.0) {
+            const double sum = b1 + b2;
+            b1 /= sum;
+            b2 /= sum;
+        }
+        hit.b1 = b1;
+        hit.b2 = b2;
         hit.depth = depth;
         hit.face = tri.face;
         hit.instance = o.instance;
@@ -498,21 +512,33 @@ private:
     // The fill rule (hsr/visibility_rules.hpp) at the ray's pixel centre: the triangle's corners
     // taken to the window and snapped to the 1/256-pixel grid exactly as the z-buffer snaps them, so
     // that a centre on an edge, or within a snapping step of one, is drawn as the rasterizers draw it
-    // (a centre on an edge two triangles share by one of them). A triangle the rasterizers clip
-    // first (a corner beyond the near or far plane or the guard band) keeps the ray's own answer.
-    bool covers_pixel_centre(uint32_t k, const Triangle& tri, const Nearest& ray) const {
+    // (a centre on an edge two triangles share by one of them). Unknown for a triangle the
+    // rasterizers clip first (a corner beyond the near or far plane or the guard band), or a
+    // sliver that snapping reshapes (the area off by a factor of 2: the z-buffer then takes depth
+    // from the snapped corners): the ray's own test decides.
+    enum class Fill { kCovered, kNotCovered, kUnknown };
+    Fill fill_rule(uint32_t k, const Triangle& tri, const Nearest& ray) const {
         int64_t x[3], y[3];
+        double exact_x[3], exact_y[3];
         for (int c = 0; c < 3; ++c) {
             const glm::dvec4 clip =
                 clip_from_object_[k] * glm::dvec4(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2], 1.0);
             hsr::raster::WindowVertex w;
             if ((hsr::raster::outcode(clip, guard_) & (hsr::raster::kNeedsClipping | hsr::raster::kNonFinite)) ||
                 !viewport_.to_window(clip, 0.0, 0.0, w))
-                return true;
+                return Fill::kUnknown;
             x[c] = w.x;
             y[c] = w.y;
+            exact_x[c] = w.exact_x;
+            exact_y[c] = w.exact_y;
         }
-        return hsr::raster::covers_sample(x, y, ray.sample_x, ray.sample_y);
+        const double grid_area = double((x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])) /
+                                 double(hsr::raster::kSubpixelScale * hsr::raster::kSubpixelScale);
+        const double exact_area = (exact_x[1] - exact_x[0]) * (exact_y[2] - exact_y[0]) -
+                                  (exact_x[2] - exact_x[0]) * (exact_y[1] - exact_y[0]);
+        const double ratio = exact_area / grid_area;  // NaN for a triangle of no area on the grid
+        if (!(ratio > 0.5 && ratio < 2.0)) return Fill::kUnknown;
+        return hsr::raster::covers_sample(x, y, ray.sample_x, ray.sample_y) ? Fill::kCovered : Fill::kNotCovered;
     }
 
     // Where the ray reaches window depth `depth` (+infinity when it never does): depth is
