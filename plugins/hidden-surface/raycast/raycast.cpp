@@ -82,6 +82,19 @@ struct RayStats {
     }
 };
 
+// A triangle's corners snapped to the rasterizers' grid for one frame (fill_rule), and a few of
+// them kept while a thread casts the rays of a tile.
+struct SnappedTriangle {
+    uint32_t placed = ~0u;
+    const Triangle* triangle = nullptr;
+    bool known = false;  // the fill rule applies (see Raycast::fill_rule)
+    int64_t x[3], y[3];
+};
+struct SnappedCache {
+    static constexpr size_t kSize = 8;  // a power of 2
+    SnappedTriangle entry[kSize];
+};
+
 // The nearest acceptable hit so far of one ray, and how far the search must still look.
 struct Nearest {
     double t_limit;                 // no hit beyond this ray parameter can replace this one
@@ -91,6 +104,7 @@ struct Nearest {
     float depth = 0.0f;             // window depth, rounded to what the buffer stores
     uint32_t face = HSR_NO_FACE, instance = 0;
     int64_t sample_x = 0, sample_y = 0;  // the pixel centre on the rasterizers' 1/256-pixel grid
+    SnappedCache* snapped = nullptr;     // the casting thread's
 };
 
 // Hits a little outside t in [0, 1] (rounding at the near and far planes) are still looked at; the
@@ -342,12 +356,13 @@ private:
     void cast_tile(uint32_t k, RayStats& stats) const {
         uint32_t x0, y0, x1, y1;
         tiles().rect(k, x0, y0, x1, y1);
+        SnappedCache snapped;
         for (uint32_t y = y0; y < y1; ++y)
-            for (uint32_t x = x0; x < x1; ++x) cast_pixel<Real>(x, y, stats);
+            for (uint32_t x = x0; x < x1; ++x) cast_pixel<Real>(x, y, stats, snapped);
     }
 
     template <class Real>
-    void cast_pixel(uint32_t x, uint32_t y, RayStats& stats) const {
+    void cast_pixel(uint32_t x, uint32_t y, RayStats& stats, SnappedCache& snapped) const {
         const double ndc_x = 2.0 * (x + 0.5) / width_ - 1.0;
         const double ndc_y = 1.0 - 2.0 * (y + 0.5) / height_;
         const glm::dvec4 near_h = window_to_world_ * glm::dvec4(ndc_x, ndc_y, -1.0, 1.0);
@@ -360,6 +375,7 @@ private:
                     view_projection_ * glm::dvec4(direction, 0.0)};
         hit.sample_x = int64_t(x) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
         hit.sample_y = int64_t(y) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
+        hit.snapped = &snapped;
         uint64_t tests = 0;
         if (std::isfinite(origin.x + origin.y + origin.z + direction.x + direction.y + direction.z) && !placed_.empty())
             tests = cast<Real>(origin, direction, hit, stats);
@@ -518,7 +534,21 @@ private:
     // from the snapped corners): the ray's own test decides.
     enum class Fill { kCovered, kNotCovered, kUnknown };
     Fill fill_rule(uint32_t k, const Triangle& tri, const Nearest& ray) const {
-        int64_t x[3], y[3];
+        // Neighbouring pixels mostly meet the same few triangles: their snapped corners are kept.
+        SnappedTriangle& snapped = ray.snapped->entry[(&tri - triangles_.data()) & (SnappedCache::kSize - 1)];
+        if (snapped.placed != k || snapped.triangle != &tri) {
+            snapped.placed = k;
+            snapped.triangle = &tri;
+            snapped.known = snap(k, tri, snapped.x, snapped.y);
+        }
+        if (!snapped.known) return Fill::kUnknown;
+        return hsr::raster::covers_sample(snapped.x, snapped.y, ray.sample_x, ray.sample_y) ? Fill::kCovered
+                                                                                             : Fill::kNotCovered;
+    }
+
+    // The triangle's corners snapped as the z-buffer snaps them; false when the rule cannot be
+    // applied (see fill_rule).
+    bool snap(uint32_t k, const Triangle& tri, int64_t (&x)[3], int64_t (&y)[3]) const {
         double exact_x[3], exact_y[3];
         for (int c = 0; c < 3; ++c) {
             const glm::dvec4 clip =
@@ -526,7 +556,7 @@ private:
             hsr::raster::WindowVertex w;
             if ((hsr::raster::outcode(clip, guard_) & (hsr::raster::kNeedsClipping | hsr::raster::kNonFinite)) ||
                 !viewport_.to_window(clip, 0.0, 0.0, w))
-                return Fill::kUnknown;
+                return false;
             x[c] = w.x;
             y[c] = w.y;
             exact_x[c] = w.exact_x;
@@ -537,8 +567,7 @@ private:
         const double exact_area = (exact_x[1] - exact_x[0]) * (exact_y[2] - exact_y[0]) -
                                   (exact_x[2] - exact_x[0]) * (exact_y[1] - exact_y[0]);
         const double ratio = exact_area / grid_area;  // NaN for a triangle of no area on the grid
-        if (!(ratio > 0.5 && ratio < 2.0)) return Fill::kUnknown;
-        return hsr::raster::covers_sample(x, y, ray.sample_x, ray.sample_y) ? Fill::kCovered : Fill::kNotCovered;
+        return ratio > 0.5 && ratio < 2.0;
     }
 
     // Where the ray reaches window depth `depth` (+infinity when it never does): depth is
