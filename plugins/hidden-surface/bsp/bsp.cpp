@@ -60,7 +60,10 @@ struct FrameStats {
 };
 
 // One pixel centre of a node polygon's triangle: skipped unless the piece's cuts keep it, then
-// painted over (back to front) or written only where the coverage mask is clear (front to back).
+// painted over (back to front) or written only where the coverage mask is clear (front to back);
+// either way a surface at exactly the stored depth takes the pixel only by the tie rule.
+// `painted` counts the pixel centres back to front paints, and front to back writes first;
+// `skipped` those front to back finds covered (a tie it wins is written over all the same).
 // kMirror: the mask is also kept as floats, for the steps' buffer.
 template <bool kFrontToBack, bool kCountTests, bool kMirror>
 struct PixelWriter {
@@ -85,17 +88,27 @@ struct PixelWriter {
         }
         const size_t p = size_t(y) * b.stride + size_t(x);
         if constexpr (kCountTests) ++b.tests[p];
+        const float depth = raster::depth_at(s, i, j);
+        // The tie rule (hsr/visibility_rules.hpp): at exactly the depth already there, the surface
+        // earlier in the scene's order keeps the pixel, whichever of the two the walk met first.
+        const bool tie = b.face[p] != HSR_NO_FACE && depth == b.depth[p];
+        const bool drawn_before =
+            tie && raster::drawn_before(instance_id, face_id, b.instance != nullptr ? b.instance[p] : 0, b.face[p]);
         if constexpr (kFrontToBack) {
             if (covered[p]) {
                 ++skipped;
-                return;
+                if (!drawn_before) return;
+            } else {
+                covered[p] = 1;
+                if constexpr (kMirror) covered_view[p] = 1.0f;
+                ++painted;
             }
-            covered[p] = 1;
-            if constexpr (kMirror) covered_view[p] = 1.0f;
+        } else {
+            ++painted;
+            if (tie && !drawn_before) return;
         }
-        ++painted;
         if (cut_count == 0) bary = raster::barycentrics_at(s, i, j);
-        b.depth[p] = raster::depth_at(s, i, j);
+        b.depth[p] = depth;
         b.face[p] = face_id;
         if (b.instance != nullptr) b.instance[p] = instance_id;
         b.bary[2 * p] = bary.x;

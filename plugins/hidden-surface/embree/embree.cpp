@@ -11,7 +11,10 @@
 // threads. An intersection filter passes over hits outside the view volume (window depth, from
 // view_projection in double, outside [0, 1]), cut away by a camera clip plane, or, with
 // cull-backfaces, facing away, so Embree goes on to farther ones. Depth is computed in double from
-// the hit's barycentrics; ties go to whichever hit Embree finds first. docs/algorithms/embree.md.
+// the hit's barycentrics. The filter also keeps the rules every plugin shares
+// (hsr/visibility_rules.hpp): of hits at the same float depth the lower instance, then the lower
+// face (after each hit it lets Embree look on to where the depth passes the next float), and a hit
+// only where the rasterizers' fill rule gives its triangle the pixel centre. docs/algorithms/embree.md.
 #include "hsr/scene_key.hpp"
 
 #include "hsr/raster.hpp"
@@ -51,6 +54,20 @@ struct ObjectFilter {
 struct TileStats {
     uint64_t rays = 0, hits = 0;
 };
+
+// One ray's query: Embree hands the filter the context, and the rest rides behind it. The filter
+// keeps the nearest hit by the tie rule here, whatever order Embree reports hits in.
+struct RayQuery {
+    RTCIntersectContext context;
+    glm::dvec4 clip_origin{0.0}, clip_step{0.0};  // the ray in clip space: clip_origin + t * clip_step
+    int64_t sample_x = 0, sample_y = 0;           // the pixel centre on the rasterizers' grid
+    float t_limit = 0.0f;                         // no hit beyond this can replace the one kept
+    float depth = 0.0f, u = 0.0f, v = 0.0f;
+    uint32_t face = HSR_NO_FACE, instance = 0;
+};
+
+// Hits a little beyond the depth of the one kept are still reported (Embree's t is float).
+constexpr double kTSlack = 1e-6;
 
 class Embree final : public hsr::sdk::StepwiseRemover<Embree> {
 public:
@@ -102,18 +119,38 @@ public:
     // render_steps (from StepwiseRemover) takes a step for the hierarchy (phase "build"), then one step
     // per tile (phase "cast"), tiles in rows from the top left, all cast on the calling thread.
 
-    // The intersection filter: passes over hits outside the view volume, cut away, or facing away.
+    // The intersection filter: passes over hits outside the view volume, cut away, facing away,
+    // not nearer than the hit kept by the tie rule, or not the triangle's by the fill rule; a hit it
+    // keeps becomes the query's, and Embree looks on to where the depth passes the next float.
+    // (rtcIntersect1 asks about one ray, so N is 1.)
     static void filter(const RTCFilterFunctionNArguments* args) {
         const auto* object = static_cast<const ObjectFilter*>(args->geometryUserPtr);
+        auto* query = reinterpret_cast<RayQuery*>(args->context);
         for (unsigned i = 0; i < args->N; ++i) {
             if (args->valid[i] == 0) continue;
+            args->valid[i] = 0;
             const uint32_t face = object->first_triangle + RTCHitN_primID(args->hit, args->N, i);
             const uint32_t placement = RTCHitN_instID(args->hit, args->N, i, 0);
             const glm::dvec3 direction(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                                        RTCRayN_dir_z(args->ray, args->N, i));
-            if (!object->plugin->keeps(face, placement, RTCHitN_u(args->hit, args->N, i),
-                                       RTCHitN_v(args->hit, args->N, i), direction))
-                args->valid[i] = 0;
+            const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+            float depth;
+            const Embree& plugin = *object->plugin;
+            if (!plugin.keeps(face, placement, u, v, direction, depth)) continue;
+            const uint32_t instance = plugin.placed_[placement].instance;
+            if (!hsr::raster::replaces(depth, instance, face, query->depth, query->instance, query->face)) continue;
+            if (!plugin.covers_pixel_centre(face, placement, *query)) continue;
+            args->valid[i] = -1;
+            query->depth = depth;
+            query->face = face;
+            query->instance = instance;
+            query->u = u;
+            query->v = v;
+            // Embree set tfar to this hit's t; a farther hit at the same float depth may still win.
+            float& tfar = RTCRayN_tfar(args->ray, args->N, i);
+            double limit = std::max(double(tfar), ray_parameter_at(*query, std::nextafter(depth, 2.0f)));
+            limit += kTSlack * std::abs(limit);
+            query->t_limit = tfar = std::min(query->t_limit, float(limit));
         }
     }
 
@@ -325,6 +362,8 @@ private:
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
         window_to_world_ = glm::inverse(view_projection_);
         planes_ = hsr::sdk::ClipPlanes(camera);
+        viewport_ = hsr::raster::Viewport(width_, height_);
+        guard_ = hsr::raster::GuardBand(width_, height_);
         for (Placed& p : placed_) p.clip_from_object = view_projection_ * p.world_from_object;
         depth_ = target.depth();
         face_ = target.face();
@@ -334,8 +373,10 @@ private:
     }
 
     // The filter's test of a hit: in the view volume, kept by every clip plane, and (with
-    // cull-backfaces) facing the ray, whose direction here is in object space.
-    bool keeps(uint32_t face, uint32_t placement, float u, float v, const glm::dvec3& direction) const {
+    // cull-backfaces) facing the ray, whose direction here is in object space; `depth_out` gets its
+    // window depth as the buffer stores it.
+    bool keeps(uint32_t face, uint32_t placement, float u, float v, const glm::dvec3& direction,
+               float& depth_out) const {
         const Placed& p = placed_[placement];
         glm::dvec3 corner[3];
         for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(scene_->corner_position(face, c));
@@ -351,7 +392,35 @@ private:
             const glm::dvec3 world = p.identity ? point : glm::dvec3(p.world_from_object * glm::dvec4(point, 1.0));
             if (!planes_.keeps(world)) return false;
         }
+        depth_out = float(depth);
         return true;
+    }
+
+    // The fill rule (hsr/visibility_rules.hpp) at the query's pixel centre: the triangle's corners
+    // taken to the window and snapped to the 1/256-pixel grid exactly as the z-buffer snaps them. A
+    // triangle the rasterizers clip first (a corner beyond the near or far plane or the guard band)
+    // keeps Embree's answer.
+    bool covers_pixel_centre(uint32_t face, uint32_t placement, const RayQuery& query) const {
+        const Placed& p = placed_[placement];
+        int64_t x[3], y[3];
+        for (int c = 0; c < 3; ++c) {
+            const glm::dvec4 clip = p.clip_from_object * glm::dvec4(glm::dvec3(scene_->corner_position(face, c)), 1.0);
+            hsr::raster::WindowVertex w;
+            if ((hsr::raster::outcode(clip, guard_) & (hsr::raster::kNeedsClipping | hsr::raster::kNonFinite)) ||
+                !viewport_.to_window(clip, 0.0, 0.0, w))
+                return true;
+            x[c] = w.x;
+            y[c] = w.y;
+        }
+        return hsr::raster::covers_sample(x, y, query.sample_x, query.sample_y);
+    }
+
+    // Where the ray reaches window depth `depth` (+infinity when it never does): depth is
+    // (z / w + 1) / 2 of the clip-space ray, solved for t.
+    static double ray_parameter_at(const RayQuery& ray, double depth) {
+        const double k = 2.0 * depth - 1.0;
+        const double t = (k * ray.clip_origin.w - ray.clip_origin.z) / (ray.clip_step.z - k * ray.clip_step.w);
+        return t >= 0.0 ? t : std::numeric_limits<double>::infinity();
     }
 
     hsr::sdk::TileGrid tiles() const { return {width_, height_, tile_size_}; }
@@ -368,7 +437,7 @@ private:
     void cast_tile(uint32_t k, TileStats& stats) const {
         uint32_t x0, y0, x1, y1;
         tiles().rect(k, x0, y0, x1, y1);
-        RTCIntersectContext context;
+        RayQuery query;
         for (uint32_t y = y0; y < y1; ++y)
             for (uint32_t x = x0; x < x1; ++x) {
                 ++stats.rays;
@@ -389,27 +458,25 @@ private:
                 rh.ray.dir_y = float(direction.y);
                 rh.ray.dir_z = float(direction.z);
                 rh.ray.tnear = 0.0f;
-                rh.ray.tfar = 1.0f + 1e-6f;
+                rh.ray.tfar = 1.0f + float(kTSlack);
                 rh.ray.mask = 0xFFFFFFFFu;
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                rtcInitIntersectContext(&context);
-                rtcIntersect1(top_, &context, &rh);
-                if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-                const uint32_t placement = rh.hit.instID[0];
-                const Placed& placed = placed_[placement];
-                const uint32_t face = placed.first_triangle + rh.hit.primID;
-                glm::dvec3 corner[3];
-                for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(scene_->corner_position(face, c));
-                const glm::dvec3 point =
-                    corner[0] + double(rh.hit.u) * (corner[1] - corner[0]) + double(rh.hit.v) * (corner[2] - corner[0]);
-                const glm::dvec4 clip = placed.clip_from_object * glm::dvec4(point, 1.0);
+                rtcInitIntersectContext(&query.context);
+                query.clip_origin = view_projection_ * glm::dvec4(origin, 1.0);
+                query.clip_step = view_projection_ * glm::dvec4(direction, 0.0);
+                query.sample_x = int64_t(x) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
+                query.sample_y = int64_t(y) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
+                query.t_limit = rh.ray.tfar;
+                query.face = HSR_NO_FACE;
+                rtcIntersect1(top_, &query.context, &rh);
+                if (query.face == HSR_NO_FACE) continue;
                 ++stats.hits;
-                depth_[p] = float((clip.z / clip.w + 1.0) * 0.5);
-                face_[p] = face;
-                bary_[2 * p] = rh.hit.u;
-                bary_[2 * p + 1] = rh.hit.v;
-                if (instance_ != nullptr) instance_[p] = placed.instance;
+                depth_[p] = query.depth;
+                face_[p] = query.face;
+                bary_[2 * p] = query.u;
+                bary_[2 * p + 1] = query.v;
+                if (instance_ != nullptr) instance_[p] = query.instance;
             }
     }
 
@@ -435,6 +502,8 @@ private:
     uint32_t width_ = 0, height_ = 0;
     glm::dmat4 view_projection_{1.0}, window_to_world_{1.0};
     hsr::sdk::ClipPlanes planes_{hsr_camera{}};
+    hsr::raster::Viewport viewport_;
+    hsr::raster::GuardBand guard_;
     float* depth_ = nullptr;
     uint32_t* face_ = nullptr;
     float* bary_ = nullptr;

@@ -687,7 +687,8 @@ private:
     }
 
     // Paints polygon `id` over whatever is there: face, instance, depth and barycentrics at every
-    // pixel centre it covers.
+    // pixel centre it covers, but where it lies at exactly the depth already there and the surface
+    // there comes first in the scene (the tie rule of hsr/visibility_rules.hpp).
     template <bool kCountPaints, class Steps>
     void paint(uint32_t id, const raster::PixelBuffers& b, Steps& steps) {
         const Polygon& p = store_.polygons[id];
@@ -695,7 +696,14 @@ private:
         uint64_t written = 0;
         for_each_pixel(p, whole_image(), [&](const raster::TriangleSetup& s, int32_t x, int32_t y, double i, double j) {
             const size_t q = size_t(y) * b.stride + size_t(x);
-            b.depth[q] = raster::depth_at(s, i, j);
+            const float depth = raster::depth_at(s, i, j);
+            if (depth == b.depth[q] && b.face[q] != HSR_NO_FACE &&
+                !raster::drawn_before(instance, face, b.instance != nullptr ? b.instance[q] : 0, b.face[q])) {
+                if constexpr (kCountPaints) ++b.tests[q];
+                ++written;
+                return;
+            }
+            b.depth[q] = depth;
             b.face[q] = face;
             if (b.instance != nullptr) b.instance[q] = instance;
             const glm::vec2 bary = raster::barycentrics_at(s, i, j);

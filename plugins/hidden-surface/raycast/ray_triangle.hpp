@@ -50,8 +50,15 @@ struct TriangleHit {
     bool front;  // the corners are counter-clockwise seen from the ray's origin
 };
 
+// What the test found: a miss, a hit (edges included), or a near miss: the ray passes outside the
+// triangle but within kNearMiss of a barycentric unit from it, where the rasterizers' grid-snapped
+// corners may still put the pixel centre inside (TriangleHit then holds the point on the
+// triangle's plane, its barycentrics a little outside [0, 1]).
+enum class Meets { kMiss, kHit, kNearMiss };
+inline constexpr double kNearMiss = 1.0 / 16.0;
+
 template <class Real>
-inline bool intersect(const Ray<Real>& ray, const float* p0, const float* p1, const float* p2, TriangleHit& hit) {
+inline Meets intersect(const Ray<Real>& ray, const float* p0, const float* p1, const float* p2, TriangleHit& hit) {
     const Real a[3] = {Real(p0[0]) - ray.origin[0], Real(p0[1]) - ray.origin[1], Real(p0[2]) - ray.origin[2]};
     const Real b[3] = {Real(p1[0]) - ray.origin[0], Real(p1[1]) - ray.origin[1], Real(p1[2]) - ray.origin[2]};
     const Real c[3] = {Real(p2[0]) - ray.origin[0], Real(p2[1]) - ray.origin[1], Real(p2[2]) - ray.origin[2]};
@@ -69,9 +76,16 @@ inline bool intersect(const Ray<Real>& ray, const float* p0, const float* p1, co
             w = Real(double(bx) * double(ay) - double(by) * double(ax));
         }
     }
-    if ((u < Real(0) || v < Real(0) || w < Real(0)) && (u > Real(0) || v > Real(0) || w > Real(0))) return false;
     const Real det = u + v + w;
-    if (det == Real(0)) return false;  // edge-on, or a degenerate triangle
+    if (det == Real(0)) return Meets::kMiss;  // edge-on, or a degenerate triangle
+    Meets meets = Meets::kHit;
+    if ((u < Real(0) || v < Real(0) || w < Real(0)) && (u > Real(0) || v > Real(0) || w > Real(0))) {
+        const Real margin = Real(kNearMiss) * det;  // the sign of det: inside is on its side
+        const bool near = det > Real(0) ? (u >= -margin && v >= -margin && w >= -margin)
+                                        : (u <= -margin && v <= -margin && w <= -margin);
+        if (!near) return Meets::kMiss;
+        meets = Meets::kNearMiss;
+    }
     const Real az = ray.sz * a[kz], bz = ray.sz * b[kz], cz = ray.sz * c[kz];
     const Real t_scaled = u * az + v * bz + w * cz;
     const double inverse_det = 1.0 / double(det);
@@ -79,7 +93,7 @@ inline bool intersect(const Ray<Real>& ray, const float* p0, const float* p1, co
     hit.b1 = double(v) * inverse_det;
     hit.b2 = double(w) * inverse_det;
     hit.front = det > Real(0);
-    return true;
+    return meets;
 }
 
 // The entry parameter of the ray into the box when it meets it within [t_min, t_max], else +inf.

@@ -15,7 +15,9 @@
 // farther ones. "Nearest" is judged in the float depth the buffer stores, and hits at the same float
 // depth go to the lower instance, then the lower face (as the z-buffer keeps the surface it draws
 // first), whatever the traversal order: after each hit the search goes on to the ray parameter
-// where the depth passes the next float.
+// where the depth passes the next float. A hit counts only where the rasterizers' fill rule gives
+// its triangle the pixel centre (the corners snapped to their 1/256-pixel grid, the top-left rule):
+// a centre on an edge is drawn as the z-buffer draws it. Both rules are hsr/visibility_rules.hpp's.
 //
 // The hit test runs in double (the default: the reference other algorithms are judged by) or float.
 // The image is cut into tiles, cast by `threads` threads; each pixel's answer depends on nothing else,
@@ -80,6 +82,19 @@ struct RayStats {
     }
 };
 
+// A triangle's corners snapped to the rasterizers' grid for one frame (fill_rule), and a few of
+// them kept while a thread casts the rays of a tile.
+struct SnappedTriangle {
+    uint32_t placed = ~0u;
+    const Triangle* triangle = nullptr;
+    bool known = false;  // the fill rule applies (see Raycast::fill_rule)
+    int64_t x[3], y[3];
+};
+struct SnappedCache {
+    static constexpr size_t kSize = 8;  // a power of 2
+    SnappedTriangle entry[kSize];
+};
+
 // The nearest acceptable hit so far of one ray, and how far the search must still look.
 struct Nearest {
     double t_limit;                 // no hit beyond this ray parameter can replace this one
@@ -88,6 +103,8 @@ struct Nearest {
     double b1 = 0.0, b2 = 0.0;
     float depth = 0.0f;             // window depth, rounded to what the buffer stores
     uint32_t face = HSR_NO_FACE, instance = 0;
+    int64_t sample_x = 0, sample_y = 0;  // the pixel centre on the rasterizers' 1/256-pixel grid
+    SnappedCache* snapped = nullptr;     // the casting thread's
 };
 
 // Hits a little outside t in [0, 1] (rounding at the near and far planes) are still looked at; the
@@ -308,6 +325,8 @@ private:
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
         window_to_world_ = glm::inverse(view_projection_);
         planes_ = hsr::sdk::ClipPlanes(camera);
+        viewport_ = hsr::raster::Viewport(width_, height_);
+        guard_ = hsr::raster::GuardBand(width_, height_);
         for (size_t k = 0; k < placed_.size(); ++k)
             clip_from_object_[k] = view_projection_ * placed_[k].world_from_object;
         depth_ = target.depth();
@@ -337,12 +356,13 @@ private:
     void cast_tile(uint32_t k, RayStats& stats) const {
         uint32_t x0, y0, x1, y1;
         tiles().rect(k, x0, y0, x1, y1);
+        SnappedCache snapped;
         for (uint32_t y = y0; y < y1; ++y)
-            for (uint32_t x = x0; x < x1; ++x) cast_pixel<Real>(x, y, stats);
+            for (uint32_t x = x0; x < x1; ++x) cast_pixel<Real>(x, y, stats, snapped);
     }
 
     template <class Real>
-    void cast_pixel(uint32_t x, uint32_t y, RayStats& stats) const {
+    void cast_pixel(uint32_t x, uint32_t y, RayStats& stats, SnappedCache& snapped) const {
         const double ndc_x = 2.0 * (x + 0.5) / width_ - 1.0;
         const double ndc_y = 1.0 - 2.0 * (y + 0.5) / height_;
         const glm::dvec4 near_h = window_to_world_ * glm::dvec4(ndc_x, ndc_y, -1.0, 1.0);
@@ -353,6 +373,9 @@ private:
         ++stats.rays;
         Nearest hit{1.0 + kTSlack, view_projection_ * glm::dvec4(origin, 1.0),
                     view_projection_ * glm::dvec4(direction, 0.0)};
+        hit.sample_x = int64_t(x) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
+        hit.sample_y = int64_t(y) * hsr::raster::kSubpixelScale + hsr::raster::kHalfPixel;
+        hit.snapped = &snapped;
         uint64_t tests = 0;
         if (std::isfinite(origin.x + origin.y + origin.z + direction.x + direction.y + direction.z) && !placed_.empty())
             tests = cast<Real>(origin, direction, hit, stats);
@@ -449,10 +472,11 @@ private:
                 const Triangle& tri = triangles_[i];
                 ++tests;
                 TriangleHit h;
-                if (!intersect(ray, tri.corner[0], tri.corner[1], tri.corner[2], h)) continue;
+                const Meets meets = intersect(ray, tri.corner[0], tri.corner[1], tri.corner[2], h);
+                if (meets == Meets::kMiss) continue;
                 if (h.t < -kTSlack || h.t > hit.t_limit) continue;
                 if (cull_backfaces_ && h.front == o.mirrored) continue;
-                consider(k, tri, h, hit);
+                consider(k, tri, h, meets == Meets::kNearMiss, hit);
             }
         }
         stats.triangle_tests += tests;
@@ -461,9 +485,10 @@ private:
 
     // Makes h the nearest hit when its point lies in the view volume, on the kept side of every
     // clip plane, and nearer than the nearest so far in the depth the buffer stores; at the same
-    // stored depth the lower instance, then the lower face wins (the surface the z-buffer draws
-    // first, and keeps on an equal depth).
-    void consider(uint32_t k, const Triangle& tri, const TriangleHit& h, Nearest& hit) const {
+    // stored depth the lower instance, then the lower face wins (the tie rule of
+    // hsr/visibility_rules.hpp: the surface the z-buffer draws first, and keeps on an equal depth);
+    // and when the rasterizers' fill rule gives the triangle this pixel centre.
+    void consider(uint32_t k, const Triangle& tri, const TriangleHit& h, bool near_miss, Nearest& hit) const {
         glm::dvec3 corner[3];
         for (int c = 0; c < 3; ++c) corner[c] = glm::dvec3(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2]);
         const glm::dvec3 point = corner[0] + h.b1 * (corner[1] - corner[0]) + h.b2 * (corner[2] - corner[0]);
@@ -472,21 +497,77 @@ private:
         if (!(exact_depth >= 0.0 && exact_depth <= 1.0)) return;
         const float depth = float(exact_depth);
         const PlacedObject& o = placed_[k];
-        if (hit.face != HSR_NO_FACE &&
-            (depth > hit.depth || (depth == hit.depth && (o.instance > hit.instance ||
-                                                          (o.instance == hit.instance && tri.face > hit.face)))))
-            return;
+        if (!hsr::raster::replaces(depth, o.instance, tri.face, hit.depth, hit.instance, hit.face)) return;
         if (planes_.count > 0) {
             const glm::dvec3 world = o.identity ? point : glm::dvec3(o.world_from_object * glm::dvec4(point, 1.0));
             if (!planes_.keeps(world)) return;
         }
-        hit.b1 = h.b1;
-        hit.b2 = h.b2;
+        switch (fill_rule(k, tri, hit)) {
+            case Fill::kCovered: break;
+            case Fill::kNotCovered: return;
+            case Fill::kUnknown:
+                if (near_miss) return;
+                break;
+        }
+        // A near miss the rasterizers cover: its barycentrics held inside the triangle, as theirs.
+        double b1 = std::max(h.b1, 0.0), b2 = std::max(h.b2, 0.0);
+        if (b1 + b2 > 1.0) {
+            const double sum = b1 + b2;
+            b1 /= sum;
+            b2 /= sum;
+        }
+        hit.b1 = b1;
+        hit.b2 = b2;
         hit.depth = depth;
         hit.face = tri.face;
         hit.instance = o.instance;
         hit.t_limit = std::max(h.t, ray_parameter_at(hit, std::nextafter(depth, 2.0f)));
         hit.t_limit += kTSlack * std::abs(hit.t_limit);
+    }
+
+    // The fill rule (hsr/visibility_rules.hpp) at the ray's pixel centre: the triangle's corners
+    // taken to the window and snapped to the 1/256-pixel grid exactly as the z-buffer snaps them, so
+    // that a centre on an edge, or within a snapping step of one, is drawn as the rasterizers draw it
+    // (a centre on an edge two triangles share by one of them). Unknown for a triangle the
+    // rasterizers clip first (a corner beyond the near or far plane or the guard band), or a
+    // sliver that snapping reshapes (the area off by a factor of 2: the z-buffer then takes depth
+    // from the snapped corners): the ray's own test decides.
+    enum class Fill { kCovered, kNotCovered, kUnknown };
+    Fill fill_rule(uint32_t k, const Triangle& tri, const Nearest& ray) const {
+        // Neighbouring pixels mostly meet the same few triangles: their snapped corners are kept.
+        SnappedTriangle& snapped = ray.snapped->entry[(&tri - triangles_.data()) & (SnappedCache::kSize - 1)];
+        if (snapped.placed != k || snapped.triangle != &tri) {
+            snapped.placed = k;
+            snapped.triangle = &tri;
+            snapped.known = snap(k, tri, snapped.x, snapped.y);
+        }
+        if (!snapped.known) return Fill::kUnknown;
+        return hsr::raster::covers_sample(snapped.x, snapped.y, ray.sample_x, ray.sample_y) ? Fill::kCovered
+                                                                                             : Fill::kNotCovered;
+    }
+
+    // The triangle's corners snapped as the z-buffer snaps them; false when the rule cannot be
+    // applied (see fill_rule).
+    bool snap(uint32_t k, const Triangle& tri, int64_t (&x)[3], int64_t (&y)[3]) const {
+        double exact_x[3], exact_y[3];
+        for (int c = 0; c < 3; ++c) {
+            const glm::dvec4 clip =
+                clip_from_object_[k] * glm::dvec4(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2], 1.0);
+            hsr::raster::WindowVertex w;
+            if ((hsr::raster::outcode(clip, guard_) & (hsr::raster::kNeedsClipping | hsr::raster::kNonFinite)) ||
+                !viewport_.to_window(clip, 0.0, 0.0, w))
+                return false;
+            x[c] = w.x;
+            y[c] = w.y;
+            exact_x[c] = w.exact_x;
+            exact_y[c] = w.exact_y;
+        }
+        const double grid_area = double((x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])) /
+                                 double(hsr::raster::kSubpixelScale * hsr::raster::kSubpixelScale);
+        const double exact_area = (exact_x[1] - exact_x[0]) * (exact_y[2] - exact_y[0]) -
+                                  (exact_x[2] - exact_x[0]) * (exact_y[1] - exact_y[0]);
+        const double ratio = exact_area / grid_area;  // NaN for a triangle of no area on the grid
+        return ratio > 0.5 && ratio < 2.0;
     }
 
     // Where the ray reaches window depth `depth` (+infinity when it never does): depth is
@@ -579,6 +660,8 @@ private:
     uint32_t width_ = 0, height_ = 0;
     glm::dmat4 view_projection_{1.0}, window_to_world_{1.0};
     hsr::sdk::ClipPlanes planes_{hsr_camera{}};
+    hsr::raster::Viewport viewport_;
+    hsr::raster::GuardBand guard_;
     std::vector<glm::dmat4> clip_from_object_;  // per placed_
     float* depth_ = nullptr;
     uint32_t* face_ = nullptr;

@@ -55,7 +55,8 @@ struct ActivePolygon {
     int16_t switch_row;     // where the lower short edge takes over (-1: it does not)
     uint32_t slot;          // its attributes, which stay put while the list is reordered
     int32_t lower_left;     // 1: the lower edge replaces the left edge, 0: the right one
-    double z_row;           // depth at the centre of pixel (0, this scanline), on the polygon's plane
+    int32_t min_x, min_y;   // the origin pixel of its depth plane (its setup's)
+    double z_origin;        // depth at the centre of pixel (min_x, min_y), on the polygon's plane
     double dzdx, dzdy;      // -A/C and -B/C of the plane Ax + By + Cz + D = 0
 };
 

@@ -37,13 +37,14 @@ inline constexpr uint32_t kSmall = kNoPiece - 1;    // PolygonRecord::piece of a
 struct alignas(64) PolygonRecord {
     int32_t x[3], y[3];     // snapped corners, in the setup's corner order (interior on the left of
                             // each edge k, from corner k+1 to corner k+2, seen with y down)
-    double z_row;           // depth at the centre of pixel (0, first scanline)
+    double z_origin;        // depth at the centre of its setup's origin pixel (min_x, min_y)
     double dzdx, dzdy;
     uint32_t face;
     uint32_t placement;
     uint32_t piece;         // kNoPiece, or the setup of a clipped piece (clipping is not repeated),
                             // or kSmall: then x holds left, right and the left step, y the right
-                            // step and the last scanline (see small_spans)
+                            // step, the last scanline and 2 min_x + (first scanline - min_y)
+                            // (see small_spans)
     uint32_t id;            // drawing order (instances only; with one placement it is the table index)
 };
 static_assert(sizeof(PolygonRecord) == 64);
@@ -51,20 +52,20 @@ static_assert(sizeof(PolygonRecord) == 64);
 // The spans of a small polygon (small_coverage's `covered` over the pixels from (min_x, min_y))
 // into its record: on its first scanline [left, right] = x[0], x[1]; on the next, if y[1] (its
 // last scanline) is that one, moved by x[2] and y[0]. Its edges then step without error terms.
-// Returns the first scanline; when that is below min_y, the depth is stepped there as the edge
-// pair would have been.
+// Returns the first scanline (min_y, or the one below when no centre of the top row is covered);
+// y[2] keeps the depth plane's origin pixel: 2 min_x plus the first scanline's offset from min_y.
 inline int32_t small_spans(uint32_t covered, int32_t min_x, int32_t min_y, PolygonRecord& r) {
     const uint32_t top = covered & 3, bottom = covered >> 2;
     const int32_t top_left = min_x + int32_t(~top & 1), top_right = min_x + int32_t(top >> 1);
     const int32_t bottom_left = min_x + int32_t(~bottom & 1), bottom_right = min_x + int32_t(bottom >> 1);
     r.y[1] = min_y + (bottom ? 1 : 0);
-    r.y[2] = 0;
+    r.y[2] = 2 * min_x;
     if (top == 0) {
         r.x[0] = bottom_left;
         r.x[1] = bottom_right;
         r.x[2] = 0;
         r.y[0] = 0;
-        r.z_row += r.dzdy;
+        r.y[2] += 1;
         return min_y + 1;
     }
     r.x[0] = top_left;

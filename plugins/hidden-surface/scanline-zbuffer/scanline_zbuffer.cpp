@@ -4,9 +4,11 @@
 // "Procedural Elements for Computer Graphics" §4). The image is built one scanline at a time:
 // polygons are bucketed by their top scanline (the y-sorted polygon table); an active list holds
 // the polygons crossing the current scanline with their left/right edge pair (boundary x, x step
-// per scanline, the scanline where the edge ends); depth is stepped along each span (dz/dx = -A/C)
-// and from one scanline to the next (dz/dy = -B/C). The depth buffer is ONE row long, reused for
-// every scanline; the winners of a row are copied into the visibility buffer when the row is done.
+// per scanline, the scanline where the edge ends); depth follows the plane along each span
+// (dz/dx = -A/C) and from one scanline to the next (dz/dy = -B/C), evaluated at each pixel from the
+// plane's origin as zbuffer evaluates it, so that both store the same depth and break a tie the
+// same way (hsr/visibility_rules.hpp). The depth buffer is ONE row long, reused for every
+// scanline; the winners of a row are copied into the visibility buffer when the row is done.
 //
 // An instanced scene is not set up whole before the first scanline: its placements (instances)
 // are bucketed by the top scanline of their projected bounds, and a placement is transformed and
@@ -115,9 +117,13 @@ inline void barycentrics(const ActivePlanes& a, double i, double j, float* out) 
     out[1] = b.y;
 }
 
-// Depth at the centre of pixel (0, min_y) on the setup's depth plane.
-inline double depth_at_row_start(const raster::TriangleSetup& s) {
-    return s.depth.origin - s.depth.dx * double(s.min_x);
+// The polygon's depth is its setup's depth plane, evaluated at each pixel centre exactly as the
+// z-buffer evaluates it (raster::Plane::at, from the setup's origin pixel (min_x, min_y)), so that
+// both store the same float and a tie between two surfaces is a tie for both (the tie rule of
+// hsr/visibility_rules.hpp). The origin pixel of a setup, from its snapped corners:
+inline void depth_origin_pixel(const int32_t (&x)[3], const int32_t (&y)[3], int32_t& min_x, int32_t& min_y) {
+    min_x = std::max(raster::first_pixel_from(std::min({x[0], x[1], x[2]})), 0);
+    min_y = std::max(raster::first_pixel_from(std::min({y[0], y[1], y[2]})), 0);
 }
 
 class ScanlineZBuffer final : public hsr::sdk::StepwiseRemover<ScanlineZBuffer> {
@@ -383,7 +389,7 @@ private:
             corners_of(geometry_, s, i0, i1, i2, r.x, r.y);
             r.piece = kNoPiece;
         }
-        r.z_row = depth_at_row_start(s);
+        r.z_origin = s.depth.origin;
         r.dzdx = s.depth.dx;
         r.dzdy = s.depth.dy;
         r.face = t;
@@ -486,7 +492,7 @@ private:
                         uint32_t id, PolygonRecord& r) const {
         const uint32_t covered = small_coverage(s);
         if (covered == 0) return -1;
-        r.z_row = depth_at_row_start(s);
+        r.z_origin = s.depth.origin;
         r.dzdx = s.depth.dx;
         r.dzdy = s.depth.dy;
         r.face = t;
@@ -579,7 +585,7 @@ private:
     static void piece_record(PlacementWork& work, const raster::TriangleSetup& s, uint32_t t, uint32_t k, uint32_t id,
                              PolygonRecord& r) {
         raster::setup_corners(s, r.x, r.y);
-        r.z_row = depth_at_row_start(s);
+        r.z_origin = s.depth.origin;
         r.dzdx = s.depth.dx;
         r.dzdy = s.depth.dy;
         r.face = t;
@@ -599,7 +605,7 @@ private:
         }
         int32_t x[3], corner_y[3];
         raster::setup_corners(s, x, corner_y);
-        const uint32_t slot = start_polygon(sweep, x, corner_y, depth_at_row_start(s), s.depth.dx, s.depth.dy, y);
+        const uint32_t slot = start_polygon(sweep, x, corner_y, s.depth.origin, s.depth.dx, s.depth.dy, y);
         if (slot == kNone) return;
         set_info(sweep, slot, id, t, placement_instance_[k], kNone);
         set_planes(sweep.planes[slot], s);
@@ -675,19 +681,11 @@ private:
         geometry_.process(t, stats, [&](const raster::TriangleSetup& s) {
             int32_t x[3], y[3];
             corners_of(geometry_, s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], x, y);
-            const uint32_t slot = start_polygon(sweep, x, y, depth_on_row(depth_at_row_start(s), s.depth.dy, first, row),
-                                                s.depth.dx, s.depth.dy, row);
+            const uint32_t slot = start_polygon(sweep, x, y, s.depth.origin, s.depth.dx, s.depth.dy, row);
             if (slot == kNone) return;
             set_info(sweep, slot, id, t, placement_instance_[0], kNone);
             set_planes(sweep.planes[slot], s);
         });
-    }
-
-    // The depth of a polygon at the start of scanline `row`, from its depth there on scanline
-    // `first`, stepped by dz/dy one scanline at a time as a sweep steps it (the same rounding).
-    static double depth_on_row(double z_row, double dzdy, int32_t first, int32_t row) {
-        for (int32_t y = first; y < row; ++y) z_row += dzdy;
-        return z_row;
     }
 
     // Makes a record active on its first scanline, or on a band's first row (`row`) when it started
@@ -699,18 +697,20 @@ private:
             // At most two scanlines: on the second, the spans moved by their steps and the depth
             // stepped once, as the sweep steps them.
             uint32_t slot;
+            const int32_t min_x = r.y[2] >> 1, min_y = first - (r.y[2] & 1);
             if (row == first)
-                slot = start_small(sweep, r.x[0], r.x[1], r.x[2], r.y[0], r.y[1], r.z_row, r.dzdx, r.dzdy);
+                slot = start_small(sweep, r.x[0], r.x[1], r.x[2], r.y[0], r.y[1], r.z_origin, r.dzdx, r.dzdy, min_x,
+                                   min_y);
             else if (row == first + 1 && r.y[1] == row)
-                slot = start_small(sweep, r.x[0] + r.x[2], r.x[1] + r.y[0], 0, 0, row, r.z_row + r.dzdy, r.dzdx,
-                                   r.dzdy);
+                slot = start_small(sweep, r.x[0] + r.x[2], r.x[1] + r.y[0], 0, 0, row, r.z_origin, r.dzdx, r.dzdy,
+                                   min_x, min_y);
             else
                 return;
             set_info(sweep, slot, id, r.face, placement_instance_[r.placement], r.placement);
             return;
         }
         const uint32_t slot =
-            start_polygon(sweep, r.x, r.y, depth_on_row(r.z_row, r.dzdy, first, row), r.dzdx, r.dzdy, row);
+            start_polygon(sweep, r.x, r.y, r.z_origin, r.dzdx, r.dzdy, row);
         if (r.piece != kNoPiece) [[unlikely]] {
             const std::vector<raster::TriangleSetup>& pieces = sweep.work != nullptr ? sweep.work->pieces : pieces_;
             if (slot != kNone) {
@@ -759,36 +759,40 @@ private:
     // its first scanline the span [left, right], on the next (if `last` is that one) the span moved
     // by (left_step, right_step). Its edges are DDAs without error terms. Returns its slot.
     uint32_t start_small(Sweep& sweep, int32_t left, int32_t right, int32_t left_step, int32_t right_step, int32_t last,
-                         double z_row, double dzdx, double dzdy) {
+                         double z_origin, double dzdx, double dzdy, int32_t min_x, int32_t min_y) {
         ActivePolygon a;
         a.left = EdgeWalk{left, 0, 1, 0, left_step};
         a.right = EdgeWalk{right, 0, 1, 0, right_step};
         a.lower = EdgeWalk{};
         a.lower_left = 0;
         a.switch_row = -1;
-        return push_active(sweep, a, last, z_row, dzdx, dzdy);
+        a.min_x = min_x;
+        a.min_y = min_y;
+        return push_active(sweep, a, last, z_origin, dzdx, dzdy);
     }
 
     // Adds a polygon with the corners (vx, vy) (on the subpixel grid, in the setup's corner order)
     // to the active list on scanline `first` and returns its slot, unless no scanline is left:
     // then kNone.
-    uint32_t start_polygon(Sweep& sweep, const int32_t (&vx)[3], const int32_t (&vy)[3], double z_row, double dzdx,
+    uint32_t start_polygon(Sweep& sweep, const int32_t (&vx)[3], const int32_t (&vy)[3], double z_origin, double dzdx,
                            double dzdy, int32_t first) {
         ActivePolygon a;  // built whole, then copied: emplace_back() would clear it first
         int32_t last;
         if (!start_edge_pair(vx, vy, first, height_, a, last)) return kNone;
-        return push_active(sweep, a, last, z_row, dzdx, dzdy);
+        depth_origin_pixel(vx, vy, a.min_x, a.min_y);
+        return push_active(sweep, a, last, z_origin, dzdx, dzdy);
     }
 
-    // Adds a polygon whose edges are set to the active list, in a free slot, with its last scanline
-    // and depth steps; returns the slot.
-    static uint32_t push_active(Sweep& sweep, ActivePolygon& a, int32_t last, double z_row, double dzdx, double dzdy) {
+    // Adds a polygon whose edges and depth origin pixel are set to the active list, in a free slot,
+    // with its last scanline and depth plane; returns the slot.
+    static uint32_t push_active(Sweep& sweep, ActivePolygon& a, int32_t last, double z_origin, double dzdx,
+                                double dzdy) {
         const uint32_t slot = take_slot(sweep);
         a.last_row = int16_t(last);
         a.slot = slot;
         a.dzdx = dzdx;
         a.dzdy = dzdy;
-        a.z_row = z_row;
+        a.z_origin = z_origin;
         sweep.active.push_back(a);
         return slot;
     }
@@ -1043,7 +1047,7 @@ private:
                 lo = std::min(lo, x0);
                 hi = std::max(hi, x1);
                 tested += uint64_t(x1 - x0 + 1);
-                written += depth_test_span<kCountTests>(p, infos, x0, x1, row, tests_row);
+                written += depth_test_span<kCountTests>(p, infos, y, x0, x1, row, tests_row);
             }
             if (p.last_row == y) {  // done (its slot stays taken for this row)
                 sweep.released.push_back(p.slot);
@@ -1148,18 +1152,21 @@ private:
                    int(y), edges, n, count, pixels, passed, failed);
     }
 
-    // The depth test along a span [x0, x1] of the row buffer; returns the pixels won. A row-buffer
-    // entry is (depth bits << 32 | slot). Depth is never negative, so its float bits order like its
-    // value, and one integer comparison is the depth test; equal depths keep the polygon drawn first
-    // (the lower id), as in zbuffer.
+    // The depth test along a span [x0, x1] of scanline y in the row buffer; returns the pixels won.
+    // A row-buffer entry is (depth bits << 32 | slot). Depth is never negative, so its float bits
+    // order like its value, and one integer comparison is the depth test; equal depths keep the
+    // polygon drawn first (the lower id), as in zbuffer. Depth is zbuffer's, bit for bit: the plane
+    // at (i, j) from the origin pixel, (origin + dz/dy j) + dz/dx i.
     template <bool kCountTests>
-    [[gnu::always_inline]] static uint64_t depth_test_span(const ActivePolygon& p, const ActiveInfo* infos, int32_t x0,
-                                                           int32_t x1, uint64_t* row, uint32_t* tests_row) {
+    [[gnu::always_inline]] static uint64_t depth_test_span(const ActivePolygon& p, const ActiveInfo* infos, int32_t y,
+                                                           int32_t x0, int32_t x1, uint64_t* row, uint32_t* tests_row) {
         const uint64_t slot = p.slot;
         const double dzdx = p.dzdx;
-        double z = p.z_row + dzdx * double(x0);
+        const double z_row = p.z_origin + p.dzdy * double(y - p.min_y);
+        double i = double(x0 - p.min_x);
         uint64_t span_written = 0;
-        for (int32_t x = x0; x <= x1; ++x, z += dzdx) {
+        for (int32_t x = x0; x <= x1; ++x, i += 1.0) {
+            const double z = z_row + dzdx * i;
             // zbuffer's depth_at holds depth to [0, 1]: on the float's bits (which order like its
             // value when positive, and are negative as an int when it is) that is two integer
             // clamps, without the branches double min and max compile to.
@@ -1192,7 +1199,6 @@ private:
         const int32_t right_carry = -int32_t(r.error >= r.den);
         r.error -= r.den & right_carry;
         r.x += r.step - right_carry;
-        p.z_row += p.dzdy;
         if (p.switch_row == y + 1) (p.lower_left ? p.left : p.right) = p.lower;
     }
 

@@ -19,6 +19,8 @@
 // counter-clockwise in NDC (y up) and therefore clockwise in window coordinates.
 #pragma once
 
+#include "hsr/visibility_rules.hpp"  // the top-left fill rule: is_top_left_edge
+
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -294,13 +296,6 @@ struct Plane {
     double dy;
     double at(double i, double j) const { return (origin + dy * j) + dx * i; }
 };
-
-// Top-left fill rule for an edge running from a to b of a triangle whose interior is on the side
-// where the edge function is positive (window y down): a top edge is horizontal with the interior
-// below it (it runs toward +x), a left edge runs upward (toward -y). Samples exactly on a top or
-// left edge belong to the triangle, samples on any other edge do not, so a sample on an edge shared
-// by two triangles is drawn exactly once.
-inline bool is_top_left_edge(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
 
 // The edge function of the edge from (ax, ay) along (dx, dy) at grid point (px, py), positive on
 // the interior side (right of the edge seen with y down), less 1 unless the edge is top-left: a
