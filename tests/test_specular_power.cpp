@@ -68,7 +68,7 @@ struct PowPhong {  // phong_specular with std::pow
 
 }  // namespace
 
-TEST_CASE("specular power: within its relative bound of x^y over (0, 1 + 2^-10]") {
+TEST_CASE("specular power: within its relative bound of x^y for every float base up to 1 + 2^-10") {
     // Every 61st float below the top (17 million), and every float of the last 2^20 below it (bases
     // near 1, where large exponents give the highlights).
     for (const float y : kExponents) {

@@ -43,13 +43,14 @@ function pngSize(bytes, offset) {
 export default async (h) => {
   const { check, assert } = h;
   const { browser, page } = await h.newBrowser({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
+  // A new page's first picture waits for the server's workers, which ctest -j2 keeps busy.
   const idle = () => page.waitForFunction(() => window.hsrView && window.hsrView.idle()
-    && document.querySelector('#canvas').dataset.state !== 'loading', null, { timeout: 30_000 });
+    && document.querySelector('#canvas').dataset.state !== 'loading', null, { timeout: 90_000 });
   try {
     await idle();
     if ((await page.$eval('#algorithm', (s) => s.value)) !== 'zbuffer') {
       await page.selectOption('#algorithm', 'zbuffer');
-      await page.waitForFunction(() => window.hsrView.lastResponse?.steps, null, { timeout: 30_000 });
+      await page.waitForFunction(() => window.hsrView.lastResponse?.steps, null, { timeout: 90_000 });
       await idle();
     }
 

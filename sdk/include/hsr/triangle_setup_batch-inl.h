@@ -106,7 +106,7 @@ inline void SetupWholeTriangles(const WindowVertex* const (*corners)[3], size_t 
             const int a = (k + 1) % 3, b = (k + 2) % 3;
             const auto dx = Sub(gx[b], gx[a]);
             const auto dy = Sub(gy[b], gy[a]);
-            const auto top_left = Or(Lt(dy, zero), And(Eq(dy, zero), Gt(dx, zero)));
+            const auto top_left = Or(Lt(dy, zero), And(Eq(dy, zero), Gt(dx, zero)));  // is_top_left_edge
             const auto value = Sub(Mul(dx, Sub(origin_y, gy[a])), Mul(dy, Sub(origin_x, gx[a])));
             Store(to_int64(Sub(value, IfThenZeroElse(top_left, one))), di, edge[3 * k] + n);
             Store(to_int64(Mul(Neg(dy), scale)), di, edge[3 * k + 1] + n);
