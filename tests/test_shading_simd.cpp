@@ -15,11 +15,11 @@
 #include "hsr/scene_builder.hpp"
 #include "hsr/scene_file.hpp"
 #include "hsr/shading.hpp"
+#include "highway_targets.hpp"
 #include "test_models.hpp"
 
 #include <catch2/catch.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <hwy/targets.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,23 +30,7 @@
 
 namespace {
 
-// Every compiled Highway target the CPU supports; each is made the chosen one while f runs.
-template <class F>
-void for_each_target(F&& f) {
-    const int64_t supported = hwy::SupportedTargets();
-    int tried = 0;
-    for (int64_t target = 1; target != 0 && target <= supported; target <<= 1) {
-        if (!(supported & target) || !(HWY_TARGETS & target)) continue;
-        hwy::SetSupportedTargetsForTest(target);
-        hwy::GetChosenTarget().Update(hwy::SupportedTargets());
-        INFO("Highway target " << hwy::TargetName(target));
-        f(target);
-        ++tried;
-    }
-    hwy::SetSupportedTargetsForTest(0);
-    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
-    CHECK(tried >= 1);
-}
+using highway_tests::for_each_target;
 
 bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;

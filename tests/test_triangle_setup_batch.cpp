@@ -3,9 +3,9 @@
 // Highway target this CPU runs (each forced in turn): random small, large and sliver triangles of
 // both orientations, corners up to the guard band, batches of every length from 1 to kSetupBatch.
 #include "hsr/triangle_setup_batch.hpp"
+#include "highway_targets.hpp"
 
 #include <catch2/catch.hpp>
-#include <hwy/targets.h>
 
 #include <algorithm>
 #include <array>
@@ -17,24 +17,9 @@
 
 namespace {
 
-using namespace hsr::raster;
+using highway_tests::for_each_target;
 
-template <class F>
-void for_each_target(F&& f) {
-    const int64_t supported = hwy::SupportedTargets();
-    int tried = 0;
-    for (int64_t target = 1; target != 0 && target <= supported; target <<= 1) {
-        if (!(supported & target) || !(HWY_TARGETS & target)) continue;
-        hwy::SetSupportedTargetsForTest(target);
-        hwy::GetChosenTarget().Update(hwy::SupportedTargets());
-        INFO("Highway target " << hwy::TargetName(target));
-        f();
-        ++tried;
-    }
-    hwy::SetSupportedTargetsForTest(0);
-    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
-    CHECK(tried >= 1);
-}
+using namespace hsr::raster;
 
 bool same_bits(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
 bool same_plane(const Plane& a, const Plane& b) {
@@ -108,7 +93,7 @@ TEST_CASE("triangle setup in SIMD batches equals the scalar setup bit for bit", 
             const double ratio = exact_area / grid_area;
             if (!(ratio > 0.5 && ratio < 2.0)) ++slivers_on_snapped_corners;
         }
-        for_each_target([&] {
+        for_each_target([&](int64_t) {
             for (size_t length = 1; length <= kSetupBatch; ++length) {
                 for (size_t first = 0; first + length <= triangles.size(); first += length) {
                     const WindowVertex* corners[kSetupBatch][3];
