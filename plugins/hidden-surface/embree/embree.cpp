@@ -402,15 +402,15 @@ private:
     // keeps Embree's answer.
     bool covers_pixel_centre(uint32_t face, uint32_t placement, const RayQuery& query) const {
         const Placed& p = placed_[placement];
+        glm::dvec4 clip[3];
+        for (int c = 0; c < 3; ++c)
+            clip[c] = p.clip_from_object * glm::dvec4(glm::dvec3(scene_->corner_position(face, c)), 1.0);
+        hsr::raster::WindowVertex w[3];
+        if (!hsr::raster::unclipped_window_corners(clip, viewport_, guard_, w)) return true;
         int64_t x[3], y[3];
         for (int c = 0; c < 3; ++c) {
-            const glm::dvec4 clip = p.clip_from_object * glm::dvec4(glm::dvec3(scene_->corner_position(face, c)), 1.0);
-            hsr::raster::WindowVertex w;
-            if ((hsr::raster::outcode(clip, guard_) & (hsr::raster::kNeedsClipping | hsr::raster::kNonFinite)) ||
-                !viewport_.to_window(clip, 0.0, 0.0, w))
-                return true;
-            x[c] = w.x;
-            y[c] = w.y;
+            x[c] = w[c].x;
+            y[c] = w[c].y;
         }
         return hsr::raster::covers_sample(x, y, query.sample_x, query.sample_y);
     }

@@ -549,18 +549,17 @@ private:
     // The triangle's corners snapped as the z-buffer snaps them; false when the rule cannot be
     // applied (see fill_rule).
     bool snap(uint32_t k, const Triangle& tri, int64_t (&x)[3], int64_t (&y)[3]) const {
+        glm::dvec4 clip[3];
+        for (int c = 0; c < 3; ++c)
+            clip[c] = clip_from_object_[k] * glm::dvec4(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2], 1.0);
+        hsr::raster::WindowVertex w[3];
+        if (!hsr::raster::unclipped_window_corners(clip, viewport_, guard_, w)) return false;
         double exact_x[3], exact_y[3];
         for (int c = 0; c < 3; ++c) {
-            const glm::dvec4 clip =
-                clip_from_object_[k] * glm::dvec4(tri.corner[c][0], tri.corner[c][1], tri.corner[c][2], 1.0);
-            hsr::raster::WindowVertex w;
-            if ((hsr::raster::outcode(clip, guard_) & (hsr::raster::kNeedsClipping | hsr::raster::kNonFinite)) ||
-                !viewport_.to_window(clip, 0.0, 0.0, w))
-                return false;
-            x[c] = w.x;
-            y[c] = w.y;
-            exact_x[c] = w.exact_x;
-            exact_y[c] = w.exact_y;
+            x[c] = w[c].x;
+            y[c] = w[c].y;
+            exact_x[c] = w[c].exact_x;
+            exact_y[c] = w[c].exact_y;
         }
         const double grid_area = double((x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])) /
                                  double(hsr::raster::kSubpixelScale * hsr::raster::kSubpixelScale);

@@ -673,11 +673,11 @@ private:
     }
 
     // Makes triangle t active (one placement): culled, clipped (never: see bucket_triangles) and set
-    // up now, with its planes, counted into `stats`. It joins on its first scanline `first`, or,
-    // when a band takes it over from above, on the band's first row `row` as it stands there in a
-    // sweep from the top.
+    // up now, with its planes, counted into `stats`. It joins on row `row`: its first scanline, or,
+    // when a band takes it over from above, the band's first row, as it stands there in a sweep
+    // from the top.
     [[gnu::flatten]] void activate_triangle(Sweep& sweep, raster::TriangleStats& stats, uint32_t t, uint32_t id,
-                                            int32_t first, int32_t row) {
+                                            int32_t row) {
         geometry_.process(t, stats, [&](const raster::TriangleSetup& s) {
             int32_t x[3], y[3];
             corners_of(geometry_, s, indices_[3 * t], indices_[3 * t + 1], indices_[3 * t + 2], x, y);
@@ -820,7 +820,7 @@ private:
             if (staged[k].is_record)
                 activate_record(sweep, records_[staged[k].index], ids[k], y);
             else
-                activate_triangle(sweep, sweep.triangles, staged[k].index, ids[k], y, y);
+                activate_triangle(sweep, sweep.triangles, staged[k].index, ids[k], y);
         }
     }
 
@@ -1002,7 +1002,7 @@ private:
                 if (entry.is_record)
                     activate_record(sweep, records_[entry.index], id, first_row_[id], first);
                 else
-                    activate_triangle(sweep, counted_above, entry.index, id, first_row_[id], first);
+                    activate_triangle(sweep, counted_above, entry.index, id, first);
             }
             for (int32_t y = first; y < end; ++y) {
                 activate_bucket(sweep, y);

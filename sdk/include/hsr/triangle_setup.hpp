@@ -284,6 +284,18 @@ private:
     double half_height_ = 0.0;
 };
 
+// The corners of a whole triangle (clip space) in window coordinates, snapped as the rasterizer
+// snaps them, when the rasterizer draws it without clipping first: false when a corner needs
+// clipping (near, far, guard band) or cannot be projected. For a renderer that does not rasterize
+// and applies the fill rule to the rasterizer's corners (hsr/visibility_rules.hpp, covers_sample).
+inline bool unclipped_window_corners(const glm::dvec4 (&clip)[3], const Viewport& viewport, const GuardBand& guard,
+                                     WindowVertex (&out)[3]) {
+    for (int c = 0; c < 3; ++c)
+        if ((outcode(clip[c], guard) & (kNeedsClipping | kNonFinite)) || !viewport.to_window(clip[c], 0.0, 0.0, out[c]))
+            return false;
+    return true;
+}
+
 // ---------------------------------------------------------------------------------------------- //
 // Triangle setup
 
