@@ -374,7 +374,11 @@ Ending render_misbehaving(const std::string& fault, const std::string& when, con
 }  // namespace
 
 TEST_CASE("plugin faults: hsr render names a misbehaving plugin and ends as it did", "[plugin-faults][cli]") {
-    const fs::path png = cli::scratch_dir() / "misbehaving.png";
+    // A folder of its own: ctest runs the other cases at the same time, and their outputs' temporaries
+    // must not be counted (or removed) here.
+    const fs::path dir = cli::scratch_dir() / "misbehaving";
+    fs::create_directories(dir);
+    const fs::path png = dir / "misbehaving.png";
 
     const Ending fine = render_misbehaving("none", "render", png);
     INFO("stderr: " << fine.err);
