@@ -1,9 +1,10 @@
-// The z-buffer's parallel path (triangles binned to screen tiles, tiles drawn in parallel) against
-// its serial path (render step by step run to the end: every triangle drawn in scene order, one
-// after another): every buffer (depth, face, instance, barycentrics, per-pixel depth-test counts)
-// byte for byte and every counter equal, with one thread and with two (tbb::global_control), on
-// meshes, instanced and deep scenes, clip planes, near-plane clipping, depth-test=greater, back-face
-// culling, and image sizes from 1x1 to odd strips whose tiles are cut by the image border.
+// The z-buffer's fast paths against its step-by-step path (render step by step run to the end: every
+// triangle drawn in scene order, each set up alone): with two threads (tbb::global_control) the
+// parallel one (triangles binned to screen tiles, tiles drawn in parallel), with one the in-order
+// one that sets triangles up in batches. Every buffer (depth, face, instance, barycentrics,
+// per-pixel depth-test counts) byte for byte and every counter equal, on meshes, instanced and deep
+// scenes, clip planes, near-plane clipping, depth-test=greater, back-face culling, and image sizes
+// from 1x1 to odd strips whose tiles are cut by the image border.
 #include "hsr/pipeline.hpp"
 #include "surface_test_support.hpp"
 

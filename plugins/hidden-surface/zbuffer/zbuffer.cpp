@@ -12,7 +12,8 @@
 // of Parallel Rendering", 1994): chunks of triangles are culled and binned to square screen tiles in
 // parallel, in scene order, then the tiles are drawn in parallel, each setting up and rasterizing
 // its triangles in scene order, so every buffer and counter is the serial one bit for bit. Render
-// step by step (one step per triangle) and a frame allowed one thread draw in order.
+// step by step (one step per triangle) and a frame allowed one thread draw in order, the latter
+// setting its triangles up in batches as the tiles do.
 // docs/speed/visibility.md has the design and the measurements.
 #include "hsr/parallel.hpp"
 #include "hsr/raster.hpp"
@@ -97,6 +98,72 @@ private:
     };
     static constexpr uint32_t kPieceBit = 1u << 31;
 
+    // Triangles drawn in the order they are added, within `area`: whole ones set up kSetupBatch at a
+    // time in SIMD, clipped pieces from the setup they come with, which must live until the next
+    // flush().
+    template <bool kKeepNearest, bool kCountTests>
+    class DrawQueue {
+    public:
+        DrawQueue(const raster::PixelBuffers& buffers, uint32_t width, uint32_t height, const raster::PixelBounds& area,
+                  PixelStats& stats)
+            : buffers_(buffers), width_(width), height_(height), area_(area), stats_(stats) {}
+        ~DrawQueue() { flush(); }
+        DrawQueue(const DrawQueue&) = delete;
+        DrawQueue& operator=(const DrawQueue&) = delete;
+
+        // A triangle that needs no clipping and holds pixel centres in the image (as bins hold them).
+        void add_whole(const raster::WindowVertex* v0, const raster::WindowVertex* v1, const raster::WindowVertex* v2,
+                       uint32_t face, uint32_t instance) {
+            const raster::WindowVertex* corner[3] = {v0, v1, v2};
+            for (int k = 0; k < 3; ++k) {
+                // Read when the batch is full: fetched now, they arrive meanwhile.
+                __builtin_prefetch(corner[k]);
+                __builtin_prefetch(reinterpret_cast<const char*>(corner[k]) + sizeof *corner[k] - 1);
+                corners_[batched_][k] = corner[k];
+            }
+            ++batched_;
+            add(nullptr, face, instance);
+        }
+        void add_setup(const raster::TriangleSetup* setup, uint32_t face, uint32_t instance) {
+            add(setup, face, instance);
+        }
+
+        void flush() {
+            constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
+            raster::setup_whole_triangles(corners_, batched_, width_, height_, batch_);
+            const raster::TriangleSetup* next = batch_;
+            for (size_t n = 0; n < queued_; ++n) {
+                const raster::TriangleSetup& s = queue_[n].setup != nullptr ? *queue_[n].setup : *next++;
+                raster::DepthTest<rule, kCountTests> test(buffers_, queue_[n].face, queue_[n].instance);
+                raster::for_each_covered_pixel_in(
+                    s, std::max(s.min_x, area_.min_x), std::max(s.min_y, area_.min_y), std::min(s.max_x, area_.max_x),
+                    std::min(s.max_y, area_.max_y), [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); });
+                stats_.depth_tested += test.tested;
+                stats_.written += test.written;
+            }
+            queued_ = batched_ = 0;
+        }
+
+    private:
+        struct Queued {
+            const raster::TriangleSetup* setup;  // a clipped piece's, or nullptr: the next of the batch
+            uint32_t face, instance;
+        };
+        void add(const raster::TriangleSetup* setup, uint32_t face, uint32_t instance) {
+            queue_[queued_++] = {setup, face, instance};
+            if (queued_ == raster::kSetupBatch) flush();
+        }
+
+        const raster::PixelBuffers& buffers_;
+        uint32_t width_, height_;
+        raster::PixelBounds area_;
+        PixelStats& stats_;
+        Queued queue_[raster::kSetupBatch];
+        const raster::WindowVertex* corners_[raster::kSetupBatch][3];
+        raster::TriangleSetup batch_[raster::kSetupBatch];
+        size_t queued_ = 0, batched_ = 0;
+    };
+
     // Measured on the bunny at 1024x1024 (docs/speed/visibility.md).
     static constexpr uint32_t kTileSize = 64;          // pixels a side
     static constexpr uint32_t kChunkTriangles = 2048;  // input triangles binned by one task
@@ -120,7 +187,7 @@ private:
                 for (size_t p = 0; p < pixel_count; ++p)
                     if (face[p] == HSR_NO_FACE) depth[p] = std::numeric_limits<float>::infinity();
             }
-            (drew_tiles_ ? triangle_stats_ : geometry_.stats()).report(counters);
+            (counted_apart_ ? triangle_stats_ : geometry_.stats()).report(counters);
             counters.set("pixels-depth-tested", pixels.depth_tested);
             counters.set("pixels-written", pixels.written);
         };
@@ -143,8 +210,18 @@ private:
     void draw(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels, Steps& steps) {
         // Binning costs some work of its own, so one thread draws in order; so do scenes too large
         // for kPieceBit to tell triangles from clipped pieces.
-        drew_tiles_ = !Steps::enabled && scene.raw().triangle_count < kPieceBit && hsr::sdk::allowed_threads() > 1;
-        if (!drew_tiles_) {
+        const bool tiles = !Steps::enabled && scene.raw().triangle_count < kPieceBit && hsr::sdk::allowed_threads() > 1;
+        counted_apart_ = !Steps::enabled;
+        if constexpr (!Steps::enabled) {
+            if (!tiles) {
+                if (target.depth_tests() == nullptr)
+                    draw_in_batches<kKeepNearest, false>(scene, target, pixels);
+                else
+                    draw_in_batches<kKeepNearest, true>(scene, target, pixels);
+                return;
+            }
+        }
+        if (!tiles) {
             if (target.depth_tests() == nullptr)
                 draw_in_order<kKeepNearest, false>(scene, target, pixels, steps);
             else
@@ -183,6 +260,39 @@ private:
                                   pixels.written - pixels_before.written);
             }
         }
+    }
+
+    // One triangle after another on one thread, as draw_in_order without steps, the whole triangles
+    // set up in batches.
+    template <bool kKeepNearest, bool kCountTests>
+    void draw_in_batches(const hsr::sdk::Scene& scene, hsr::sdk::VisibilityBuffer& target, PixelStats& pixels) {
+        const raster::PixelBuffers buffers(target);
+        const raster::PixelBounds image{0, 0, int32_t(target.width()) - 1, int32_t(target.height()) - 1};
+        const uint32_t* indices = scene.raw().indices;
+        raster::TriangleStats triangles;
+        for (uint32_t k = 0; k < scene.placement_count(); ++k) {
+            const hsr::sdk::Placement placement = scene.placement(k);
+            geometry_.place(placement);
+            // Emptied when it goes out of scope, before the next placement moves the vertices.
+            DrawQueue<kKeepNearest, kCountTests> queue(buffers, target.width(), target.height(), image, pixels);
+            const uint32_t end = placement.first_triangle + placement.triangle_count;
+            for (uint32_t t = placement.first_triangle; t < end; ++t) {
+                raster::PixelBounds bounds;
+                if (geometry_.bound_unclipped(t, triangles, bounds)) {
+                    if (bounds.min_x <= bounds.max_x)
+                        queue.add_whole(&geometry_.window_vertex(indices[3 * size_t(t)]),
+                                        &geometry_.window_vertex(indices[3 * size_t(t) + 1]),
+                                        &geometry_.window_vertex(indices[3 * size_t(t) + 2]), t, placement.instance);
+                    continue;
+                }
+                queue.flush();  // what came before is drawn before the pieces
+                geometry_.process(t, triangles, [&](const raster::TriangleSetup& s) {
+                    queue.add_setup(&s, t, placement.instance);
+                    queue.flush();
+                });
+            }
+        }
+        triangle_stats_ = triangles;
     }
 
     // Binned in parallel chunks, drawn in parallel tiles, one placement after another (the tiles set
@@ -281,63 +391,33 @@ private:
     // Draws what the first `pending` chunks binned to tile k, in scene order, and empties those bins.
     template <bool kKeepNearest, bool kCountTests>
     void draw_tile(uint32_t k, uint32_t pending, const raster::PixelBuffers& buffers, PixelStats& stats) {
-        constexpr raster::DepthRule rule = kKeepNearest ? raster::DepthRule::kNearer : raster::DepthRule::kFarther;
         uint32_t tx0, ty0, tx1, ty1;
         grid_.rect(k, tx0, ty0, tx1, ty1);
-        // The tile's triangles, in scene order across the chunks, are set up kSetupBatch at a time in
-        // SIMD (clipped pieces come set up), then drawn in that order.
-        struct Queued {
-            const raster::TriangleSetup* setup;  // a clipped piece's, or nullptr: the next of the batch
-            uint32_t face, instance;
-        };
-        Queued queue[raster::kSetupBatch];
-        const raster::WindowVertex* corners[raster::kSetupBatch][3];
-        raster::TriangleSetup batch[raster::kSetupBatch];
-        size_t queued = 0, batched = 0;
-        auto draw_queue = [&] {
-            raster::setup_whole_triangles(corners, batched, grid_.width, grid_.height, batch);
-            const raster::TriangleSetup* next = batch;
-            for (size_t n = 0; n < queued; ++n) {
-                const raster::TriangleSetup& s = queue[n].setup != nullptr ? *queue[n].setup : *next++;
-                raster::DepthTest<rule, kCountTests> test(buffers, queue[n].face, queue[n].instance);
-                raster::for_each_covered_pixel_in(
-                    s, std::max(s.min_x, int32_t(tx0)), std::max(s.min_y, int32_t(ty0)),
-                    std::min(s.max_x, int32_t(tx1) - 1), std::min(s.max_y, int32_t(ty1) - 1),
-                    [&](int32_t x, int32_t y, double i, double j) { test(s, x, y, i, j); });
-                stats.depth_tested += test.tested;
-                stats.written += test.written;
-            }
-            queued = batched = 0;
-        };
-        for (uint32_t c = 0; c < pending; ++c) {
-            Chunk& chunk = chunks_[c];
-            for (const BinEntry& binned : chunk.bins[k]) {
-                if (binned.entry & kPieceBit) {
-                    const ClippedPiece& piece = chunk.pieces[binned.entry & ~kPieceBit];
-                    queue[queued++] = {&piece.setup, piece.face, chunk.instance};
-                } else {
-                    for (int corner = 0; corner < 3; ++corner) {
-                        // Read when the batch is full: fetched now, they arrive meanwhile.
-                        const raster::WindowVertex* v = &geometry_.window_vertex(binned.corner[corner]);
-                        __builtin_prefetch(v);
-                        __builtin_prefetch(reinterpret_cast<const char*>(v) + sizeof *v - 1);
-                        corners[batched][corner] = v;
+        const raster::PixelBounds tile{int32_t(tx0), int32_t(ty0), int32_t(tx1) - 1, int32_t(ty1) - 1};
+        {
+            DrawQueue<kKeepNearest, kCountTests> queue(buffers, grid_.width, grid_.height, tile, stats);
+            for (uint32_t c = 0; c < pending; ++c) {
+                const Chunk& chunk = chunks_[c];
+                for (const BinEntry& binned : chunk.bins[k]) {
+                    if (binned.entry & kPieceBit) {
+                        const ClippedPiece& piece = chunk.pieces[binned.entry & ~kPieceBit];
+                        queue.add_setup(&piece.setup, piece.face, chunk.instance);
+                    } else {
+                        queue.add_whole(&geometry_.window_vertex(binned.corner[0]),
+                                        &geometry_.window_vertex(binned.corner[1]),
+                                        &geometry_.window_vertex(binned.corner[2]), binned.entry, chunk.instance);
                     }
-                    ++batched;
-                    queue[queued++] = {nullptr, binned.entry, chunk.instance};
                 }
-                if (queued == raster::kSetupBatch) draw_queue();
             }
         }
-        if (queued > 0) draw_queue();
         for (uint32_t c = 0; c < pending; ++c) chunks_[c].bins[k].clear();
     }
 
     bool cull_backfaces_;
     bool keep_farthest_;
     raster::GeometryStage geometry_;  // keeps its vertex buffers between frames
-    bool drew_tiles_ = false;               // the last frame went through draw_tiled
-    raster::TriangleStats triangle_stats_;  // which counted these
+    bool counted_apart_ = false;            // the last frame counted its triangles in triangle_stats_
+    raster::TriangleStats triangle_stats_;
     hsr::sdk::TileGrid grid_;
     std::vector<Chunk> chunks_;  // kept between frames, with their capacity
     std::vector<PixelStats> tile_stats_;
