@@ -64,6 +64,7 @@ struct RayQuery {
     float t_limit = 0.0f;                         // no hit beyond this can replace the one kept
     float depth = 0.0f, u = 0.0f, v = 0.0f;
     uint32_t face = HSR_NO_FACE, instance = 0;
+    hsr::raster::SnappedCornerCache snapped;  // kept over the rays of a tile
 };
 
 // Hits a little beyond the depth of the one kept are still reported (Embree's t is float).
@@ -400,19 +401,22 @@ private:
     // taken to the window and snapped to the 1/256-pixel grid exactly as the z-buffer snaps them. A
     // triangle the rasterizers clip first (a corner beyond the near or far plane or the guard band)
     // keeps Embree's answer.
-    bool covers_pixel_centre(uint32_t face, uint32_t placement, const RayQuery& query) const {
-        const Placed& p = placed_[placement];
-        glm::dvec4 clip[3];
-        for (int c = 0; c < 3; ++c)
-            clip[c] = p.clip_from_object * glm::dvec4(glm::dvec3(scene_->corner_position(face, c)), 1.0);
-        hsr::raster::WindowVertex w[3];
-        if (!hsr::raster::unclipped_window_corners(clip, viewport_, guard_, w)) return true;
-        int64_t x[3], y[3];
-        for (int c = 0; c < 3; ++c) {
-            x[c] = w[c].x;
-            y[c] = w[c].y;
-        }
-        return hsr::raster::covers_sample(x, y, query.sample_x, query.sample_y);
+    bool covers_pixel_centre(uint32_t face, uint32_t placement, RayQuery& query) const {
+        // Neighbouring pixels mostly meet the same few triangles: their snapped corners are kept.
+        const auto& snapped = query.snapped.find(placement, face, [&](int64_t(&x)[3], int64_t(&y)[3]) {
+            const Placed& p = placed_[placement];
+            glm::dvec4 clip[3];
+            for (int c = 0; c < 3; ++c)
+                clip[c] = p.clip_from_object * glm::dvec4(glm::dvec3(scene_->corner_position(face, c)), 1.0);
+            hsr::raster::WindowVertex w[3];
+            if (!hsr::raster::unclipped_window_corners(clip, viewport_, guard_, w)) return false;
+            for (int c = 0; c < 3; ++c) {
+                x[c] = w[c].x;
+                y[c] = w[c].y;
+            }
+            return true;
+        });
+        return !snapped.known || hsr::raster::covers_sample(snapped.x, snapped.y, query.sample_x, query.sample_y);
     }
 
     // Where the ray reaches window depth `depth` (+infinity when it never does): depth is

@@ -82,19 +82,6 @@ struct RayStats {
     }
 };
 
-// A triangle's corners snapped to the rasterizers' grid for one frame (fill_rule), and a few of
-// them kept while a thread casts the rays of a tile.
-struct SnappedTriangle {
-    uint32_t placed = ~0u;
-    const Triangle* triangle = nullptr;
-    bool known = false;  // the fill rule applies (see Raycast::fill_rule)
-    int64_t x[3], y[3];
-};
-struct SnappedCache {
-    static constexpr size_t kSize = 8;  // a power of 2
-    SnappedTriangle entry[kSize];
-};
-
 // The nearest acceptable hit so far of one ray, and how far the search must still look.
 struct Nearest {
     double t_limit;                 // no hit beyond this ray parameter can replace this one
@@ -104,7 +91,7 @@ struct Nearest {
     float depth = 0.0f;             // window depth, rounded to what the buffer stores
     uint32_t face = HSR_NO_FACE, instance = 0;
     int64_t sample_x = 0, sample_y = 0;  // the pixel centre on the rasterizers' 1/256-pixel grid
-    SnappedCache* snapped = nullptr;     // the casting thread's
+    hsr::raster::SnappedCornerCache* snapped = nullptr;  // the casting thread's
 };
 
 // Hits a little outside t in [0, 1] (rounding at the near and far planes) are still looked at; the
@@ -356,13 +343,13 @@ private:
     void cast_tile(uint32_t k, RayStats& stats) const {
         uint32_t x0, y0, x1, y1;
         tiles().rect(k, x0, y0, x1, y1);
-        SnappedCache snapped;
+        hsr::raster::SnappedCornerCache snapped;
         for (uint32_t y = y0; y < y1; ++y)
             for (uint32_t x = x0; x < x1; ++x) cast_pixel<Real>(x, y, stats, snapped);
     }
 
     template <class Real>
-    void cast_pixel(uint32_t x, uint32_t y, RayStats& stats, SnappedCache& snapped) const {
+    void cast_pixel(uint32_t x, uint32_t y, RayStats& stats, hsr::raster::SnappedCornerCache& snapped) const {
         const double ndc_x = 2.0 * (x + 0.5) / width_ - 1.0;
         const double ndc_y = 1.0 - 2.0 * (y + 0.5) / height_;
         const glm::dvec4 near_h = window_to_world_ * glm::dvec4(ndc_x, ndc_y, -1.0, 1.0);
@@ -535,12 +522,8 @@ private:
     enum class Fill { kCovered, kNotCovered, kUnknown };
     Fill fill_rule(uint32_t k, const Triangle& tri, const Nearest& ray) const {
         // Neighbouring pixels mostly meet the same few triangles: their snapped corners are kept.
-        SnappedTriangle& snapped = ray.snapped->entry[(&tri - triangles_.data()) & (SnappedCache::kSize - 1)];
-        if (snapped.placed != k || snapped.triangle != &tri) {
-            snapped.placed = k;
-            snapped.triangle = &tri;
-            snapped.known = snap(k, tri, snapped.x, snapped.y);
-        }
+        const auto& snapped = ray.snapped->find(k, uint32_t(&tri - triangles_.data()),
+                                                [&](int64_t(&x)[3], int64_t(&y)[3]) { return snap(k, tri, x, y); });
         if (!snapped.known) return Fill::kUnknown;
         return hsr::raster::covers_sample(snapped.x, snapped.y, ray.sample_x, ray.sample_y) ? Fill::kCovered
                                                                                              : Fill::kNotCovered;

@@ -296,6 +296,32 @@ inline bool unclipped_window_corners(const glm::dvec4 (&clip)[3], const Viewport
     return true;
 }
 
+// The snapped corners of the few triangles that neighbouring samples meet, for a ray caster that
+// applies the fill rule to each hit (one cache per casting thread): a small direct-mapped cache
+// keyed by a placement and a triangle number.
+struct SnappedCornerCache {
+    struct Entry {
+        uint32_t placement = ~0u, triangle = ~0u;
+        bool known = false;  // what snap answered: the corners are the rasterizer's
+        int64_t x[3], y[3];
+    };
+    static constexpr size_t kSize = 8;  // a power of 2
+    Entry entry[kSize];
+
+    // The entry of (placement, triangle); when it is not there, snap(x, y) fills its corners and
+    // says whether they apply.
+    template <class Snap>
+    const Entry& find(uint32_t placement, uint32_t triangle, Snap&& snap) {
+        Entry& e = entry[triangle & (kSize - 1)];
+        if (e.placement != placement || e.triangle != triangle) {
+            e.placement = placement;
+            e.triangle = triangle;
+            e.known = snap(e.x, e.y);
+        }
+        return e;
+    }
+};
+
 // ---------------------------------------------------------------------------------------------- //
 // Triangle setup
 
