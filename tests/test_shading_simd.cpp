@@ -200,6 +200,8 @@ TEST_CASE("shading SIMD: every target's fragment assembly and bytes equal the sc
     const uint32_t triangles = uint32_t(data.face_colors.size() / 3);
     for (uint32_t p : {0u, 1u, 17u, 100u, pixels - 1}) face[p] = triangles - 1;
     for (uint32_t p : {2u, 40u, 41u, 300u}) face[p] = 0;
+    for (uint32_t p = 128; p < 192; ++p)  // whole vectors covered, on every target
+        if (face[p] == HSR_NO_FACE) face[p] = p % triangles;
 
     // The same faces, once without instances and once as three placements of the triangles, with
     // runs of one instance and single pixels of others.

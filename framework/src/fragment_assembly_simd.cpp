@@ -26,13 +26,21 @@ uint32_t FindCoveredPixels(const uint32_t* face, const uint32_t* instance, uint3
     const uint32_t lanes = uint32_t(Lanes(du));
     const auto no_face = Set(du, HSR_NO_FACE);
 
-    // A vector's worth of faces tested at once, the covered ones taken bit by bit.
+    // A vector's worth of faces tested at once: stored whole when all are covered (inside an
+    // object), else the covered ones taken bit by bit.
     uint32_t n = 0;
     uint32_t p = pixel_begin;
     HWY_ALIGN uint8_t covered_bits[8];
     for (; p + lanes <= pixel_end; p += lanes) {
-        const auto covered = Ne(LoadU(du, face + p), no_face);
+        const auto faces = LoadU(du, face + p);
+        const auto covered = Ne(faces, no_face);
         if (AllFalse(du, covered)) continue;
+        if (AllTrue(du, covered)) {
+            StoreU(faces, du, out.face.data() + n);
+            StoreU(Iota(du, p), du, out.pixel.data() + n);
+            n += lanes;
+            continue;
+        }
         StoreMaskBits(du, covered, covered_bits);
         for (uint32_t byte = 0; byte < (lanes + 7) / 8; ++byte)
             for (uint32_t bits = covered_bits[byte]; bits != 0; bits &= bits - 1) {
