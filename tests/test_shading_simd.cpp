@@ -264,7 +264,8 @@ TEST_CASE("shading SIMD: every target's fragment assembly and bytes equal the sc
                         CHECK(chunked.pixel[r] == reference.pixel[r]);
                         if (instanced) CHECK(chunked.instance[r] == reference.instance[r]);
                         CHECK(std::memcmp(&chunked.bary[2 * i], &reference.bary[2 * r], 2 * sizeof(float)) == 0);
-                        CHECK(std::memcmp(&chunked.position[3 * i], &reference.position[3 * r], 3 * sizeof(float)) == 0);
+                        CHECK(std::memcmp(&chunked.position[3 * i], &reference.position[3 * r], 3 * sizeof(float)) ==
+                              0);
                         CHECK(std::memcmp(&chunked.normal[3 * i], &reference.normal[3 * r], 3 * sizeof(float)) == 0);
                     }
                 }

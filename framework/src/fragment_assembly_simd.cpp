@@ -1,8 +1,9 @@
 // SIMD parts of a shading band (fragment_assembly.hpp), on Google Highway with the best instruction
-// set of the CPU chosen at run time: finding the covered pixels (compress-store), assembling their
-// fragments (the float operations of assemble_fragment, in its order, on as many fragments as a
-// vector has lanes; in an instanced scene carried into world space by the fragment's instance) and
-// turning colours into bytes, written straight into the picture a run of pixels at a time. Bit-identical to the scalar code.
+// set of the CPU chosen at run time: finding the covered pixels (a vector of face ids compared at
+// once), assembling their fragments (the float operations of assemble_fragment, in its order, on as
+// many fragments as a vector has lanes; in an instanced scene carried into world space by the
+// fragment's instance) and turning colours into bytes, written straight into the picture a run of
+// pixels at a time. Bit-identical to the scalar code.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "fragment_assembly_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
