@@ -200,6 +200,8 @@ TEST_CASE("shading SIMD: every target's fragment assembly and bytes equal the sc
     const uint32_t triangles = uint32_t(data.face_colors.size() / 3);
     for (uint32_t p : {0u, 1u, 17u, 100u, pixels - 1}) face[p] = triangles - 1;
     for (uint32_t p : {2u, 40u, 41u, 300u}) face[p] = 0;
+    for (uint32_t p = 128; p < 192; ++p)  // whole vectors covered, on every target
+        if (face[p] == HSR_NO_FACE) face[p] = p % triangles;
 
     // The same faces, once without instances and once as three placements of the triangles, with
     // runs of one instance and single pixels of others.
@@ -245,6 +247,29 @@ TEST_CASE("shading SIMD: every target's fragment assembly and bytes equal the sc
                     CHECK(std::memcmp(&out.normal[3 * i], &reference.normal[3 * r], 3 * sizeof(float)) == 0);
                 }
             }
+            // A chunk at a time, as shade_frame does (chunks of 13 and 64: whole vectors and not):
+            // covered pixels [first, first + count) become fragments 0, 1, ...
+            for (uint32_t chunk : {13u, 64u}) {
+                hsr::FragmentArrays chunked;
+                chunked.reserve(pixels, chunk);
+                const uint32_t count = hsr::find_covered_pixels(face.data(), instanced ? instance.data() : nullptr, 0,
+                                                                pixels, chunked);
+                REQUIRE(count == n);
+                for (uint32_t first = 0; first < n; first += chunk) {
+                    const uint32_t m = std::min(chunk, n - first);
+                    hsr::assemble_covered_fragments(scene, placements, instanced, bary.data(), first, m, n, chunked);
+                    for (uint32_t i = 0; i < m; ++i) {
+                        const uint32_t r = first + i;
+                        CHECK(chunked.face[r] == reference.face[r]);
+                        CHECK(chunked.pixel[r] == reference.pixel[r]);
+                        if (instanced) CHECK(chunked.instance[r] == reference.instance[r]);
+                        CHECK(std::memcmp(&chunked.bary[2 * i], &reference.bary[2 * r], 2 * sizeof(float)) == 0);
+                        CHECK(std::memcmp(&chunked.position[3 * i], &reference.position[3 * r], 3 * sizeof(float)) ==
+                              0);
+                        CHECK(std::memcmp(&chunked.normal[3 * i], &reference.normal[3 * r], 3 * sizeof(float)) == 0);
+                    }
+                }
+            }
         });
     }
     for_each_target([&](int64_t) {
@@ -252,6 +277,20 @@ TEST_CASE("shading SIMD: every target's fragment assembly and bytes equal the sc
         hsr::colors_to_bytes(colors.data(), colors.size(), bytes.data());
         bytes.resize(colors.size());
         CHECK(bytes == reference_bytes);
+    });
+    // The same colours written to pixels: runs of consecutive pixels of every length from 1 to 40
+    // (shorter and longer than a vector), with gaps between them that must keep their bytes.
+    std::vector<uint32_t> pixel_of;
+    for (uint32_t p = 5, run = 1; pixel_of.size() < colors.size() / 3; p += run + 1 + run % 3, run = run % 40 + 1)
+        for (uint32_t k = 0; k < run && pixel_of.size() < colors.size() / 3; ++k) pixel_of.push_back(p + k);
+    const uint32_t count = uint32_t(pixel_of.size());
+    std::vector<uint8_t> reference_rgb(3 * (size_t(pixel_of.back()) + 8), 77);
+    for (uint32_t i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) reference_rgb[3 * size_t(pixel_of[i]) + k] = reference_bytes[3 * size_t(i) + k];
+    for_each_target([&](int64_t) {
+        std::vector<uint8_t> rgb(reference_rgb.size(), 77);
+        hsr::colors_to_pixels(colors.data(), pixel_of.data(), count, rgb.data());
+        CHECK(rgb == reference_rgb);
     });
 }
 

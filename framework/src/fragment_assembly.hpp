@@ -21,24 +21,27 @@
 
 namespace hsr {
 
-// Fragment arrays for one batch (a band of rows), reused across the band's rows.
+// Fragment arrays for one band of rows, reused across bands. face, pixel and instance hold the
+// band's covered pixels; the others hold one chunk of them at a time (a chunk's fragments are
+// assembled, shaded and turned into bytes while those arrays are still in the L1 cache).
 struct FragmentArrays {
     std::vector<uint32_t> face, pixel, instance;
     std::vector<float> bary, position, normal, color;
-    std::vector<uint8_t> bytes;  // the colours as bytes
 
-    // Room for n fragments and a vector's worth more (SIMD code stores whole vectors).
-    void reserve(size_t n) {
-        n += kSimdSlack;
-        face.resize(n);
-        pixel.resize(n);
-        instance.resize(n);
-        bary.resize(2 * n);
-        position.resize(3 * n);
-        normal.resize(3 * n);
-        color.resize(3 * n);
-        bytes.resize(3 * n);
+    // Room for `pixels` covered pixels and a chunk of `chunk` fragments, and a vector's worth more
+    // of each (SIMD code stores whole vectors).
+    void reserve(size_t pixels, size_t chunk) {
+        pixels += kSimdSlack;
+        chunk += kSimdSlack;
+        face.resize(pixels);
+        pixel.resize(pixels);
+        instance.resize(pixels);
+        bary.resize(2 * chunk);
+        position.resize(3 * chunk);
+        normal.resize(3 * chunk);
+        color.resize(3 * chunk);
     }
+    void reserve(size_t n) { reserve(n, n); }
     static constexpr size_t kSimdSlack = 64;
 };
 
@@ -66,10 +69,10 @@ struct Placements {
 
 inline constexpr uint32_t kNotInstanced = 0xFFFFFFFFu;
 
-// Fragment n of `out`: triangle t (of `instance`, or kNotInstanced) at barycentrics (b1, b2), for
-// `pixel`.
-inline void assemble_fragment(const hsr_scene& scene, const Placements& placements, uint32_t t, uint32_t instance,
-                              float b1, float b2, uint32_t pixel, FragmentArrays& out, uint32_t n) {
+// The world position and interpolated shading normal of triangle t (of `instance`, or
+// kNotInstanced) at barycentrics (b1, b2).
+inline void fragment_geometry(const hsr_scene& scene, const Placements& placements, uint32_t t, uint32_t instance,
+                              float b1, float b2, glm::vec3& position, glm::vec3& normal) {
     const float b0 = 1.0f - b1 - b2;
     const uint32_t* tri = scene.indices + 3 * t;
     const float* p0 = scene.positions + 3 * tri[0];
@@ -86,14 +89,22 @@ inline void assemble_fragment(const hsr_scene& scene, const Placements& placemen
         const float* fn = scene.face_normals + 3 * t;
         nx = fn[0], ny = fn[1], nz = fn[2];
     }
-    glm::vec3 position(b0 * p0[0] + b1 * p1[0] + b2 * p2[0], b0 * p0[1] + b1 * p1[1] + b2 * p2[1],
-                       b0 * p0[2] + b1 * p1[2] + b2 * p2[2]);
-    glm::vec3 normal(nx, ny, nz);
+    position = glm::vec3(b0 * p0[0] + b1 * p1[0] + b2 * p2[0], b0 * p0[1] + b1 * p1[1] + b2 * p2[1],
+                         b0 * p0[2] + b1 * p1[2] + b2 * p2[2]);
+    normal = glm::vec3(nx, ny, nz);
     if (instance != kNotInstanced) {
         position = glm::vec3(placements.transform[instance] * glm::vec4(position, 1.0f));
         normal = placements.rotation[instance] * normal;
-        out.instance[n] = instance;
     }
+}
+
+// Fragment n of `out`: triangle t (of `instance`, or kNotInstanced) at barycentrics (b1, b2), for
+// `pixel`.
+inline void assemble_fragment(const hsr_scene& scene, const Placements& placements, uint32_t t, uint32_t instance,
+                              float b1, float b2, uint32_t pixel, FragmentArrays& out, uint32_t n) {
+    glm::vec3 position, normal;
+    fragment_geometry(scene, placements, t, instance, b1, b2, position, normal);
+    if (instance != kNotInstanced) out.instance[n] = instance;
     out.face[n] = t;
     out.pixel[n] = pixel;
     out.bary[2 * n] = b1;
@@ -116,15 +127,31 @@ inline uint8_t color_to_byte(float v) {
 inline bool fits_simd_assembly(const hsr_scene& scene) {
     return scene.triangle_count < (1u << 31) / 9 && scene.vertex_count < (1u << 31) / 3;
 }
-// The covered pixels [pixel_begin, pixel_end) of a frame, assembled into fragments 0, 1, ... of
-// `out` as assemble_fragment does; returns their count. `instance`: the frame's instance ids, or
-// null for a scene without instances (then `placements` is empty). `out` holds
-// FragmentArrays::reserve(pixel_end - pixel_begin).
-uint32_t assemble_covered_pixels(const hsr_scene& scene, const Placements& placements, const uint32_t* face,
-                                 const uint32_t* instance, const float* bary, uint32_t pixel_begin, uint32_t pixel_end,
-                                 FragmentArrays& out);
+// The covered pixels [pixel_begin, pixel_end) of a frame, in pixel order: their face ids, pixel
+// indices and (when `instance`, the frame's instance ids, is not null) instances into out.face,
+// out.pixel and out.instance from 0 on; returns their count. `out` holds
+// FragmentArrays::reserve(pixel_end - pixel_begin, ...).
+uint32_t find_covered_pixels(const uint32_t* face, const uint32_t* instance, uint32_t pixel_begin, uint32_t pixel_end,
+                             FragmentArrays& out);
+// The fragments of covered pixels [first, first + count) of `out` (found by find_covered_pixels,
+// `total` of them), assembled as assemble_fragment does into out.bary, out.position and
+// out.normal from 0 on. `instanced`: out.instance holds the pixels' instances (then `placements`
+// is not empty). `out` holds FragmentArrays::reserve(..., count).
+void assemble_covered_fragments(const hsr_scene& scene, const Placements& placements, bool instanced, const float* bary,
+                                uint32_t first, uint32_t count, uint32_t total, FragmentArrays& out);
+// Both: the covered pixels [pixel_begin, pixel_end) assembled into fragments 0, 1, ... of `out`;
+// returns their count. `out` holds FragmentArrays::reserve(pixel_end - pixel_begin).
+inline uint32_t assemble_covered_pixels(const hsr_scene& scene, const Placements& placements, const uint32_t* face,
+                                        const uint32_t* instance, const float* bary, uint32_t pixel_begin,
+                                        uint32_t pixel_end, FragmentArrays& out) {
+    const uint32_t n = find_covered_pixels(face, instance, pixel_begin, pixel_end, out);
+    assemble_covered_fragments(scene, placements, instance != nullptr, bary, 0, n, n, out);
+    return n;
+}
 // bytes[i] = color_to_byte(color[i]) for i < count.
 void colors_to_bytes(const float* color, size_t count, uint8_t* bytes);
+// rgb[3 pixel[i] + k] = color_to_byte(color[3 i + k]) for i < count, k < 3; pixel[] rises.
+void colors_to_pixels(const float* color, const uint32_t* pixel, uint32_t count, uint8_t* rgb);
 
 // The lighting plugin's batch over the first n fragments of `arrays`.
 inline hsr_fragment_batch fragment_batch(FragmentArrays& arrays, uint32_t n, bool instanced) {
@@ -141,7 +168,20 @@ inline hsr_fragment_batch fragment_batch(FragmentArrays& arrays, uint32_t n, boo
     return batch;
 }
 
+// The batch of a chunk: covered pixels [first, first + n) of the band, their fragments from 0 on.
+inline hsr_fragment_batch chunk_batch(FragmentArrays& arrays, uint32_t first, uint32_t n, bool instanced) {
+    hsr_fragment_batch batch = fragment_batch(arrays, n, instanced);
+    batch.face += first;
+    batch.pixel += first;
+    if (instanced) batch.instance += first;
+    return batch;
+}
+
 inline constexpr uint32_t kRowsPerBand = 8;
+// Fragments shaded per call of the lighting plugin: their arrays (about 44 bytes a fragment) stay
+// in the L1 cache from assembly to bytes. A multiple of every vector's lane count, so that only a
+// band's last chunk leaves fragments to the scalar code.
+inline constexpr uint32_t kFragmentsPerChunk = 256;
 
 // The calling thread's FragmentArrays, kept for the thread's life so that no frame allocates them
 // again (each oneTBB worker has its own).

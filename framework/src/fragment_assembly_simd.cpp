@@ -1,8 +1,9 @@
 // SIMD parts of a shading band (fragment_assembly.hpp), on Google Highway with the best instruction
-// set of the CPU chosen at run time: finding the covered pixels (compress-store), assembling their
-// fragments (the float operations of assemble_fragment, in its order, on as many fragments as a
-// vector has lanes; in an instanced scene carried into world space by the fragment's instance) and
-// turning colours into bytes. Bit-identical to the scalar code.
+// set of the CPU chosen at run time: finding the covered pixels (a vector of face ids compared at
+// once), assembling their fragments (the float operations of assemble_fragment, in its order, on as
+// many fragments as a vector has lanes; in an instanced scene carried into world space by the
+// fragment's instance) and turning colours into bytes, written straight into the picture a run of
+// pixels at a time. Bit-identical to the scalar code.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "fragment_assembly_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
@@ -19,24 +20,28 @@ HWY_BEFORE_NAMESPACE();
 namespace hsr::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-uint32_t AssembleCoveredPixels(const hsr_scene& scene, const Placements& placements, const uint32_t* face,
-                               const uint32_t* instance, const float* bary, uint32_t pixel_begin, uint32_t pixel_end,
-                               FragmentArrays& out) {
+uint32_t FindCoveredPixels(const uint32_t* face, const uint32_t* instance, uint32_t pixel_begin, uint32_t pixel_end,
+                           FragmentArrays& out) {
     using namespace hn;
     const ScalableTag<uint32_t> du;
-    const RebindToSigned<decltype(du)> di;
-    const RebindToFloat<decltype(du)> df;
     const uint32_t lanes = uint32_t(Lanes(du));
     const auto no_face = Set(du, HSR_NO_FACE);
 
-    // The covered pixels, in pixel order: a vector's worth of faces tested at once, the covered
-    // ones taken bit by bit.
+    // A vector's worth of faces tested at once: stored whole when all are covered (inside an
+    // object), else the covered ones taken bit by bit.
     uint32_t n = 0;
     uint32_t p = pixel_begin;
     HWY_ALIGN uint8_t covered_bits[8];
     for (; p + lanes <= pixel_end; p += lanes) {
-        const auto covered = Ne(LoadU(du, face + p), no_face);
+        const auto faces = LoadU(du, face + p);
+        const auto covered = Ne(faces, no_face);
         if (AllFalse(du, covered)) continue;
+        if (AllTrue(du, covered)) {
+            StoreU(faces, du, out.face.data() + n);
+            StoreU(Iota(du, p), du, out.pixel.data() + n);
+            n += lanes;
+            continue;
+        }
         StoreMaskBits(du, covered, covered_bits);
         for (uint32_t byte = 0; byte < (lanes + 7) / 8; ++byte)
             for (uint32_t bits = covered_bits[byte]; bits != 0; bits &= bits - 1) {
@@ -49,6 +54,22 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const Placements& placeme
         if (face[p] != HSR_NO_FACE) out.face[n] = face[p], out.pixel[n++] = p;
     if (instance != nullptr)
         for (uint32_t i = 0; i < n; ++i) out.instance[i] = instance[out.pixel[i]];
+    return n;
+}
+
+void AssembleCoveredFragments(const hsr_scene& scene, const Placements& placements, bool instanced, const float* bary,
+                              uint32_t first, uint32_t count, uint32_t total, FragmentArrays& out) {
+    using namespace hn;
+    const ScalableTag<uint32_t> du;
+    const RebindToSigned<decltype(du)> di;
+    const RebindToFloat<decltype(du)> df;
+    const uint32_t lanes = uint32_t(Lanes(du));
+    // Covered pixel f = first + i becomes fragment i.
+    const uint32_t* face = out.face.data() + first;
+    const uint32_t* pixel_of = out.pixel.data() + first;
+    const uint32_t* instance_of = out.instance.data() + first;
+    const uint32_t ahead_end = total - first;  // the band's covered pixels that may be asked for ahead
+    const uint32_t n = count;
 
     // Their fragments, a block at a time: a scalar pass copies each fragment's corners (normals,
     // then positions) and barycentrics into columns, from which the arithmetic runs a vector at a
@@ -71,20 +92,20 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const Placements& placeme
             // The corner data comes in screen order, not memory order: ask for it ahead, the
             // triangle's corner indices twice as far ahead as the positions they lead to, and the
             // face normal and colour, which the lighting kernel reads next.
-            if (i + j + 2 * kPrefetchDistance < n) {
-                const uint32_t far_ahead = out.face[i + j + 2 * kPrefetchDistance];
+            if (i + j + 2 * kPrefetchDistance < ahead_end) {
+                const uint32_t far_ahead = face[i + j + 2 * kPrefetchDistance];
                 hwy::Prefetch(scene.indices + 3 * size_t{far_ahead});
                 hwy::Prefetch(scene.corner_normals + 9 * size_t{far_ahead});
                 hwy::Prefetch(scene.corner_normals + 9 * size_t{far_ahead} + 8);
                 hwy::Prefetch(scene.face_normals + 3 * size_t{far_ahead});
                 if (scene.face_colors != nullptr) hwy::Prefetch(scene.face_colors + 3 * size_t{far_ahead});
             }
-            if (i + j + kPrefetchDistance < n) {
-                const uint32_t* ahead_tri = scene.indices + 3 * size_t{out.face[i + j + kPrefetchDistance]};
+            if (i + j + kPrefetchDistance < ahead_end) {
+                const uint32_t* ahead_tri = scene.indices + 3 * size_t{face[i + j + kPrefetchDistance]};
                 for (int c = 0; c < 3; ++c) hwy::Prefetch(scene.positions + 3 * size_t{ahead_tri[c]});
             }
-            const uint32_t t = out.face[i + j];
-            const uint32_t pixel = out.pixel[i + j];
+            const uint32_t t = face[i + j];
+            const uint32_t pixel = pixel_of[i + j];
             const float* corner_normal = scene.corner_normals + 9 * size_t{t};
             for (int k = 0; k < 9; ++k) column[k][j] = corner_normal[k];
             const uint32_t* tri = scene.indices + 3 * size_t{t};
@@ -111,25 +132,25 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const Placements& placeme
             const auto has_length = Gt(length, zero);
             for (int k = 0; k < 3; ++k) normal[k] = Div(normal[k], length);
             if (!AllTrue(df, has_length)) {  // no interpolated normal: the face normal
-                const auto t3 = Mul(BitCast(di, LoadU(du, out.face.data() + i)), Set(di, 3));
+                const auto t3 = Mul(BitCast(di, LoadU(du, face + i)), Set(di, 3));
                 for (int k = 0; k < 3; ++k)
                     normal[k] = IfThenElse(has_length, normal[k], GatherIndex(df, scene.face_normals, Add(t3, Set(di, k))));
             }
-            if (instance != nullptr) {  // glm's mat4 * vec4(p, 1) and mat3 * n, in their order
+            if (instanced) {  // glm's mat4 * vec4(p, 1) and mat3 * n, in their order
                 // Mostly every lane is of one instance, whose placement is then broadcast.
-                const uint32_t first = out.instance[i];
-                const bool one_instance = AllTrue(du, Eq(LoadU(du, out.instance.data() + i), Set(du, first)));
+                const uint32_t lane_0 = instance_of[i];
+                const bool one_instance = AllTrue(du, Eq(LoadU(du, instance_of + i), Set(du, lane_0)));
                 if (!one_instance)
                     for (uint32_t lane = 0; lane < lanes; ++lane) {
-                        const glm::mat4& m = placements.transform[out.instance[i + lane]];
-                        const glm::mat3& r = placements.rotation[out.instance[i + lane]];
+                        const glm::mat4& m = placements.transform[instance_of[i + lane]];
+                        const glm::mat3& r = placements.rotation[instance_of[i + lane]];
                         for (int c = 0; c < 4; ++c)
                             for (int row = 0; row < 3; ++row) placement[3 * c + row][lane] = m[c][row];
                         for (int c = 0; c < 3; ++c)
                             for (int row = 0; row < 3; ++row) placement[12 + 3 * c + row][lane] = r[c][row];
                     }
-                const glm::mat4& m_first = placements.transform[first];
-                const glm::mat3& r_first = placements.rotation[first];
+                const glm::mat4& m_first = placements.transform[lane_0];
+                const glm::mat3& r_first = placements.rotation[lane_0];
                 const auto m = [&](int c, int row) {
                     return one_instance ? Set(df, m_first[c][row]) : Load(df, placement[3 * c + row]);
                 };
@@ -151,14 +172,21 @@ uint32_t AssembleCoveredPixels(const hsr_scene& scene, const Placements& placeme
         }
     }
     for (; i < n; ++i) {
-        const uint32_t pixel = out.pixel[i];
-        assemble_fragment(scene, placements, out.face[i], instance != nullptr ? out.instance[i] : kNotInstanced,
-                          bary[2 * size_t{pixel}], bary[2 * size_t{pixel} + 1], pixel, out, i);
+        const uint32_t pixel = pixel_of[i];
+        const float b1 = bary[2 * size_t{pixel}], b2 = bary[2 * size_t{pixel} + 1];
+        glm::vec3 position, normal;
+        fragment_geometry(scene, placements, face[i], instanced ? instance_of[i] : kNotInstanced, b1, b2, position,
+                          normal);
+        out.bary[2 * size_t{i}] = b1;
+        out.bary[2 * size_t{i} + 1] = b2;
+        for (int k = 0; k < 3; ++k) {
+            out.position[3 * size_t{i} + k] = position[k];
+            out.normal[3 * size_t{i} + k] = normal[k];
+        }
     }
-    return n;
 }
 
-void ColorsToBytes(const float* color, size_t count, uint8_t* bytes) {
+HWY_INLINE void BytesOfColors(const float* color, size_t count, uint8_t* bytes) {
     using namespace hn;
     const ScalableTag<float> df;
     const RebindToSigned<decltype(df)> di;
@@ -176,24 +204,52 @@ void ColorsToBytes(const float* color, size_t count, uint8_t* bytes) {
     for (; i < count; ++i) bytes[i] = color_to_byte(color[i]);
 }
 
+void ColorsToBytes(const float* color, size_t count, uint8_t* bytes) { BytesOfColors(color, count, bytes); }
+
+void ColorsToPixels(const float* color, const uint32_t* pixel, uint32_t count, uint8_t* rgb) {
+    // Covered pixels come in runs along a row, and a run's colours are consecutive bytes of the
+    // picture: a vector's lane count of fragments whose pixels are consecutive (the pixels rise, so
+    // the first and last tell) is converted three vectors at a time, other fragments one by one.
+    const uint32_t lanes = uint32_t(hn::Lanes(hn::ScalableTag<float>()));
+    uint32_t i = 0;
+    while (i < count) {
+        if (i + lanes <= count && pixel[i + lanes - 1] - pixel[i] == lanes - 1) {
+            BytesOfColors(color + 3 * size_t{i}, 3 * size_t{lanes}, rgb + 3 * size_t{pixel[i]});
+            i += lanes;
+        } else {
+            for (int k = 0; k < 3; ++k) rgb[3 * size_t{pixel[i]} + k] = color_to_byte(color[3 * size_t{i} + k]);
+            ++i;
+        }
+    }
+}
+
 }  // namespace hsr::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
 namespace hsr {
 
-HWY_EXPORT(AssembleCoveredPixels);
+HWY_EXPORT(FindCoveredPixels);
+HWY_EXPORT(AssembleCoveredFragments);
 HWY_EXPORT(ColorsToBytes);
+HWY_EXPORT(ColorsToPixels);
 
-uint32_t assemble_covered_pixels(const hsr_scene& scene, const Placements& placements, const uint32_t* face,
-                                 const uint32_t* instance, const float* bary, uint32_t pixel_begin, uint32_t pixel_end,
-                                 FragmentArrays& out) {
-    return HWY_DYNAMIC_DISPATCH(AssembleCoveredPixels)(scene, placements, face, instance, bary, pixel_begin, pixel_end,
-                                                       out);
+uint32_t find_covered_pixels(const uint32_t* face, const uint32_t* instance, uint32_t pixel_begin, uint32_t pixel_end,
+                             FragmentArrays& out) {
+    return HWY_DYNAMIC_DISPATCH(FindCoveredPixels)(face, instance, pixel_begin, pixel_end, out);
+}
+
+void assemble_covered_fragments(const hsr_scene& scene, const Placements& placements, bool instanced, const float* bary,
+                                uint32_t first, uint32_t count, uint32_t total, FragmentArrays& out) {
+    HWY_DYNAMIC_DISPATCH(AssembleCoveredFragments)(scene, placements, instanced, bary, first, count, total, out);
 }
 
 void colors_to_bytes(const float* color, size_t count, uint8_t* bytes) {
     HWY_DYNAMIC_DISPATCH(ColorsToBytes)(color, count, bytes);
+}
+
+void colors_to_pixels(const float* color, const uint32_t* pixel, uint32_t count, uint8_t* rgb) {
+    HWY_DYNAMIC_DISPATCH(ColorsToPixels)(color, pixel, count, rgb);
 }
 
 }  // namespace hsr

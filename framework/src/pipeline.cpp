@@ -292,27 +292,45 @@ void shade_frame(const hsr_scene& scene, LightingModel& lighting, const hsr_shad
         for (size_t x = 0; x < frame.width; ++x)
             for (int k = 0; k < 3; ++k) background_row[3 * x + k] = color_to_byte(settings.background[k]);
 
-    // Bands of rows, one batch each. Each thread writes only its bands' pixels, so nothing is
-    // shared but the counters.
+    // Bands of rows, shaded a chunk of fragments at a time. Each thread writes only its bands'
+    // pixels, so nothing is shared but the counters.
     const bool instanced = !frame.instance.empty();
     const bool simd_assembly = fits_simd_assembly(scene);
     std::atomic<uint64_t> fragments{0}, batches{0};
+    // Shades covered pixels [first, first + count) of a band, whose fragments `arrays` holds from
+    // 0 on, and writes their bytes to their pixels.
+    auto shade_chunk = [&](FragmentArrays& arrays, uint32_t first, uint32_t count) {
+        hsr_fragment_batch batch = chunk_batch(arrays, first, count, instanced);
+        lighting.shade(batch);
+        colors_to_pixels(arrays.color.data(), arrays.pixel.data() + first, count, frame.rgb.data());
+    };
     for_each_band(frame.height, settings.threads, [&](uint32_t row_begin, uint32_t row_end, FragmentArrays& arrays) {
         const uint32_t pixel_begin = row_begin * frame.width, pixel_end = row_end * frame.width;
-        arrays.reserve(size_t(kRowsPerBand) * frame.width);
-        const uint32_t n = simd_assembly ? assemble_covered_pixels(scene, placements, frame.face.data(),
-                                                                   instanced ? frame.instance.data() : nullptr,
-                                                                   frame.bary.data(), pixel_begin, pixel_end, arrays)
-                                         : assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
         for (uint32_t y = row_begin; y < row_end; ++y)
             std::memcpy(&frame.rgb[3 * size_t(y) * frame.width], background_row.data(), background_row.size());
+        const size_t band_pixels = size_t(kRowsPerBand) * frame.width;
+        if (!simd_assembly) {
+            arrays.reserve(band_pixels);
+            const uint32_t n = assemble_fragments(scene, placements, frame, row_begin, row_end, arrays);
+            if (n == 0) return;
+            shade_chunk(arrays, 0, n);
+            fragments += n;
+            ++batches;
+            return;
+        }
+        // The band's covered pixels, then their fragments a chunk at a time: assembled, shaded and
+        // written while the chunk's arrays are in the L1 cache.
+        arrays.reserve(band_pixels, kFragmentsPerChunk);
+        const uint32_t n = find_covered_pixels(frame.face.data(), instanced ? frame.instance.data() : nullptr,
+                                               pixel_begin, pixel_end, arrays);
         if (n == 0) return;
-        hsr_fragment_batch batch = fragment_batch(arrays, n, instanced);
-        lighting.shade(batch);
-        colors_to_bytes(arrays.color.data(), 3 * size_t(n), arrays.bytes.data());
-        for (uint32_t i = 0; i < n; ++i) std::memcpy(&frame.rgb[3 * size_t(arrays.pixel[i])], &arrays.bytes[3 * size_t(i)], 3);
+        for (uint32_t first = 0; first < n; first += kFragmentsPerChunk) {
+            const uint32_t count = std::min(kFragmentsPerChunk, n - first);
+            assemble_covered_fragments(scene, placements, instanced, frame.bary.data(), first, count, n, arrays);
+            shade_chunk(arrays, first, count);
+            ++batches;
+        }
         fragments += n;
-        ++batches;
     });
 
     if (settings.coverage_alpha) {

@@ -22,9 +22,9 @@
 // SIMD kernel (hsr/shading_kernels-inl.h) compiled for every instruction set Google Highway targets
 // and chosen at run time; its colours equal the scalar code's bit for bit (shade_phong_scalar,
 // shade_instanced_scalar; tests/test_shading_simd.cpp checks every target). The host calls shade()
-// on oneTBB's threads, one band of rows per call, as many at once as --threads allows; prepare()
-// computes flat and Gouraud colours in chunks on the same threads (hsr/parallel.hpp), bounded by the
-// same --threads (docs/abi.md, section 7).
+// on oneTBB's threads, up to 256 fragments of a band of rows per call, as many at once as --threads
+// allows; prepare() computes flat and Gouraud colours in chunks on the same threads
+// (hsr/parallel.hpp), bounded by the same --threads (docs/abi.md, section 7).
 // One header of about 700 lines, because the formulas, the light environment and the model with its
 // scalar references are what a plugin author reads together, and what the kernel must equal.
 // Header-only and installed with the SDK; depends on abi.h, sdk.hpp, parallel.hpp, GLM, oneTBB and
