@@ -55,7 +55,7 @@ export default async (h) => {
     });
 
     await check('a model roberts refuses shows the whole reason, wrapped', async () => {
-      const model = await page.$eval('#model', (s) => [...s.options].map((o) => o.value).find((v) => v.endsWith('/three-polygons.scene')));
+      const model = await h.modelOption(page, 'three-polygons.scene');
       assert(model, 'three-polygons.scene is not in the model list');
       await page.selectOption('#model', model);
       await page.waitForFunction(() => document.querySelector('#canvas').dataset.state === 'error', null, { timeout: 20_000 });

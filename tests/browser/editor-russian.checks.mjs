@@ -26,8 +26,7 @@ export default async (h) => {
 
   try {
     await idle();
-    const exercise = await page.$eval('#model', (s) => [...s.options].map((o) => o.value)
-      .find((v) => !v.startsWith('upload/') && v.endsWith('/zbuffer-exercise.scene')));
+    const exercise = await h.modelOption(page, 'zbuffer-exercise.scene');
     assert(exercise, 'zbuffer-exercise.scene is not in the model list');
     await andFrame(() => page.selectOption('#model', exercise));
     await page.click('#scene-editor summary');

@@ -57,8 +57,7 @@ export default async (h) => {
     // which this page's list shows once it is next filled: count them on the server.
     const served = await (await fetch(new URL('api/models', h.serverUrl), { headers: h.apiHeaders })).json();
     const othersUploads = served.models.filter((m) => m.id.endsWith('scene-editor.scene')).length;
-    const exercise = await page.$eval('#model', (s) => [...s.options].map((o) => o.value)
-      .find((v) => !v.startsWith('upload/') && v.endsWith('/zbuffer-exercise.scene')));
+    const exercise = await h.modelOption(page, 'zbuffer-exercise.scene');
     assert(exercise, 'zbuffer-exercise.scene is not in the model list');
     if ((await page.$eval('#algorithm', (s) => s.value)) !== 'zbuffer') await andFrame(() => page.selectOption('#algorithm', 'zbuffer'));
     await andFrame(() => page.selectOption('#model', exercise));

@@ -72,11 +72,7 @@ export default async (h) => {
     assert(l.canvas.width >= 200, `${what}: the picture is ${l.canvas.width} px wide`);
     assert(l.clipped === 0, `${what}: ${l.clipped} cells clip their text`);
   };
-  const modelId = async (name) => {
-    await page.waitForFunction((n) => [...document.querySelector('#model').options].some((o) => o.value.endsWith(`/${n}`)),
-      name, { timeout: 10_000 }).catch(() => {});
-    return page.$eval('#model', (s, n) => [...s.options].map((o) => o.value).find((v) => v.endsWith(`/${n}`)), name);
-  };
+  const modelId = (name) => h.modelOption(page, name);
 
   try {
     await idleOn(page);

@@ -558,6 +558,14 @@ async function main() {
   const harness = {
     hsr, sourceDir, scratch, scene, screenshotDir, serverUrl, printedUrl, apiHeaders, browser, page, pageErrors,
     check, assert, settled, andFrame, idle, frameNumber, errorState, canvasPixels, text, screenshot, pixelPoint,
+    // The value of `page`'s model option for the shipped model `name` (not an upload), once the list
+    // holds it (the list is filled from the server, later on a loaded machine); undefined after 30 s.
+    async modelOption(onPage, name) {
+      const find = (n) => [...document.querySelector('#model').options].map((o) => o.value)
+        .find((v) => !v.startsWith('upload/') && v.endsWith(`/${n}`));
+      await onPage.waitForFunction(find, name, { timeout: 30_000 }).catch(() => {});
+      return onPage.evaluate(find, name);
+    },
     // A page of its own in a browser of its own (for a locale or a touch screen), its errors collected
     // in pageErrors; the caller closes the browser.
     async newBrowser(options = {}) {
