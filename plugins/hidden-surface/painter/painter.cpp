@@ -299,9 +299,11 @@ private:
         const uint32_t cut_count = p.cut_count;
         const double to_ndc_x = 2.0 / width_, to_ndc_y = 2.0 / height_;
         geometry_.rasterize_polygon(store_.corners_of(root), int(root.count), [&](const raster::TriangleSetup& s) {
-            const int32_t x0 = std::max(rect.x0, s.min_x), y0 = std::max(rect.y0, s.min_y);
-            const int32_t x1 = std::min(rect.x1, s.max_x), y1 = std::min(rect.y1, s.max_y);
-            if (x0 > x1 || y0 > y1) return;
+            PixelRect r{std::max(rect.x0, s.min_x), std::max(rect.y0, s.min_y), std::min(rect.x1, s.max_x),
+                        std::min(rect.y1, s.max_y)};
+            if (r.x0 > r.x1 || r.y0 > r.y1) return;
+            if (cut_count != 0 && !narrow_to_cuts(s, cuts, cut_count, r)) return;
+            const int32_t x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
             raster::for_each_covered_pixel_in(s, x0, y0, x1, y1, [&](int32_t x, int32_t y, double i, double j) {
                 if (cut_count != 0) {
                     // The triangle's point at this pixel centre, in NDC.
@@ -315,6 +317,63 @@ private:
                 visit(s, x, y, i, j);
             });
         });
+    }
+
+    // Narrows rectangle r to the pixels whose centres the cuts may keep on triangle s, so that a
+    // small piece of a large triangle is not rasterized over the whole triangle. A cut's test at
+    // pixel (x, y) (for_each_pixel) is a linear function A x + B y + C of the pixel, up to rounding:
+    // r is clipped by A x + B y + C >= -tolerance for each cut, the tolerance far above the
+    // rounding error of either form, and r becomes the bounding box of what is left. A cut plane
+    // nearly the triangle's own has A and B near zero and keeps r nearly whole: no error bound on
+    // the piece's corners is needed. False when nothing is left.
+    bool narrow_to_cuts(const raster::TriangleSetup& s, const painter::Cut* cuts, uint32_t cut_count,
+                        PixelRect& r) const {
+        const double sx = 2.0 / width_, sy = 2.0 / height_;
+        // NDC depth at pixel (x, y): 2 * depth.at(x - min_x, y - min_y) - 1 = zx x + zy y + z0.
+        const double zx = 2.0 * s.depth.dx, zy = 2.0 * s.depth.dy;
+        const double z0 = 2.0 * (s.depth.origin - s.depth.dx * s.min_x - s.depth.dy * s.min_y) - 1.0;
+        const double depth_size =
+            1.0 + 2.0 * (std::abs(s.depth.origin) + std::abs(s.depth.dx) * (std::abs(double(s.min_x)) + width_) +
+                         std::abs(s.depth.dy) * (std::abs(double(s.min_y)) + height_));
+        constexpr int kMax = 4 + 2 * 64;
+        if (cut_count > 64) return true;
+        glm::dvec2 a[kMax], b[kMax];
+        int n = 4;
+        a[0] = {r.x0, r.y0};
+        a[1] = {r.x1, r.y0};
+        a[2] = {r.x1, r.y1};
+        a[3] = {r.x0, r.y1};
+        for (uint32_t k = 0; k < cut_count && n >= 1; ++k) {
+            const glm::dvec4& c = cuts[k].plane;
+            // c . (X, Y, Z, 1) with X = (x + 0.5) sx - 1, Y = 1 - (y + 0.5) sy, Z = zx x + zy y + z0.
+            const double A = c.x * sx + c.z * zx, B = -c.y * sy + c.z * zy;
+            const double C = c.x * (0.5 * sx - 1.0) + c.y * (1.0 - 0.5 * sy) + c.z * z0 + c.w;
+            const double size = std::abs(c.x) * (1.0 + 2.0 * std::abs(double(r.x1)) * sx) +
+                                std::abs(c.y) * (1.0 + 2.0 * std::abs(double(r.y1)) * sy) +
+                                std::abs(c.z) * depth_size + std::abs(c.w);
+            const double tolerance = 1e-9 * size;
+            int m = 0;
+            for (int i = 0; i < n; ++i) {
+                const glm::dvec2 &p = a[i], &q = a[i + 1 == n ? 0 : i + 1];
+                const double fp = A * p.x + B * p.y + C + tolerance, fq = A * q.x + B * q.y + C + tolerance;
+                if (fp >= 0.0) b[m++] = p;
+                if ((fp >= 0.0) != (fq >= 0.0)) b[m++] = p + (q - p) * (fp / (fp - fq));
+            }
+            n = m;
+            std::copy(b, b + n, a);
+        }
+        if (n == 0) return false;
+        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        for (int i = 0; i < n; ++i) {
+            x0 = std::min(x0, a[i].x);
+            x1 = std::max(x1, a[i].x);
+            y0 = std::min(y0, a[i].y);
+            y1 = std::max(y1, a[i].y);
+        }
+        constexpr double kSlack = 1e-6;  // the clipped corners' own rounding
+        r = {std::max(r.x0, int32_t(std::floor(x0 - kSlack))), std::max(r.y0, int32_t(std::floor(y0 - kSlack))),
+             std::min(r.x1, int32_t(std::ceil(x1 + kSlack))), std::min(r.y1, int32_t(std::ceil(y1 + kSlack)))};
+        return r.x0 <= r.x1 && r.y0 <= r.y1;
     }
 
     // Test 6 made exact: no pixel centre of the image belongs to both polygons. Separated
