@@ -266,6 +266,7 @@ private:
     bool add_polygon(const ClipVertex* corners, int count, const Polygon& like, const painter::Cut* cut = nullptr) {
         if (!store_.add(geometry_.viewport(), corners, count, like, cut)) return false;
         Polygon& p = store_.polygons.back();
+        if (cut != nullptr) narrow_pixels(p);
         if (!covers_pixels(p)) {
             store_.done.back() = 1;
             ++stats_.polygons_dropped;
@@ -298,12 +299,13 @@ private:
         const painter::Cut* cuts = store_.cuts_of(p);
         const uint32_t cut_count = p.cut_count;
         const double to_ndc_x = 2.0 / width_, to_ndc_y = 2.0 / height_;
+        const int32_t px0 = std::max(rect.x0, p.pixels_x0), py0 = std::max(rect.y0, p.pixels_y0);
+        const int32_t px1 = std::min(rect.x1, p.pixels_x1), py1 = std::min(rect.y1, p.pixels_y1);
+        if (px0 > px1 || py0 > py1) return;
         geometry_.rasterize_polygon(store_.corners_of(root), int(root.count), [&](const raster::TriangleSetup& s) {
-            PixelRect r{std::max(rect.x0, s.min_x), std::max(rect.y0, s.min_y), std::min(rect.x1, s.max_x),
-                        std::min(rect.y1, s.max_y)};
-            if (r.x0 > r.x1 || r.y0 > r.y1) return;
-            if (cut_count != 0 && !narrow_to_cuts(s, cuts, cut_count, r)) return;
-            const int32_t x0 = r.x0, y0 = r.y0, x1 = r.x1, y1 = r.y1;
+            const int32_t x0 = std::max(px0, s.min_x), y0 = std::max(py0, s.min_y);
+            const int32_t x1 = std::min(px1, s.max_x), y1 = std::min(py1, s.max_y);
+            if (x0 > x1 || y0 > y1) return;
             raster::for_each_covered_pixel_in(s, x0, y0, x1, y1, [&](int32_t x, int32_t y, double i, double j) {
                 if (cut_count != 0) {
                     // The triangle's point at this pixel centre, in NDC.
@@ -317,6 +319,26 @@ private:
                 visit(s, x, y, i, j);
             });
         });
+    }
+
+    // Sets a piece's pixel box (Polygon::pixels_*): the union, over the triangles its root is
+    // rasterized as, of what narrow_to_cuts leaves of the box it had from the polygon it was cut from.
+    void narrow_pixels(Polygon& p) const {
+        const Polygon& root = store_.polygons[p.root];
+        const PixelRect image = whole_image();
+        const PixelRect from{std::max(image.x0, p.pixels_x0), std::max(image.y0, p.pixels_y0),
+                             std::min(image.x1, p.pixels_x1), std::min(image.y1, p.pixels_y1)};
+        PixelRect box{INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN};
+        geometry_.rasterize_polygon(store_.corners_of(root), int(root.count), [&](const raster::TriangleSetup& s) {
+            PixelRect r{std::max(from.x0, s.min_x), std::max(from.y0, s.min_y), std::min(from.x1, s.max_x),
+                        std::min(from.y1, s.max_y)};
+            if (r.x0 > r.x1 || r.y0 > r.y1 || !narrow_to_cuts(s, store_.cuts_of(p), p.cut_count, r)) return;
+            box = {std::min(box.x0, r.x0), std::min(box.y0, r.y0), std::max(box.x1, r.x1), std::max(box.y1, r.y1)};
+        });
+        p.pixels_x0 = box.x0;
+        p.pixels_y0 = box.y0;
+        p.pixels_x1 = box.x1;
+        p.pixels_y1 = box.y1;
     }
 
     // Narrows rectangle r to the pixels whose centres the cuts may keep on triangle s, so that a
@@ -335,9 +357,11 @@ private:
         const double depth_size =
             1.0 + 2.0 * (std::abs(s.depth.origin) + std::abs(s.depth.dx) * (std::abs(double(s.min_x)) + width_) +
                          std::abs(s.depth.dy) * (std::abs(double(s.min_y)) + height_));
-        constexpr int kMax = 4 + 2 * 64;
-        if (cut_count > 64) return true;
-        glm::dvec2 a[kMax], b[kMax];
+        constexpr uint32_t kMostCuts = 64;  // more (not seen) keep r as it is
+        constexpr int kMax = 4 + kMostCuts;
+        if (cut_count > kMostCuts) return true;
+        glm::dvec2 first[kMax], second[kMax];
+        glm::dvec2 *a = first, *b = second;
         int n = 4;
         a[0] = {r.x0, r.y0};
         a[1] = {r.x1, r.y0};
@@ -360,7 +384,7 @@ private:
                 if ((fp >= 0.0) != (fq >= 0.0)) b[m++] = p + (q - p) * (fp / (fp - fq));
             }
             n = m;
-            std::copy(b, b + n, a);
+            std::swap(a, b);
         }
         if (n == 0) return false;
         double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;

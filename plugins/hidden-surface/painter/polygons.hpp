@@ -52,6 +52,9 @@ struct Polygon {
     uint32_t root = 0;
     uint32_t first_cut = 0;
     uint32_t cut_count = 0;
+    // The pixels (indices, inclusive) outside which its cuts keep no pixel centre of the root: all
+    // of them for a triangle's own polygon.
+    int32_t pixels_x0 = INT32_MIN, pixels_y0 = INT32_MIN, pixels_x1 = INT32_MAX, pixels_y1 = INT32_MAX;
     // The plane of the triangle in clip space, oriented so that points nearer the viewer are on its
     // positive side, scaled to |(x, y, z)| = 1.
     glm::dvec4 plane{0.0};
