@@ -404,6 +404,7 @@ private:
     // projections (the separating-axis test over their corners) answer first, then a pixel centre
     // deep inside the overlap of the projections; otherwise both are rasterized over the overlap.
     bool pixels_disjoint(const Polygon& p, const Polygon& q) {
+        if (painter::projections_disjoint(store_.window_of(p), p.count, store_.window_of(q), q.count)) return true;
         const painter::Extent &a = p.extent, &b = q.extent;
         const PixelRect image = whole_image();
         PixelRect rect{std::max(image.x0, int32_t(std::floor(std::max(a.x0, b.x0))) - 1),
@@ -411,11 +412,9 @@ private:
                        std::min(image.x1, int32_t(std::ceil(std::min(a.x1, b.x1))) + 1),
                        std::min(image.y1, int32_t(std::ceil(std::min(a.y1, b.y1))) + 1)};
         if (p.count <= kMaxCorners && q.count <= kMaxCorners) {
-            glm::dvec2 wp[kMaxCorners], wq[kMaxCorners], overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
-            for (uint32_t k = 0; k < p.count; ++k) wp[k] = window_xy(store_.corners_of(p)[k]);
-            for (uint32_t k = 0; k < q.count; ++k) wq[k] = window_xy(store_.corners_of(q)[k]);
-            if (painter::projections_disjoint(wp, p.count, wq, q.count)) return true;
-            const int n = painter::convex_intersection(wp, p.count, wq, q.count, overlap, scratch);
+            glm::dvec2 overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
+            const int n = painter::convex_intersection(store_.window_of(p), p.count, store_.window_of(q), q.count,
+                                                       overlap, scratch);
             if (n >= 3) {
                 if (shares_a_pixel_centre(overlap, n)) return false;
                 // Pixel centres of both lie in the overlap, give or take the snapping of corners.
@@ -584,16 +583,15 @@ private:
     // overlap; without this test such a pair would be taken for a cycle and cut.
     bool behind_where_overlapping(const Polygon& p, const Polygon& q) const {
         if (p.count > kMaxCorners || q.count > kMaxCorners) return false;
-        glm::dvec2 wp[kMaxCorners], wq[kMaxCorners], overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
-        for (uint32_t k = 0; k < p.count; ++k) wp[k] = window_xy(store_.corners_of(p)[k]);
-        for (uint32_t k = 0; k < q.count; ++k) wq[k] = window_xy(store_.corners_of(q)[k]);
-        const int n = painter::convex_intersection(wp, p.count, wq, q.count, overlap, scratch);
+        glm::dvec2 overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
+        const int n = painter::convex_intersection(store_.window_of(p), p.count, store_.window_of(q), q.count,
+                                                   overlap, scratch);
         return painter::farther_over(p.plane, q.plane, overlap, n, double(width_), double(height_));
     }
 
-    // pixels_disjoint, remembered per pair: a head tested again after the polygon it moved ahead
-    // was painted, or a chain found again after a split, meets the same pairs, and polygons do not
-    // change once made.
+    // Test 6: pixels_disjoint, remembered per pair: a head tested again after the polygon it moved
+    // ahead was painted, or a chain found again after a split, meets the same pairs, and polygons
+    // do not change once made.
     bool pixels_disjoint_remembered(const Polygon& p, const Polygon& q) {
         const uint32_t a = uint32_t(&p - store_.polygons.data()), b = uint32_t(&q - store_.polygons.data());
         if (const int known = disjoint_pairs_.find(a, b); known >= 0) return known != 0;
@@ -665,7 +663,7 @@ private:
     };
     Chord chord_beyond(uint32_t cut, uint32_t by) const {
         const Polygon &c = store_.polygons[cut], &b = store_.polygons[by];
-        if (b.count > kMaxCorners) return {};
+
         const ClipVertex* corners = store_.corners_of(c);
         glm::dvec2 ends[2];
         int found = 0;
@@ -677,9 +675,8 @@ private:
             ends[found++] = glm::dvec2(geometry_.viewport().project(crossing));
         }
         if (found < 2) return {};
-        glm::dvec2 outline[kMaxCorners];
-        for (uint32_t k = 0; k < b.count; ++k) outline[k] = window_xy(store_.corners_of(b)[k]);
-        return {glm::length(ends[1] - ends[0]), painter::length_outside(ends[0], ends[1], outline, int(b.count))};
+        return {glm::length(ends[1] - ends[0]),
+                painter::length_outside(ends[0], ends[1], store_.window_of(b), int(b.count))};
     }
 
     double screen_area(uint32_t id) const {

@@ -231,6 +231,7 @@ class PolygonStore {
 public:
     std::vector<Polygon> polygons;
     std::vector<ClipVertex> corners;
+    std::vector<glm::dvec2> window;  // per corner, its window x and y (pixels)
     std::vector<Cut> cuts;
     // Per polygon: painted, dropped or split. Apart from the polygons, so that the bin search,
     // which asks it of every polygon it passes, reads a byte and not a polygon's cache line.
@@ -239,10 +240,12 @@ public:
     void clear() {
         polygons.clear();
         done.clear();
+        window.clear();
         corners.clear();
         cuts.clear();
     }
     const ClipVertex* corners_of(const Polygon& p) const { return corners.data() + p.first; }
+    const glm::dvec2* window_of(const Polygon& p) const { return window.data() + p.first; }
     const Cut* cuts_of(const Polygon& p) const { return cuts.data() + p.first_cut; }
 
     // Adds a triangle's clipped polygon (3..kMaxPieceVertices corners) with the face, instance
@@ -278,6 +281,7 @@ public:
         for (int k = 0; k < count; ++k) {
             corners.push_back(in[k]);
             const glm::dvec3 w = viewport.project(in[k].position);
+            window.emplace_back(w.x, w.y);
             e.x0 = std::min(e.x0, w.x);
             e.x1 = std::max(e.x1, w.x);
             e.y0 = std::min(e.y0, w.y);
