@@ -1,7 +1,7 @@
 // The painter plugin (depth sort, Newell, Newell & Sancha 1972) through the real ABI: mode=newell
 // against the plain zbuffer plugin on real models and the intersecting boxes from several cameras,
 // with clip planes, and on the cyclic three-polygon exercise, where mode=naive must come out wrong;
-// hand-made pairs of triangles where each of the six tests decides (the counters say which ran);
+// hand-made pairs of triangles where each of the seven tests decides (the counters say which ran);
 // steps run to the end against a plain render; and the refusal above max-polygons.
 #include "hsr/abi.h"
 #include "hsr/camera.hpp"
@@ -273,7 +273,7 @@ TEST_CASE("painter: each of the seven tests decides a hand-made pair", "[painter
 }
 
 TEST_CASE("painter: a polygon behind the farther one's near part is moved ahead of it", "[painter]") {
-    // P (plane z = -7 + y) reaches farthest, but small Q lies behind P's upper part: all six tests
+    // P (plane z = -7 + y) reaches farthest, but small Q lies behind P's upper part: all seven tests
     // fail for P against Q, Q moves ahead, and Q against P passes test 4 (Q behind P's plane).
     const hsr::SceneData scene =
         two_triangles({{-3, -3, -10}, {3, -3, -10}, {0, 3, -4}}, {{-0.5f, 1, -7.5f}, {0.5f, 1, -7.5f}, {0, 2, -7}});
