@@ -3,9 +3,10 @@
 // the hidden surface problem", Proc. ACM Annual Conference 1972, pp. 443-450: polygons sorted by
 // their farthest depth; before the farthest is painted, it is tested against every polygon whose
 // depth extent overlaps its own (depth, x and y extents, P behind Q's plane, Q in front of P's
-// plane, projections disjoint); a polygon it may hide is moved ahead of it, and when a moved polygon
-// would have to move again (a cycle, or polygons that pierce one another) a polygon of the cycle is
-// split by another's plane, or along another's outline. mode=naive paints in the order of a single
+// plane, projections disjoint, and P behind Q wherever the projections overlap); a polygon it may
+// hide is moved ahead of it, two that pierce one another are split at once, and when a moved
+// polygon would have to move again (a cycle) a polygon of the cycle is split by another's plane,
+// or along another's outline. mode=naive paints in the order of a single
 // depth key and shows why the tests are needed.
 //
 // Each triangle's polygon is the part left after near/far and the camera's clip planes
@@ -13,7 +14,7 @@
 // (GeometryStage::rasterize_polygon) at the pixel centres its cut planes keep, so coverage, depth
 // and barycentrics are the zbuffer's. Candidates for the tests come from screen-space bins.
 // docs/algorithms/painter.md describes the steps and counters.
-// The file is over 700 lines: the sort, its six tests, the splits and the steps that narrate them
+// The file is over 700 lines: the sort, its seven tests, the splits and the steps that narrate them
 // share one frame's polygon store and bins, and its Russian texts sit beside the English ones.
 #include "polygons.hpp"
 
@@ -25,7 +26,6 @@
 #include <cstdint>
 #include <set>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 using hsr::sdk::russian_plural;
@@ -53,8 +53,8 @@ struct SortStats {
     uint64_t splits = 0;
     uint64_t unresolved = 0;        // cycles no cut could break: the head painted as it was
     uint64_t polygons_dropped = 0;  // polygons and pieces that cover no pixel centre
-    uint64_t run[6] = {};           // the six tests, in order
-    uint64_t passed[6] = {};
+    uint64_t run[7] = {};           // the seven tests, in order
+    uint64_t passed[7] = {};
 };
 
 class Painter final : public hsr::sdk::StepwiseRemover<Painter> {
@@ -74,7 +74,7 @@ public:
     };
 
     // The steps of the depth sort, as a textbook gives them: the list sorted once, then for its
-    // head P either Q moved ahead (tests 1-6 failed), a cycle split, or P painted. The six tests
+    // head P either Q moved ahead (tests 1-7 failed), a cycle split, or P painted. The seven tests
     // have no step of their own: their outcome is what the next step does.
     static inline const hsr::sdk::PhaseSpec phases[] = {
         {"sort", "sort the polygons by farthest depth"},
@@ -134,6 +134,8 @@ public:
         {"ru", "counter:test-5-q-before-p-plane-passed", "проверка 5 (Q перед плоскостью P): успешных"},
         {"ru", "counter:test-6-projections-run", "проверка 6 (проекции не пересекаются): выполнений"},
         {"ru", "counter:test-6-projections-passed", "проверка 6 (проекции не пересекаются): успешных"},
+        {"ru", "counter:test-7-p-behind-q-where-overlapping-run", "проверка 7 (P за Q там, где проекции перекрываются): выполнений"},
+        {"ru", "counter:test-7-p-behind-q-where-overlapping-passed", "проверка 7 (P за Q там, где проекции перекрываются): успешных"},
         {"ru", "step:sort", "сортировка по глубине"},
         {"ru", "step:split", "рассечение треугольника"},
         {"ru", "step:reorder", "перестановка в списке"},
@@ -197,23 +199,25 @@ private:
         counters.set("reorderings", s.reorderings);
         counters.set("splits", s.splits);
         counters.set("cycles-unresolved", s.unresolved);
-        static constexpr const char* kRun[6] = {
+        static constexpr const char* kRun[7] = {
             "test-1-depth-run",
             "test-2-x-run",
             "test-3-y-run",
             "test-4-p-behind-q-plane-run",
             "test-5-q-before-p-plane-run",
             "test-6-projections-run",
+            "test-7-p-behind-q-where-overlapping-run",
         };
-        static constexpr const char* kPassed[6] = {
+        static constexpr const char* kPassed[7] = {
             "test-1-depth-passed",
             "test-2-x-passed",
             "test-3-y-passed",
             "test-4-p-behind-q-plane-passed",
             "test-5-q-before-p-plane-passed",
             "test-6-projections-passed",
+            "test-7-p-behind-q-where-overlapping-passed",
         };
-        for (int k = 0; k < 6; ++k) {
+        for (int k = 0; k < 7; ++k) {
             counters.set(kRun[k], s.run[k]);
             counters.set(kPassed[k], s.passed[k]);
         }
@@ -262,8 +266,9 @@ private:
     bool add_polygon(const ClipVertex* corners, int count, const Polygon& like, const painter::Cut* cut = nullptr) {
         if (!store_.add(geometry_.viewport(), corners, count, like, cut)) return false;
         Polygon& p = store_.polygons.back();
+        if (cut != nullptr) narrow_pixels(p);
         if (!covers_pixels(p)) {
-            p.done = true;
+            store_.done.back() = 1;
             ++stats_.polygons_dropped;
         }
         return true;
@@ -294,9 +299,12 @@ private:
         const painter::Cut* cuts = store_.cuts_of(p);
         const uint32_t cut_count = p.cut_count;
         const double to_ndc_x = 2.0 / width_, to_ndc_y = 2.0 / height_;
+        const int32_t px0 = std::max(rect.x0, p.pixels_x0), py0 = std::max(rect.y0, p.pixels_y0);
+        const int32_t px1 = std::min(rect.x1, p.pixels_x1), py1 = std::min(rect.y1, p.pixels_y1);
+        if (px0 > px1 || py0 > py1) return;
         geometry_.rasterize_polygon(store_.corners_of(root), int(root.count), [&](const raster::TriangleSetup& s) {
-            const int32_t x0 = std::max(rect.x0, s.min_x), y0 = std::max(rect.y0, s.min_y);
-            const int32_t x1 = std::min(rect.x1, s.max_x), y1 = std::min(rect.y1, s.max_y);
+            const int32_t x0 = std::max(px0, s.min_x), y0 = std::max(py0, s.min_y);
+            const int32_t x1 = std::min(px1, s.max_x), y1 = std::min(py1, s.max_y);
             if (x0 > x1 || y0 > y1) return;
             raster::for_each_covered_pixel_in(s, x0, y0, x1, y1, [&](int32_t x, int32_t y, double i, double j) {
                 if (cut_count != 0) {
@@ -313,10 +321,90 @@ private:
         });
     }
 
+    // Sets a piece's pixel box (Polygon::pixels_*): the union, over the triangles its root is
+    // rasterized as, of what narrow_to_cuts leaves of the box it had from the polygon it was cut from.
+    void narrow_pixels(Polygon& p) const {
+        const Polygon& root = store_.polygons[p.root];
+        const PixelRect image = whole_image();
+        const PixelRect from{std::max(image.x0, p.pixels_x0), std::max(image.y0, p.pixels_y0),
+                             std::min(image.x1, p.pixels_x1), std::min(image.y1, p.pixels_y1)};
+        PixelRect box{INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN};
+        geometry_.rasterize_polygon(store_.corners_of(root), int(root.count), [&](const raster::TriangleSetup& s) {
+            PixelRect r{std::max(from.x0, s.min_x), std::max(from.y0, s.min_y), std::min(from.x1, s.max_x),
+                        std::min(from.y1, s.max_y)};
+            if (r.x0 > r.x1 || r.y0 > r.y1 || !narrow_to_cuts(s, store_.cuts_of(p), p.cut_count, r)) return;
+            box = {std::min(box.x0, r.x0), std::min(box.y0, r.y0), std::max(box.x1, r.x1), std::max(box.y1, r.y1)};
+        });
+        p.pixels_x0 = box.x0;
+        p.pixels_y0 = box.y0;
+        p.pixels_x1 = box.x1;
+        p.pixels_y1 = box.y1;
+    }
+
+    // Narrows rectangle r to the pixels whose centres the cuts may keep on triangle s, so that a
+    // small piece of a large triangle is not rasterized over the whole triangle. A cut's test at
+    // pixel (x, y) (for_each_pixel) is a linear function A x + B y + C of the pixel, up to rounding:
+    // r is clipped by A x + B y + C >= -tolerance for each cut, the tolerance far above the
+    // rounding error of either form, and r becomes the bounding box of what is left. A cut plane
+    // nearly the triangle's own has A and B near zero and keeps r nearly whole: no error bound on
+    // the piece's corners is needed. False when nothing is left.
+    bool narrow_to_cuts(const raster::TriangleSetup& s, const painter::Cut* cuts, uint32_t cut_count,
+                        PixelRect& r) const {
+        const double sx = 2.0 / width_, sy = 2.0 / height_;
+        // NDC depth at pixel (x, y): 2 * depth.at(x - min_x, y - min_y) - 1 = zx x + zy y + z0.
+        const double zx = 2.0 * s.depth.dx, zy = 2.0 * s.depth.dy;
+        const double z0 = 2.0 * (s.depth.origin - s.depth.dx * s.min_x - s.depth.dy * s.min_y) - 1.0;
+        const double depth_size =
+            1.0 + 2.0 * (std::abs(s.depth.origin) + std::abs(s.depth.dx) * (std::abs(double(s.min_x)) + width_) +
+                         std::abs(s.depth.dy) * (std::abs(double(s.min_y)) + height_));
+        constexpr uint32_t kMostCuts = 64;  // more (not seen) keep r as it is
+        constexpr int kMax = 4 + kMostCuts;
+        if (cut_count > kMostCuts) return true;
+        glm::dvec2 first[kMax], second[kMax];
+        glm::dvec2 *a = first, *b = second;
+        int n = 4;
+        a[0] = {r.x0, r.y0};
+        a[1] = {r.x1, r.y0};
+        a[2] = {r.x1, r.y1};
+        a[3] = {r.x0, r.y1};
+        for (uint32_t k = 0; k < cut_count && n >= 1; ++k) {
+            const glm::dvec4& c = cuts[k].plane;
+            // c . (X, Y, Z, 1) with X = (x + 0.5) sx - 1, Y = 1 - (y + 0.5) sy, Z = zx x + zy y + z0.
+            const double A = c.x * sx + c.z * zx, B = -c.y * sy + c.z * zy;
+            const double C = c.x * (0.5 * sx - 1.0) + c.y * (1.0 - 0.5 * sy) + c.z * z0 + c.w;
+            const double size = std::abs(c.x) * (1.0 + 2.0 * std::abs(double(r.x1)) * sx) +
+                                std::abs(c.y) * (1.0 + 2.0 * std::abs(double(r.y1)) * sy) +
+                                std::abs(c.z) * depth_size + std::abs(c.w);
+            const double tolerance = 1e-9 * size;
+            int m = 0;
+            for (int i = 0; i < n; ++i) {
+                const glm::dvec2 &p = a[i], &q = a[i + 1 == n ? 0 : i + 1];
+                const double fp = A * p.x + B * p.y + C + tolerance, fq = A * q.x + B * q.y + C + tolerance;
+                if (fp >= 0.0) b[m++] = p;
+                if ((fp >= 0.0) != (fq >= 0.0)) b[m++] = p + (q - p) * (fp / (fp - fq));
+            }
+            n = m;
+            std::swap(a, b);
+        }
+        if (n == 0) return false;
+        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        for (int i = 0; i < n; ++i) {
+            x0 = std::min(x0, a[i].x);
+            x1 = std::max(x1, a[i].x);
+            y0 = std::min(y0, a[i].y);
+            y1 = std::max(y1, a[i].y);
+        }
+        constexpr double kSlack = 1e-6;  // the clipped corners' own rounding
+        r = {std::max(r.x0, int32_t(std::floor(x0 - kSlack))), std::max(r.y0, int32_t(std::floor(y0 - kSlack))),
+             std::min(r.x1, int32_t(std::ceil(x1 + kSlack))), std::min(r.y1, int32_t(std::ceil(y1 + kSlack)))};
+        return r.x0 <= r.x1 && r.y0 <= r.y1;
+    }
+
     // Test 6 made exact: no pixel centre of the image belongs to both polygons. Separated
     // projections (the separating-axis test over their corners) answer first, then a pixel centre
     // deep inside the overlap of the projections; otherwise both are rasterized over the overlap.
     bool pixels_disjoint(const Polygon& p, const Polygon& q) {
+        if (painter::projections_disjoint(store_.window_of(p), p.count, store_.window_of(q), q.count)) return true;
         const painter::Extent &a = p.extent, &b = q.extent;
         const PixelRect image = whole_image();
         PixelRect rect{std::max(image.x0, int32_t(std::floor(std::max(a.x0, b.x0))) - 1),
@@ -324,11 +412,9 @@ private:
                        std::min(image.x1, int32_t(std::ceil(std::min(a.x1, b.x1))) + 1),
                        std::min(image.y1, int32_t(std::ceil(std::min(a.y1, b.y1))) + 1)};
         if (p.count <= kMaxCorners && q.count <= kMaxCorners) {
-            glm::dvec2 wp[kMaxCorners], wq[kMaxCorners], overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
-            for (uint32_t k = 0; k < p.count; ++k) wp[k] = window_xy(store_.corners_of(p)[k]);
-            for (uint32_t k = 0; k < q.count; ++k) wq[k] = window_xy(store_.corners_of(q)[k]);
-            if (painter::projections_disjoint(wp, p.count, wq, q.count)) return true;
-            const int n = painter::convex_intersection(wp, p.count, wq, q.count, overlap, scratch);
+            glm::dvec2 overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
+            const int n = painter::convex_intersection(store_.window_of(p), p.count, store_.window_of(q), q.count,
+                                                       overlap, scratch);
             if (n >= 3) {
                 if (shares_a_pixel_centre(overlap, n)) return false;
                 // Pixel centres of both lie in the overlap, give or take the snapping of corners.
@@ -381,7 +467,7 @@ private:
             std::vector<Key> order;
             for (uint32_t k = 0; k < store_.polygons.size(); ++k) {
                 const painter::Extent& e = store_.polygons[k].extent;
-                if (!store_.polygons[k].done) order.push_back({key_mid_ ? 0.5 * (e.z0 + e.z1) : e.z1, k});
+                if (store_.done[k] == 0) order.push_back({key_mid_ ? 0.5 * (e.z0 + e.z1) : e.z1, k});
             }
             std::sort(order.begin(), order.end(), FartherFirst{});
             for (const Key& key : order) paint<kCountPaints>(key.id, buffers, steps);
@@ -413,6 +499,10 @@ private:
             if (blocker == kNone) {
                 remove(head);
                 paint<kCountPaints>(head, buffers, steps);
+            } else if (pierce(head, blocker)) {
+                // Each may hide the other, and no order of the two can be right: a cut is needed
+                // whatever else the chain would find, so it is made at once.
+                cut(plane_cut(head, blocker), steps);
             } else if (!store_.polygons[blocker].marked) {
                 if (stats_.reorderings == max_reorderings_)
                     throw hsr::sdk::Unsupported("painter: the depth sort needs more than max-reorderings=" +
@@ -431,13 +521,13 @@ private:
 
     // Puts polygon `id` in line (unless it is done): in the waiting order and in the bins.
     void enter(uint32_t id) {
+        if (store_.done[id] != 0) return;
         const Polygon& p = store_.polygons[id];
-        if (p.done) return;
         waiting_.insert({p.extent.z1, id});
         bins_.add(id, p.extent);
     }
 
-    // The first polygon the head may hide (all six tests failed), or kNone. The candidates come
+    // The first polygon the head may hide (all seven tests failed), or kNone. The candidates come
     // from the bins the head's extent touches (the others pass tests 2 or 3 without being looked
     // at), each once, and only those reaching behind the head's nearest depth (the others pass
     // test 1 without being looked at).
@@ -450,7 +540,7 @@ private:
         seen_[head] = query_;
         const Polygon& p = store_.polygons[head];
         uint32_t blocker = kNone;
-        bins_.for_each_near(p.extent, p.extent.z0, store_.polygons, [&](uint32_t id) {
+        bins_.for_each_near(p.extent, p.extent.z0, store_.done, [&](uint32_t id) {
             if (seen_[id] == query_) return false;
             seen_[id] = query_;
             const Polygon& q = store_.polygons[id];
@@ -471,7 +561,7 @@ private:
         return blocker;
     }
 
-    // Tests 2 to 6 for P and Q, whose depth extents overlap: true when P cannot hide Q.
+    // Tests 2 to 7 for P and Q, whose depth extents overlap: true when P cannot hide Q.
     bool may_paint_before(const Polygon& p, const Polygon& q) {
         constexpr double m = painter::kOverlapMargin;
         const painter::Extent &a = p.extent, &b = q.extent;
@@ -484,26 +574,36 @@ private:
         if (passes(2, a.y1 + m < b.y0 || b.y1 + m < a.y0)) return true;
         if (passes(3, painter::sides_of(q.plane, store_.corners_of(p), p.count).all_far)) return true;
         if (passes(4, painter::sides_of(p.plane, store_.corners_of(q), q.count).all_near)) return true;
-        return passes(5, pixels_disjoint_remembered(p, q));
+        if (passes(5, pixels_disjoint_remembered(p, q))) return true;
+        return passes(6, behind_where_overlapping(p, q));
     }
 
-    // pixels_disjoint, remembered per pair: a head tested again after the polygon it moved ahead
-    // was painted, or a chain found again after a split, meets the same pairs, and polygons do not
-    // change once made.
+    // Test 7, exact for two convex polygons: P lies behind Q wherever their projections overlap.
+    // Tests 4 and 5 fail whenever a polygon crosses the other's plane somewhere, even outside the
+    // overlap; without this test such a pair would be taken for a cycle and cut.
+    bool behind_where_overlapping(const Polygon& p, const Polygon& q) const {
+        if (p.count > kMaxCorners || q.count > kMaxCorners) return false;
+        glm::dvec2 overlap[2 * kMaxCorners], scratch[2 * kMaxCorners];
+        const int n = painter::convex_intersection(store_.window_of(p), p.count, store_.window_of(q), q.count,
+                                                   overlap, scratch);
+        return painter::farther_over(p.plane, q.plane, overlap, n, double(width_), double(height_));
+    }
+
+    // Test 6: pixels_disjoint, remembered per pair: a head tested again after the polygon it moved
+    // ahead was painted, or a chain found again after a split, meets the same pairs, and polygons
+    // do not change once made.
     bool pixels_disjoint_remembered(const Polygon& p, const Polygon& q) {
         const uint32_t a = uint32_t(&p - store_.polygons.data()), b = uint32_t(&q - store_.polygons.data());
-        const uint64_t pair = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-        if (const auto known = disjoint_pairs_.find(pair); known != disjoint_pairs_.end()) return known->second;
-        if (disjoint_pairs_.size() >= kRememberedPairs) disjoint_pairs_.clear();
+        if (const int known = disjoint_pairs_.find(a, b); known >= 0) return known != 0;
         const bool disjoint = pixels_disjoint(p, q);
-        disjoint_pairs_.emplace(pair, disjoint);
+        disjoint_pairs_.remember(a, b, disjoint);
         return disjoint;
     }
 
     // Takes a polygon out of the line (waiting or moved) for good.
     void remove(uint32_t id) {
         Polygon& p = store_.polygons[id];
-        p.done = true;
+        store_.done[id] = 1;
         if (p.marked) {
             moved_.erase(std::find(moved_.begin(), moved_.end(), id));
             p.marked = false;
@@ -529,15 +629,54 @@ private:
     };
 
     // Polygon x may hide polygon y: cut one by the other's plane where that plane crosses it. When
-    // each plane crosses the other polygon, the one smaller on screen is cut: a plane cuts a polygon
-    // from edge to edge, and the pieces of a large polygon would meet many more polygons, to be cut
-    // again by their planes.
+    // each plane crosses the other polygon (they pass through one another), a plane cuts a polygon
+    // from edge to edge, while the two meet only along a segment of that chord: the rest of the
+    // chord is a cut no pair needed, and it crosses other polygons' segments, which then need a
+    // cut on each side. So the polygon whose chord reaches least beyond the other polygon is cut;
+    // where the two are as good (within a pixel), the one smaller on screen.
     CycleCut plane_cut(uint32_t x, uint32_t y) const {
         const bool cut_x = crosses(store_.polygons[y].plane, x), cut_y = crosses(store_.polygons[x].plane, y);
-        if (cut_x && cut_y && screen_area(y) < screen_area(x)) return {y, store_.polygons[x].plane, x};
+        if (cut_x && cut_y) {
+            const double waste_x = chord_beyond(x, y).beyond, waste_y = chord_beyond(y, x).beyond;
+            const bool prefer_y = std::abs(waste_x - waste_y) > 1.0 ? waste_y < waste_x : screen_area(y) < screen_area(x);
+            if (prefer_y) return {y, store_.polygons[x].plane, x};
+        }
         if (cut_x) return {x, store_.polygons[y].plane, y};
         if (cut_y) return {y, store_.polygons[x].plane, x};
         return {};
+    }
+
+    // True when polygons x and y pass through one another: the chord y's plane cuts across x
+    // reaches into y by more than a hundredth of a pixel.
+    bool pierce(uint32_t x, uint32_t y) const {
+        if (!crosses(store_.polygons[y].plane, x) || !crosses(store_.polygons[x].plane, y)) return false;
+        const Chord c = chord_beyond(x, y);
+        return c.length - c.beyond > 0.01;
+    }
+
+    // The chord that the plane of polygon `by` cuts across polygon `cut`: its length on screen
+    // (pixels) and the length of it outside polygon `by`. The chord lies in `by`'s plane, so it is
+    // inside `by` exactly where its projection is inside `by`'s projection.
+    struct Chord {
+        double length = 0.0;
+        double beyond = 0.0;
+    };
+    Chord chord_beyond(uint32_t cut, uint32_t by) const {
+        const Polygon &c = store_.polygons[cut], &b = store_.polygons[by];
+
+        const ClipVertex* corners = store_.corners_of(c);
+        glm::dvec2 ends[2];
+        int found = 0;
+        for (uint32_t k = 0; k < c.count && found < 2; ++k) {
+            const glm::dvec4 &p = corners[k].position, &q = corners[k + 1 == c.count ? 0 : k + 1].position;
+            const double dp = glm::dot(b.plane, p), dq = glm::dot(b.plane, q);
+            if ((dp < 0.0) == (dq < 0.0)) continue;
+            const glm::dvec4 crossing = p + (q - p) * (dp / (dp - dq));
+            ends[found++] = glm::dvec2(geometry_.viewport().project(crossing));
+        }
+        if (found < 2) return {};
+        return {glm::length(ends[1] - ends[0]),
+                painter::length_outside(ends[0], ends[1], store_.window_of(b), int(b.count))};
     }
 
     double screen_area(uint32_t id) const {
@@ -568,7 +707,7 @@ private:
 
     // A cycle: the head may hide `blocker`, which is in the chain of moved polygons below it, so
     // each polygon of the chain from the blocker up may hide the next and the head may hide the
-    // blocker. Split the first pair of the cycle (the head and the blocker first) where one
+    // blocker. No two neighbours in it pierce one another (such a pair is cut when first met). Split the first pair of the cycle (the head and the blocker first) where one
     // polygon's plane crosses the other; in a cycle of polygons that do not cross one another's
     // planes, which is a true cyclic overlap, cut the head along the blocker's outline (or the
     // blocker along the head's). The pieces wait in line by their farthest depth, and the chain is
@@ -576,8 +715,8 @@ private:
     // found again.
     template <bool kCountPaints, class Steps>
     void split(uint32_t head, uint32_t blocker, const raster::PixelBuffers& buffers, Steps& steps) {
-        CycleCut c = plane_cut(head, blocker);
         const size_t first = size_t(std::find(moved_.begin(), moved_.end(), blocker) - moved_.begin());
+        CycleCut c = plane_cut(head, blocker);
         for (size_t k = first; c.cut == kNone && k + 1 < moved_.size(); ++k) c = plane_cut(moved_[k], moved_[k + 1]);
         if (c.cut == kNone) c = edge_cut(head, blocker);
         if (c.cut == kNone) c = edge_cut(blocker, head);
@@ -587,6 +726,13 @@ private:
             paint<kCountPaints>(head, buffers, steps);
             return;
         }
+        cut(c, steps);
+    }
+
+    // Splits polygon c.cut by c.plane: the pieces wait in line, and the chain is undone from the
+    // cut polygon up.
+    template <class Steps>
+    void cut(const CycleCut& c, Steps& steps) {
         const Polygon original = store_.polygons[c.cut];  // add() may move the store
         const size_t n = original.count;
         split_corners_.assign(store_.corners_of(original), store_.corners_of(original) + n);
@@ -661,11 +807,11 @@ private:
         event.phase = "reorder";
         const unsigned p_face = store_.polygons[head].face, q_face = q.face;
         if (steps.russian())
-            steps.step(event, "треугольник %u может заслонять треугольник %u (ни одна из шести проверок не прошла): "
+            steps.step(event, "треугольник %u может заслонять треугольник %u (ни одна из семи проверок не прошла): "
                               "%u рисуется раньше",
                        p_face, q_face, q_face);
         else
-            steps.step(event, "triangle %u may hide triangle %u (all six tests failed): %u moves ahead", p_face,
+            steps.step(event, "triangle %u may hide triangle %u (all seven tests failed): %u moves ahead", p_face,
                        q_face, q_face);
     }
 
@@ -746,7 +892,7 @@ private:
     uint32_t query_ = 0;
     std::vector<uint8_t> mask_;  // pixels_disjoint's scratch
     static constexpr size_t kRememberedPairs = size_t(1) << 22;
-    std::unordered_map<uint64_t, bool> disjoint_pairs_;  // pixels_disjoint's answers this frame
+    painter::PairAnswers disjoint_pairs_{kRememberedPairs};  // pixels_disjoint's answers this frame
     std::vector<ClipVertex> split_corners_, split_front_, split_back_;
 };
 

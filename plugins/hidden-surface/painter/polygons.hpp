@@ -52,12 +52,14 @@ struct Polygon {
     uint32_t root = 0;
     uint32_t first_cut = 0;
     uint32_t cut_count = 0;
+    // The pixels (indices, inclusive) outside which its cuts keep no pixel centre of the root: all
+    // of them for a triangle's own polygon.
+    int32_t pixels_x0 = INT32_MIN, pixels_y0 = INT32_MIN, pixels_x1 = INT32_MAX, pixels_y1 = INT32_MAX;
     // The plane of the triangle in clip space, oriented so that points nearer the viewer are on its
     // positive side, scaled to |(x, y, z)| = 1.
     glm::dvec4 plane{0.0};
     Extent extent{};
     bool marked = false;  // moved ahead of another polygon and not yet painted
-    bool done = false;    // painted, dropped or split
 };
 
 // Where a polygon's corners lie against a plane (as Polygon::plane): all on the near side or on the
@@ -155,6 +157,56 @@ inline int convex_intersection(const glm::dvec2* a, uint32_t na, const glm::dvec
     return count;
 }
 
+// Depth differences this small (NDC) do not decide test 7: float depths at pixel centres round by
+// about 1e-7 of the depth, so where two planes come this close the painted order could disagree
+// with the z-buffer's comparison.
+inline constexpr double kDepthMargin = 1e-6;
+
+// Test 7: true when the plane `behind` (as Polygon::plane) is farther than the plane `front` at
+// every point of the convex window polygon c (pixels, y down, in an image of width x height), with
+// room to spare: the gap at each corner exceeds kDepthMargin plus the change of the gap over
+// kOverlapMargin pixels, which covers pixel centres a snapped corner lets just outside c. The gap
+// between two planes is linear in window x and y (a projective map keeps planes planar), so its
+// least value over c is at a corner. Where c is the overlap of two polygons' projections, the
+// polygon in `behind` then hides no part of the one in `front`.
+inline bool farther_over(const glm::dvec4& behind, const glm::dvec4& front, const glm::dvec2* c, int n, double width,
+                         double height) {
+    if (n < 3 || behind.z == 0.0 || front.z == 0.0) return false;
+    // NDC depth on a plane: z = -(p.x X + p.y Y + p.w) / p.z with X = 2x/width - 1, Y = 1 - 2y/height.
+    const glm::dvec4 b = behind / -behind.z, f = front / -front.z;
+    const glm::dvec4 gap = b - f;  // gap(X, Y) = gap.x X + gap.y Y + gap.w
+    const double per_pixel = std::abs(gap.x) * 2.0 / width + std::abs(gap.y) * 2.0 / height;
+    const double needed = kDepthMargin + per_pixel * kOverlapMargin;
+    for (int k = 0; k < n; ++k) {
+        const double X = 2.0 * c[k].x / width - 1.0, Y = 1.0 - 2.0 * c[k].y / height;
+        if (!(gap.x * X + gap.y * Y + gap.w > needed)) return false;
+    }
+    return true;
+}
+
+// The length of segment ab (window pixels) that lies outside convex polygon c (either
+// orientation): the segment clipped by each edge's half-plane (Cyrus-Beck).
+inline double length_outside(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2* c, int n) {
+    const double length = glm::length(b - a);
+    double twice_area = 0.0;
+    for (int k = 0; k < n; ++k) {
+        const glm::dvec2 &p = c[k], &q = c[k + 1 == n ? 0 : k + 1];
+        twice_area += p.x * q.y - p.y * q.x;
+    }
+    if (twice_area == 0.0) return length;
+    const double orientation = twice_area > 0.0 ? 1.0 : -1.0;
+    double t0 = 0.0, t1 = 1.0;
+    for (int k = 0; k < n && t0 < t1; ++k) {
+        const glm::dvec2 &p = c[k], &q = c[k + 1 == n ? 0 : k + 1];
+        auto side = [&](const glm::dvec2& r) { return orientation * ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x)); };
+        const double sa = side(a), sb = side(b);
+        if (sa < 0.0 && sb < 0.0) return length;
+        if (sa < 0.0) t0 = std::max(t0, sa / (sa - sb));
+        else if (sb < 0.0) t1 = std::min(t1, sa / (sa - sb));
+    }
+    return t0 < t1 ? length * (1.0 - (t1 - t0)) : length;
+}
+
 // True when the point lies inside convex polygon c (either orientation) at least `margin` from the
 // line of each of its edges.
 inline bool deep_inside(const glm::dvec2& point, const glm::dvec2* c, int n, double margin) {
@@ -179,14 +231,21 @@ class PolygonStore {
 public:
     std::vector<Polygon> polygons;
     std::vector<ClipVertex> corners;
+    std::vector<glm::dvec2> window;  // per corner, its window x and y (pixels)
     std::vector<Cut> cuts;
+    // Per polygon: painted, dropped or split. Apart from the polygons, so that the bin search,
+    // which asks it of every polygon it passes, reads a byte and not a polygon's cache line.
+    std::vector<uint8_t> done;
 
     void clear() {
         polygons.clear();
+        done.clear();
+        window.clear();
         corners.clear();
         cuts.clear();
     }
     const ClipVertex* corners_of(const Polygon& p) const { return corners.data() + p.first; }
+    const glm::dvec2* window_of(const Polygon& p) const { return window.data() + p.first; }
     const Cut* cuts_of(const Polygon& p) const { return cuts.data() + p.first_cut; }
 
     // Adds a triangle's clipped polygon (3..kMaxPieceVertices corners) with the face, instance
@@ -206,7 +265,6 @@ public:
         p.first = uint32_t(corners.size());
         p.count = uint32_t(count);
         p.marked = false;
-        p.done = false;
         if (cut == nullptr) {
             p.root = uint32_t(polygons.size());
             p.first_cut = uint32_t(cuts.size());
@@ -223,6 +281,7 @@ public:
         for (int k = 0; k < count; ++k) {
             corners.push_back(in[k]);
             const glm::dvec3 w = viewport.project(in[k].position);
+            window.emplace_back(w.x, w.y);
             e.x0 = std::min(e.x0, w.x);
             e.x1 = std::max(e.x1, w.x);
             e.y0 = std::min(e.y0, w.y);
@@ -231,8 +290,61 @@ public:
             e.z1 = std::max(e.z1, w.z);
         }
         polygons.push_back(p);
+        done.push_back(0);
         return true;
     }
+};
+
+// Yes-or-no answers remembered for unordered pairs of polygon ids (each below 2^31), in one flat
+// table with open addressing: a lookup costs about one cache miss, where a node-based map costs
+// several. Holds up to `limit` answers and forgets all of them when full.
+class PairAnswers {
+public:
+    explicit PairAnswers(size_t limit) : limit_(limit) {}
+
+    void clear() {
+        slots_.assign(kFirstSize, kEmpty);
+        count_ = 0;
+    }
+    // 1 or 0 for a remembered answer, -1 for none.
+    int find(uint32_t a, uint32_t b) const {
+        const uint64_t key = pack(a, b);
+        for (size_t k = slot(key);; k = (k + 1) & (slots_.size() - 1)) {
+            if (slots_[k] == kEmpty) return -1;
+            if ((slots_[k] >> 1) == key) return int(slots_[k] & 1);
+        }
+    }
+    void remember(uint32_t a, uint32_t b, bool answer) {
+        if (count_ >= limit_) clear();
+        if (2 * (count_ + 1) > slots_.size()) grow();
+        const uint64_t key = pack(a, b);
+        size_t k = slot(key);
+        while (slots_[k] != kEmpty && (slots_[k] >> 1) != key) k = (k + 1) & (slots_.size() - 1);
+        if (slots_[k] == kEmpty) ++count_;
+        slots_[k] = (key << 1) | uint64_t(answer);
+    }
+
+private:
+    static constexpr uint64_t kEmpty = ~uint64_t(0);
+    static constexpr size_t kFirstSize = size_t(1) << 12;
+    static uint64_t pack(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+    size_t slot(uint64_t key) const {
+        return size_t((key * 0x9E3779B97F4A7C15ull) >> 32) & (slots_.size() - 1);
+    }
+    void grow() {
+        std::vector<uint64_t> old(slots_.size() * 2, kEmpty);
+        old.swap(slots_);
+        for (const uint64_t entry : old) {
+            if (entry == kEmpty) continue;
+            size_t k = slot(entry >> 1);
+            while (slots_[k] != kEmpty) k = (k + 1) & (slots_.size() - 1);
+            slots_[k] = entry;
+        }
+    }
+
+    size_t limit_;
+    size_t count_ = 0;
+    std::vector<uint64_t> slots_ = std::vector<uint64_t>(kFirstSize, kEmpty);
 };
 
 // Screen-space bins of polygon ids, so that the polygons whose window extents may overlap a
@@ -277,7 +389,7 @@ public:
     // `behind` or as far, and stopped_at(id) for the first polygon in a bin that is not (the search
     // of that bin stops there); a polygon may come more than once. Stops when visit returns true.
     template <class Visit, class StoppedAt>
-    void for_each_near(const Extent& e, double behind, const std::vector<Polygon>& polygons, Visit&& visit,
+    void for_each_near(const Extent& e, double behind, const std::vector<uint8_t>& done, Visit&& visit,
                        StoppedAt&& stopped_at) {
         const Range r = range(e);
         for (int y = r.r0; y <= r.r1; ++y)
@@ -286,7 +398,7 @@ public:
                 size_t kept = 0, k = 0;
                 bool stop = false;
                 for (; k < bin.size() && bin[k].z1 >= behind; ++k) {
-                    if (polygons[bin[k].id].done) continue;
+                    if (done[bin[k].id] != 0) continue;
                     bin[kept++] = bin[k];
                     if (visit(bin[k].id)) {
                         stop = true;
@@ -295,7 +407,7 @@ public:
                     }
                 }
                 if (!stop) {
-                    while (k < bin.size() && polygons[bin[k].id].done) ++k;
+                    while (k < bin.size() && done[bin[k].id] != 0) ++k;
                     if (k < bin.size()) stopped_at(bin[k].id);
                 }
                 bin.erase(bin.begin() + ptrdiff_t(kept), bin.begin() + ptrdiff_t(k));
