@@ -152,6 +152,9 @@ private:
     void begin_frame(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target) {
         scene_ = &scene;
         geometry_->begin_frame(leaf_scene_, camera, cull_backfaces_);
+        // Serials run on across frames, so that no vertex counts as placed in a geometry stage that
+        // another tile may have used since.
+        if (placed_by_.size() != leaf_scene_.vertex_count) placed_by_.assign(leaf_scene_.vertex_count, 0u);
         pyramid_.reset_window(tile_.x0, tile_.y0, uint32_t(tile_.x1 - tile_.x0 + 1), uint32_t(tile_.y1 - tile_.y0 + 1),
                               camera.width);
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
@@ -233,8 +236,9 @@ private:
     }
 
     struct PlacementFrame {
-        hsr::sdk::Placement placement;  // first_vertex/vertex_count are set per leaf
+        hsr::sdk::Placement placement;
         glm::dmat4 clip_from_object;
+        glm::dmat4 vertex_matrix;  // GeometryStage::clip_from_object, for its vertices
         glm::dvec3 eye;            // object space (perspective)
         glm::dvec3 toward_viewer;  // object space (orthographic)
         // (eye, 1) or (direction toward the viewer, 0) in object space, negated when the transform
@@ -267,6 +271,11 @@ private:
         }
         frame.viewer = perspective_ ? glm::vec4(glm::dvec4(frame.eye, 1.0) * mirror)
                                     : glm::vec4(glm::dvec4(viewer_direction, 0.0) * mirror);
+        frame.vertex_matrix = geometry_->clip_from_object(frame.placement);
+        if (++placement_serial_ == 0) {  // wrapped: forget every stamp
+            std::fill(placed_by_.begin(), placed_by_.end(), 0u);
+            placement_serial_ = 1;
+        }
 
         deferred_back_faces_.clear();
         deferred_leaves_.clear();
@@ -275,9 +284,9 @@ private:
     }
 
     // What draw_leaf put off until the placement's front is in the pyramid: the back faces of the
-    // leaves it drew (their vertices are still transformed: leaves have their own vertex copies, and
-    // nothing else is placed over them before the placement ends), then the leaves facing wholly
-    // away, box-tested again. On a closed surface most of both are now hidden behind its front.
+    // leaves it drew (their vertices are still transformed: nothing else is placed over them before
+    // the placement ends), then the leaves facing wholly away, box-tested again. On a closed
+    // surface most of both are now hidden behind its front.
     template <bool kCountTests, class Steps>
     void draw_deferred(PlacementFrame& frame, Steps& steps) {
         const uint32_t instance_id = frame.placement.instance;
@@ -300,12 +309,19 @@ private:
         }
     }
 
-    void place_leaf(PlacementFrame& frame, const OctreeNode& node) {
+    // The vertices of a leaf that no leaf drawn before for this placement has placed.
+    void place_leaf(const PlacementFrame& frame, const OctreeNode& node) {
         ++stats_.leaves_drawn;
-        frame.placement.first_vertex = node.first_vertex;
-        frame.placement.vertex_count = node.vertex_count;
-        geometry_->place(frame.placement);  // this leaf's own vertex copies only
-        stats_.vertices_transformed += node.vertex_count;
+        const uint32_t* const vertices = forest_.mesh.leaf_vertices.data() + node.first_vertex;
+        uint32_t placed = 0;
+        for (uint32_t k = 0; k < node.vertex_count; ++k) {
+            const uint32_t v = vertices[k];
+            if (placed_by_[v] == placement_serial_) continue;
+            placed_by_[v] = placement_serial_;
+            geometry_->place_vertex(frame.vertex_matrix, v);
+            ++placed;
+        }
+        stats_.vertices_transformed += placed;
     }
 
     // Deferred pyramid update: the cells over the rectangle are recomputed at the next large query
@@ -776,6 +792,10 @@ private:
     // Of the placement being drawn, for draw_deferred; kept to avoid allocating per placement.
     std::vector<uint32_t> deferred_back_faces_;  // triangles of LeafMesh
     std::vector<uint32_t> deferred_leaves_;      // node indices
+    // Per LeafMesh vertex: the serial of the placement (counted across frames) that last placed it
+    // in geometry_.
+    std::vector<uint32_t> placed_by_;
+    uint32_t placement_serial_ = 0;
 };
 
 }  // namespace octree_zbuffer
