@@ -151,7 +151,8 @@ TEST_CASE("octree-zbuffer: build parameters shape the octree, not the picture", 
     CHECK(compare(shallow, reference, kOctree).different == 0);
 }
 
-TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves hold exact vertex copies", "[octree-zbuffer]") {
+TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves list the exact vertex copies they use",
+          "[octree-zbuffer]") {
     using namespace octree_zbuffer;
     for (const char* file : {"bunny.obj", "boxes.scene"}) {
         const hsr::SceneData& data = model(file);
@@ -165,6 +166,7 @@ TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves hold exact
             CHECK(object.non_finite == 0);
             CHECK(object.depth <= params.max_depth);
             std::vector<int> seen(scene.triangle_count, 0);
+            std::vector<uint32_t> copy_of(scene.vertex_count, ~0u);  // one copy per scene vertex
             uint64_t problems = 0;
             // Walk from the root: children's triangle ranges partition their parent's, boxes nest.
             std::vector<uint32_t> stack{object.root};
@@ -173,13 +175,25 @@ TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves hold exact
                 stack.pop_back();
                 if (node.is_leaf()) {
                     if (node.triangle_count > params.leaf_triangles && node.depth < params.max_depth) ++problems;
+                    // The leaf's vertex list: each vertex once, each used by one of its triangles.
+                    REQUIRE(size_t(node.first_vertex) + node.vertex_count <= forest.mesh.leaf_vertices.size());
+                    std::vector<uint32_t> listed(forest.mesh.leaf_vertices.begin() + node.first_vertex,
+                                                 forest.mesh.leaf_vertices.begin() + node.first_vertex + node.vertex_count);
+                    std::vector<uint32_t> used;
+                    for (uint32_t t = node.first_triangle; t < node.first_triangle + node.triangle_count; ++t)
+                        for (int k = 0; k < 3; ++k) used.push_back(forest.mesh.indices.at(3 * t + k));
+                    std::sort(listed.begin(), listed.end());
+                    std::sort(used.begin(), used.end());
+                    used.erase(std::unique(used.begin(), used.end()), used.end());
+                    if (listed != used) ++problems;
                     for (uint32_t t = node.first_triangle; t < node.first_triangle + node.triangle_count; ++t) {
                         const uint32_t face = forest.mesh.face.at(t);
                         ++seen.at(face);
                         for (int k = 0; k < 3; ++k) {
                             const uint32_t copy = forest.mesh.indices.at(3 * t + k);
                             const uint32_t original = scene.indices[3 * face + k];
-                            if (copy < node.first_vertex || copy >= node.first_vertex + node.vertex_count) ++problems;
+                            if (copy_of.at(original) == ~0u) copy_of[original] = copy;
+                            if (copy_of[original] != copy) ++problems;
                             for (int a = 0; a < 3; ++a) {
                                 const float v = forest.mesh.positions.at(3 * copy + a);
                                 if (std::memcmp(&v, &scene.positions[3 * original + a], sizeof v) != 0) ++problems;
@@ -205,6 +219,8 @@ TEST_CASE("octree-zbuffer: every triangle in exactly one leaf, leaves hold exact
             CHECK(problems == 0);
             CHECK(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }));
             CHECK(forest.mesh.face.size() == scene.triangle_count);
+            const auto copied = std::count_if(copy_of.begin(), copy_of.end(), [](uint32_t c) { return c != ~0u; });
+            CHECK(size_t(copied) * 3 == forest.mesh.positions.size());
         }
     }
 }

@@ -59,7 +59,7 @@ public:
         }
         if (tris_.empty()) return;
         scratch_.resize(tris_.size());
-        remap_.assign(object_.vertex_count, 0);
+        remap_.assign(object_.vertex_count, kNoCopy);
         stamp_.assign(object_.vertex_count, 0);
 
         // The root cell is the cube around the object's bounds.
@@ -151,25 +151,28 @@ private:
         n.depth = depth;
         n.first_triangle = uint32_t(mesh.face.size());
         n.triangle_count = uint32_t(end - begin);
-        n.first_vertex = uint32_t(mesh.positions.size() / 3);
+        n.first_vertex = uint32_t(mesh.leaf_vertices.size());
         ++leaf_stamp_;
         for (size_t k = begin; k < end; ++k) {
             const uint32_t t = tris_[k].id;
             for (int c = 0; c < 3; ++c) {
                 const uint32_t v = scene_.indices[3 * size_t(t) + c];
                 const uint32_t local = v - object_.first_vertex;
-                if (stamp_[local] != leaf_stamp_) {
-                    stamp_[local] = leaf_stamp_;
+                if (remap_[local] == kNoCopy) {  // the object's first use of v
                     remap_[local] = uint32_t(mesh.positions.size() / 3);
                     mesh.positions.insert(mesh.positions.end(), scene_.positions + 3 * size_t(v),
                                           scene_.positions + 3 * size_t(v) + 3);
+                }
+                if (stamp_[local] != leaf_stamp_) {  // the leaf's first use of v
+                    stamp_[local] = leaf_stamp_;
+                    mesh.leaf_vertices.push_back(remap_[local]);
                 }
                 mesh.indices.push_back(remap_[local]);
             }
             mesh.face.push_back(t);
             mesh.planes.push_back(plane_of(t));
         }
-        n.vertex_count = uint32_t(mesh.positions.size() / 3) - n.first_vertex;
+        n.vertex_count = uint32_t(mesh.leaf_vertices.size()) - n.first_vertex;
         ++object_.leaf_count;
         object_.depth = std::max(object_.depth, depth);
     }
@@ -189,7 +192,9 @@ private:
     ObjectTree& object_;
     BuildParams params_;
     std::vector<TriangleInfo> tris_, scratch_;
-    std::vector<uint32_t> remap_, stamp_;
+    static constexpr uint32_t kNoCopy = ~0u;
+    std::vector<uint32_t> remap_;  // per object vertex: its copy in LeafMesh::positions
+    std::vector<uint32_t> stamp_;  // per object vertex: the last leaf that used it
     uint32_t leaf_stamp_ = 0;
 };
 
@@ -210,6 +215,7 @@ uint32_t OctreeForest::add_object(const hsr_scene& scene, uint32_t first_triangl
 void OctreeForest::clear() {
     nodes.clear();
     mesh.positions.clear();
+    mesh.leaf_vertices.clear();
     mesh.indices.clear();
     mesh.face.clear();
     mesh.planes.clear();

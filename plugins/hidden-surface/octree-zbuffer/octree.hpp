@@ -10,9 +10,10 @@
 // at the root because it straddles a splitting plane, and no per-frame "already drawn" stamp is
 // needed. Children still split space at the cell centre, which gives the front-to-back order.
 //
-// Each leaf's triangles are copied out into a private mesh (`LeafMesh`) with their own copy of the
-// vertices they use, so a leaf's vertices are one contiguous range: a visible leaf is transformed
-// alone (GeometryStage::place with that range), and a culled subtree costs no vertex work at all.
+// Each leaf's triangles are copied out into a mesh of their own (`LeafMesh`, one copy of each object
+// vertex they use), with the list of the vertices each leaf uses: a visible leaf's vertices are
+// transformed when it is drawn, those it shares with a leaf drawn before for the same placement
+// only once, and a culled subtree costs no vertex work at all.
 #pragma once
 
 #include "hsr/abi.h"
@@ -32,15 +33,16 @@ struct OctreeNode {
     uint32_t child_mask;      // bit o set when octant o has a child; 0 for a leaf
     uint32_t first_triangle;  // triangles below this node in LeafMesh (contiguous: depth-first order)
     uint32_t triangle_count;
-    uint32_t first_vertex;    // leaf only: its vertices in LeafMesh
-    uint32_t vertex_count;
+    uint32_t first_vertex;    // leaf only: the vertices its triangles use, LeafMesh::leaf_vertices[first_vertex,
+    uint32_t vertex_count;    // +vertex_count)
     uint32_t depth;           // root = 0 (levels that split nothing are skipped but still counted)
     bool is_leaf() const { return child_mask == 0; }
 };
 
-// The triangles of every object's octree leaves, leaf after leaf, with per-leaf vertex copies.
+// The triangles of every object's octree leaves, leaf after leaf, and the vertices they use.
 struct LeafMesh {
     std::vector<float> positions;  // 3 per vertex, object space: bit-identical copies of the scene's
+    std::vector<uint32_t> leaf_vertices;  // per leaf, the vertices its triangles use, each once
     std::vector<uint32_t> indices; // 3 per triangle, corners in the scene's order
     std::vector<uint32_t> face;    // per triangle: the scene's triangle id
     // Per triangle: its object-space plane (n, -n . p0) with n = (p1 - p0) x (p2 - p0), so that

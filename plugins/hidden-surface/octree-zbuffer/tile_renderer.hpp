@@ -125,10 +125,13 @@ public:
         geometry_ = &geometry;
         begin_frame(scene, camera, target);
         stats_ = FrameStats{};
+        rasterized_unclipped_ = 0;
         struct Done {  // also when a step limit ends the frame early
             TileRenderer& tile;
             ~Done() {
                 tile.triangle_stats_ = tile.geometry_->stats();
+                tile.triangle_stats_.in += tile.rasterized_unclipped_;
+                tile.triangle_stats_.rasterized += tile.rasterized_unclipped_;
                 tile.geometry_ = nullptr;
             }
         } done{*this};
@@ -149,6 +152,9 @@ private:
     void begin_frame(const hsr::sdk::Scene& scene, const hsr_camera& camera, hsr::sdk::VisibilityBuffer& target) {
         scene_ = &scene;
         geometry_->begin_frame(leaf_scene_, camera, cull_backfaces_);
+        // Serials run on across frames, so that no vertex counts as placed in a geometry stage that
+        // another tile may have used since.
+        if (placed_by_.size() != leaf_scene_.vertex_count) placed_by_.assign(leaf_scene_.vertex_count, 0u);
         pyramid_.reset_window(tile_.x0, tile_.y0, uint32_t(tile_.x1 - tile_.x0 + 1), uint32_t(tile_.y1 - tile_.y0 + 1),
                               camera.width);
         view_projection_ = glm::dmat4(hsr::sdk::load_matrix(camera.view_projection));
@@ -230,8 +236,9 @@ private:
     }
 
     struct PlacementFrame {
-        hsr::sdk::Placement placement;  // first_vertex/vertex_count are set per leaf
+        hsr::sdk::Placement placement;
         glm::dmat4 clip_from_object;
+        glm::dmat4 vertex_matrix;  // GeometryStage::clip_from_object, for its vertices
         glm::dvec3 eye;            // object space (perspective)
         glm::dvec3 toward_viewer;  // object space (orthographic)
         // (eye, 1) or (direction toward the viewer, 0) in object space, negated when the transform
@@ -264,6 +271,11 @@ private:
         }
         frame.viewer = perspective_ ? glm::vec4(glm::dvec4(frame.eye, 1.0) * mirror)
                                     : glm::vec4(glm::dvec4(viewer_direction, 0.0) * mirror);
+        frame.vertex_matrix = geometry_->clip_from_object(frame.placement);
+        if (++placement_serial_ == 0) {  // wrapped: forget every stamp
+            std::fill(placed_by_.begin(), placed_by_.end(), 0u);
+            placement_serial_ = 1;
+        }
 
         deferred_back_faces_.clear();
         deferred_leaves_.clear();
@@ -272,9 +284,9 @@ private:
     }
 
     // What draw_leaf put off until the placement's front is in the pyramid: the back faces of the
-    // leaves it drew (their vertices are still transformed: leaves have their own vertex copies, and
-    // nothing else is placed over them before the placement ends), then the leaves facing wholly
-    // away, box-tested again. On a closed surface most of both are now hidden behind its front.
+    // leaves it drew (their vertices are still transformed: nothing else is placed over them before
+    // the placement ends), then the leaves facing wholly away, box-tested again. On a closed
+    // surface most of both are now hidden behind its front.
     template <bool kCountTests, class Steps>
     void draw_deferred(PlacementFrame& frame, Steps& steps) {
         const uint32_t instance_id = frame.placement.instance;
@@ -297,12 +309,19 @@ private:
         }
     }
 
-    void place_leaf(PlacementFrame& frame, const OctreeNode& node) {
+    // The vertices of a leaf that no leaf drawn before for this placement has placed.
+    void place_leaf(const PlacementFrame& frame, const OctreeNode& node) {
         ++stats_.leaves_drawn;
-        frame.placement.first_vertex = node.first_vertex;
-        frame.placement.vertex_count = node.vertex_count;
-        geometry_->place(frame.placement);  // this leaf's own vertex copies only
-        stats_.vertices_transformed += node.vertex_count;
+        const uint32_t* const vertices = forest_.mesh.leaf_vertices.data() + node.first_vertex;
+        uint32_t placed = 0;
+        for (uint32_t k = 0; k < node.vertex_count; ++k) {
+            const uint32_t v = vertices[k];
+            if (placed_by_[v] == placement_serial_) continue;
+            placed_by_[v] = placement_serial_;
+            geometry_->place_vertex(frame.vertex_matrix, v);
+            ++placed;
+        }
+        stats_.vertices_transformed += placed;
     }
 
     // Deferred pyramid update: the cells over the rectangle are recomputed at the next large query
@@ -373,24 +392,34 @@ private:
     template <bool kCountTests, class Steps>
     void draw_leaf_triangle(uint32_t t, uint32_t id, uint32_t instance_id, Rect& written, Steps& steps) {
         if constexpr (Steps::enabled) begin_triangle_step();
-        bool tested = false;
-        switch (test_triangle(forest_.mesh.indices.data() + 3 * size_t(t), steps)) {
+        raster::TriangleSetup setup;
+        Rect mine;
+        switch (test_triangle(forest_.mesh.indices.data() + 3 * size_t(t), setup, steps)) {
             case TriangleVisibility::kHidden:
                 ++stats_.triangles_culled_before_setup;
                 if constexpr (Steps::enabled) triangle_step(steps, t, id, instance_id);
                 return;
-            case TriangleVisibility::kVisible: tested = true; break;
-            case TriangleVisibility::kUntested: break;
             case TriangleVisibility::kOffTile: return;
+            case TriangleVisibility::kSetUp:
+                ++rasterized_unclipped_;
+                if (!draw_triangle<kCountTests>(setup, id, instance_id, true, mine, steps))
+                    ++stats_.triangles_culled_after_setup;
+                if constexpr (Steps::enabled) triangle_step(steps, t, id, instance_id);
+                mark_triangle_written(mine, written);
+                return;
+            case TriangleVisibility::kUntested: break;
         }
         uint32_t pieces = 0, culled = 0;
-        Rect mine;
         geometry_->process(t, [&](const raster::TriangleSetup& s) {
             ++pieces;
-            if (!draw_triangle<kCountTests>(s, id, instance_id, tested, mine, steps)) ++culled;
+            if (!draw_triangle<kCountTests>(s, id, instance_id, false, mine, steps)) ++culled;
         });
         if (pieces > 0 && culled == pieces) ++stats_.triangles_culled_after_setup;
         if constexpr (Steps::enabled) triangle_step(steps, t, id, instance_id);
+        mark_triangle_written(mine, written);
+    }
+
+    void mark_triangle_written(const Rect& mine, Rect& written) {
         if (!mine.empty()) {
             // A large triangle's cells are marked at once: the leaf's next large triangles (a box's
             // back faces behind its front) are then rejected by the block test on fresh cells,
@@ -415,16 +444,17 @@ private:
 
     // Greene's triangle-level rejection before triangle setup, for a triangle that needs no
     // clipping and that GeometryStage::process would set up (finite, not trivially outside, not
-    // culled as a back face, non-zero area, pixel centres inside the image): its pixel bounds are
-    // those setup_triangle will find, and its nearest depth a bound no covered pixel goes below.
-    // The depth plane is set up through the unsnapped corners, and covered pixel centres lie in the
-    // triangle of the snapped ones (each corner moved by at most 1/512 pixel in x and y), so the
-    // depth there is at least the smallest corner depth minus (|dz/dx| + |dz/dy|) / 512; rounded
-    // down to float, a covered pixel's float depth cannot be smaller.
-    // kOffTile: none of its pixels is in this tile.
-    enum class TriangleVisibility { kUntested, kHidden, kVisible, kOffTile };
+    // culled as a back face, pixel centres inside the image): its pixel bounds are those of the
+    // setup, and its nearest depth a bound no covered pixel goes below. The depth plane is set up
+    // through the unsnapped corners, and covered pixel centres lie in the triangle of the snapped
+    // ones (each corner moved by at most 1/512 pixel in x and y), so the depth there is at least
+    // the smallest corner depth minus (|dz/dx| + |dz/dy|) / 512; rounded down to float, a covered
+    // pixel's float depth cannot be smaller. A triangle the pyramid does not reject is set up here
+    // (kSetUp: `setup` is what process() would emit), from the bounds found for the test.
+    // kOffTile: none of its pixels is in this tile. kUntested: process() it.
+    enum class TriangleVisibility { kUntested, kHidden, kSetUp, kOffTile };
     template <class Steps>
-    TriangleVisibility test_triangle(const uint32_t* corner, Steps&) {
+    TriangleVisibility test_triangle(const uint32_t* corner, raster::TriangleSetup& setup, Steps&) {
         const uint32_t i0 = corner[0], i1 = corner[1], i2 = corner[2];
         const uint32_t c0 = geometry_->vertex_outcode(i0), c1 = geometry_->vertex_outcode(i1),
                        c2 = geometry_->vertex_outcode(i2);
@@ -436,14 +466,17 @@ private:
         const raster::WindowVertex& v0 = geometry_->window_vertex(i0);
         const raster::WindowVertex& v1 = geometry_->window_vertex(i1);
         const raster::WindowVertex& v2 = geometry_->window_vertex(i2);
+        // raster::triangle_pixel_bounds, inlined: kOk, or process() counts the triangle.
         if (int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v2.x - v0.x) * (v1.y - v0.y) == 0)
             return TriangleVisibility::kUntested;
-        const int32_t x0 = std::max(raster::first_pixel_from(std::min({v0.x, v1.x, v2.x})), 0);
-        const int32_t x1 = std::min(raster::last_pixel_to(std::max({v0.x, v1.x, v2.x})), width_ - 1);
-        const int32_t y0 = std::max(raster::first_pixel_from(std::min({v0.y, v1.y, v2.y})), 0);
-        const int32_t y1 = std::min(raster::last_pixel_to(std::max({v0.y, v1.y, v2.y})), height_ - 1);
-        if (x0 > x1 || y0 > y1) return TriangleVisibility::kUntested;
-        if (x1 < tile_.x0 || x0 > tile_.x1 || y1 < tile_.y0 || y0 > tile_.y1) return TriangleVisibility::kOffTile;
+        raster::PixelBounds b;
+        b.min_x = std::max(raster::first_pixel_from(std::min(std::min(v0.x, v1.x), v2.x)), 0);
+        b.max_x = std::min(raster::last_pixel_to(std::max(std::max(v0.x, v1.x), v2.x)), width_ - 1);
+        b.min_y = std::max(raster::first_pixel_from(std::min(std::min(v0.y, v1.y), v2.y)), 0);
+        b.max_y = std::min(raster::last_pixel_to(std::max(std::max(v0.y, v1.y), v2.y)), height_ - 1);
+        if (b.min_x > b.max_x || b.min_y > b.max_y) return TriangleVisibility::kUntested;
+        if (b.max_x < tile_.x0 || b.min_x > tile_.x1 || b.max_y < tile_.y0 || b.min_y > tile_.y1)
+            return TriangleVisibility::kOffTile;
         // The depth gradient of the unsnapped triangle.
         const double ax = v1.exact_x - v0.exact_x, ay = v1.exact_y - v0.exact_y;
         const double bx = v2.exact_x - v0.exact_x, by = v2.exact_y - v0.exact_y;
@@ -451,14 +484,17 @@ private:
         const double area = ax * by - bx * ay;
         const double slope = (std::abs(da * by - db * ay) + std::abs(db * ax - da * bx)) / std::abs(area);
         // (the last term covers rounding in the setup's plane equations, far below float precision)
-        const double bound = std::min({v0.depth, v1.depth, v2.depth}) - slope * (1.0 / 512.0) -
+        const double bound = std::min(std::min(v0.depth, v1.depth), v2.depth) - slope * (1.0 / 512.0) -
                              (1e-9 + 1e-12 * slope * double(raster::kMaxImageSize));
-        if (!(bound > 0.0)) return TriangleVisibility::kVisible;  // also NaN (a sliver): cannot tell
-        float nearest = float(std::min(bound, 1.0));
-        if (double(nearest) > bound)  // rounded up: take the next float down (nearest > bound > 0)
-            nearest = std::bit_cast<float>(std::bit_cast<uint32_t>(nearest) - 1u);
-        if constexpr (Steps::enabled) step_.query = {x0, y0, x1, y1, nearest, true};
-        return pyramid_.is_hidden(x0, y0, x1, y1, nearest) ? TriangleVisibility::kHidden : TriangleVisibility::kVisible;
+        if (bound > 0.0) {  // else (also NaN, a sliver) it cannot tell
+            float nearest = float(std::min(bound, 1.0));
+            if (double(nearest) > bound)  // rounded up: take the next float down (nearest > bound > 0)
+                nearest = std::bit_cast<float>(std::bit_cast<uint32_t>(nearest) - 1u);
+            if constexpr (Steps::enabled) step_.query = {b.min_x, b.min_y, b.max_x, b.max_y, nearest, true};
+            if (pyramid_.is_hidden(b.min_x, b.min_y, b.max_x, b.max_y, nearest)) return TriangleVisibility::kHidden;
+        }
+        raster::setup_triangle_in_bounds(v0, v1, v2, raster::kWholeTriangleB1, raster::kWholeTriangleB2, b, setup);
+        return TriangleVisibility::kSetUp;
     }
 
     // Greene's triangle-level (unless done before setup) and tile-level rejection, then the pixel
@@ -742,7 +778,8 @@ private:
     bool cull_backfaces_ = false;
     PixelTile tile_;
     raster::GeometryStage* geometry_ = nullptr;  // the drawing thread's, for the time of draw()
-    raster::TriangleStats triangle_stats_;        // what geometry_ counted for this tile
+    raster::TriangleStats triangle_stats_;        // what geometry_ counted for this tile, and test_triangle
+    uint64_t rasterized_unclipped_ = 0;           // triangles test_triangle set up, not geometry_
     raster::ZPyramid pyramid_;
     FrameStats stats_;
     const hsr::sdk::Scene* scene_ = nullptr;
@@ -755,6 +792,10 @@ private:
     // Of the placement being drawn, for draw_deferred; kept to avoid allocating per placement.
     std::vector<uint32_t> deferred_back_faces_;  // triangles of LeafMesh
     std::vector<uint32_t> deferred_leaves_;      // node indices
+    // Per LeafMesh vertex: the serial of the placement (counted across frames) that last placed it
+    // in geometry_.
+    std::vector<uint32_t> placed_by_;
+    uint32_t placement_serial_ = 0;
 };
 
 }  // namespace octree_zbuffer

@@ -320,14 +320,18 @@ public:
     // place() for the vertices [first, end) of a placement whose matrix clip_from_object gave; calls
     // on disjoint ranges may run at the same time (a parallel place()).
     void place_vertices(const glm::dmat4& m, uint32_t first, uint32_t end) {
-        for (uint32_t k = first; k < end; ++k) {
-            const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
-            clip_[k] = to_clip(m, p);
-            uint32_t code = outcode(clip_[k], guard_) | clip_planes_.outcode(clip_[k]);
-            if (!(code & (kNeedsClipping | kNonFinite)) && !viewport_.to_window(clip_[k], 0.0, 0.0, window_[k]))
-                code |= kNonFinite;
-            outcode_[k] = code;
-        }
+        for (uint32_t k = first; k < end; ++k) place_vertex(m, k);
+    }
+
+    // place() for vertex k alone, for a renderer that places only the vertices it is about to use
+    // (each once per placement).
+    void place_vertex(const glm::dmat4& m, uint32_t k) {
+        const glm::vec3 p(positions_[3 * k], positions_[3 * k + 1], positions_[3 * k + 2]);
+        clip_[k] = to_clip(m, p);
+        uint32_t code = outcode(clip_[k], guard_) | clip_planes_.outcode(clip_[k]);
+        if (!(code & (kNeedsClipping | kNonFinite)) && !viewport_.to_window(clip_[k], 0.0, 0.0, window_[k]))
+            code |= kNonFinite;
+        outcode_[k] = code;
     }
 
     // place() in chunks of kPlaceChunkVertices vertices for a parallel loop: run_chunks(count, work)

@@ -394,14 +394,11 @@ inline SetupResult triangle_pixel_bounds(const WindowVertex& v0, const WindowVer
     return SetupResult::kOk;
 }
 
-// setup_triangle with the barycentrics (b1[k], b2[k]) of the original triangle at corner k given
-// apart from the corners (whose own b1, b2 are not read).
-inline SetupResult setup_triangle(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
-                                  const double (&b1)[3], const double (&b2)[3], uint32_t width, uint32_t height,
-                                  TriangleSetup& s) {
-    PixelBounds bounds;
-    const SetupResult result = triangle_pixel_bounds(v0, v1, v2, width, height, bounds);
-    if (result != SetupResult::kOk) return result;
+// The rest of setup_triangle for corners that triangle_pixel_bounds accepted (kOk) with `bounds`,
+// for a rasterizer that tests the bounds first and keeps them: the same setup, bit for bit.
+inline void setup_triangle_in_bounds(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
+                                     const double (&b1)[3], const double (&b2)[3], const PixelBounds& bounds,
+                                     TriangleSetup& s) {
     s.min_x = bounds.min_x;
     s.max_x = bounds.max_x;
     s.min_y = bounds.min_y;
@@ -461,6 +458,17 @@ inline SetupResult setup_triangle(const WindowVertex& v0, const WindowVertex& v1
     s.inv_w = plane(w0.inv_w, w1.inv_w, w2.inv_w);
     s.b1_over_w = plane(b1[0] * w0.inv_w, b1[corner[1]] * w1.inv_w, b1[corner[2]] * w2.inv_w);
     s.b2_over_w = plane(b2[0] * w0.inv_w, b2[corner[1]] * w1.inv_w, b2[corner[2]] * w2.inv_w);
+}
+
+// setup_triangle with the barycentrics (b1[k], b2[k]) of the original triangle at corner k given
+// apart from the corners (whose own b1, b2 are not read).
+inline SetupResult setup_triangle(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
+                                  const double (&b1)[3], const double (&b2)[3], uint32_t width, uint32_t height,
+                                  TriangleSetup& s) {
+    PixelBounds bounds;
+    const SetupResult result = triangle_pixel_bounds(v0, v1, v2, width, height, bounds);
+    if (result != SetupResult::kOk) return result;
+    setup_triangle_in_bounds(v0, v1, v2, b1, b2, bounds, s);
     return SetupResult::kOk;
 }
 
