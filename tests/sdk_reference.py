@@ -114,9 +114,25 @@ def function_name(head):
     return None
 
 
+def without_attributes(head):
+    """The statement without its attributes ([[gnu::always_inline]], [[nodiscard]]), which the
+    tokenizer gives as `[`, `[`, ..., `]`, `]`."""
+    out, k = [], 0
+    while k < len(head):
+        if head[k:k + 2] == ["[", "["]:
+            end = k + 2
+            while end + 1 < len(head) and head[end:end + 2] != ["]", "]"]:
+                end += 1
+            k = end + 2
+        else:
+            out.append(head[k])
+            k += 1
+    return out
+
+
 def declared_names(head):
     """The names a statement (tokens before its `;` or `{`) declares, or [] when it declares none."""
-    head = skip_template_heads([t for t in head if t not in ("[[", "]]")])
+    head = skip_template_heads(without_attributes(head))
     if not head or head[0] in ("friend", "static_assert", "return"):
         return []
     if head[0] == "using":
@@ -270,7 +286,7 @@ class Parser:
                             self.add(owner, name, hidden)
                 self.skip_block()
                 # A body ends the statement; a braced initializer (`= {...}`, `x{1.0f}`) goes on to its `;`.
-                head = [] if function_name(head) is not None else ["="]
+                head = [] if function_name(without_attributes(head)) is not None else ["="]
         return
 
 

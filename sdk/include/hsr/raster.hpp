@@ -420,7 +420,8 @@ public:
     // drawn and nothing (min_x > max_x) when not; setup_unclipped() then makes the setup process()
     // emits, bit for bit, as long as the placement stays placed. False, counting nothing, for a
     // triangle that needs clipping (process() it).
-    bool bound_unclipped(uint32_t t, TriangleStats& stats, PixelBounds& bounds) const {
+    // (Always inlined, as triangle_pixel_bounds.)
+    [[gnu::always_inline]] bool bound_unclipped(uint32_t t, TriangleStats& stats, PixelBounds& bounds) const {
         const uint32_t i0 = indices_[3 * t], i1 = indices_[3 * t + 1], i2 = indices_[3 * t + 2];
         const uint32_t c0 = outcode_[i0], c1 = outcode_[i1], c2 = outcode_[i2];
         if ((c0 | c1 | c2) & (kNeedsClipping | kNonFinite)) return false;
