@@ -46,13 +46,22 @@ export default async (h) => {
   // A new page's first picture waits for the server's workers, which ctest -j2 keeps busy.
   const idle = () => page.waitForFunction(() => window.hsrView && window.hsrView.idle()
     && document.querySelector('#canvas').dataset.state !== 'loading', null, { timeout: 90_000 });
-  try {
+  // zbuffer's first picture with its steps. Under ctest -j2 it has been seen not to come within
+  // 90 s once in several runs (never alone); the page is then loaded again, once.
+  const zbufferShown = async () => {
     await idle();
     if ((await page.$eval('#algorithm', (s) => s.value)) !== 'zbuffer') {
       await page.selectOption('#algorithm', 'zbuffer');
       await page.waitForFunction(() => window.hsrView.lastResponse?.steps, null, { timeout: 90_000 });
       await idle();
     }
+  };
+  try {
+    await zbufferShown().catch(async (e) => {
+      console.log(`note  export steps: ${e.message.split('\n')[0]}; loading the page again`);
+      await page.reload();
+      await zbufferShown();
+    });
 
     await check('export steps: the button downloads steps 2..4 as a ZIP of three PNGs', async () => {
       await page.waitForSelector('#step-export:not([hidden])', { timeout: 30_000 });
