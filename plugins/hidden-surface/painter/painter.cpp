@@ -341,6 +341,21 @@ private:
         p.pixels_y1 = box.y1;
     }
 
+    // The bounding box of n points in window coordinates.
+    struct WindowBox {
+        double x0, x1, y0, y1;
+    };
+    static WindowBox window_box_of(const glm::dvec2* points, int n) {
+        WindowBox b{INFINITY, -INFINITY, INFINITY, -INFINITY};
+        for (int i = 0; i < n; ++i) {
+            b.x0 = std::min(b.x0, points[i].x);
+            b.x1 = std::max(b.x1, points[i].x);
+            b.y0 = std::min(b.y0, points[i].y);
+            b.y1 = std::max(b.y1, points[i].y);
+        }
+        return b;
+    }
+
     // Narrows rectangle r to the pixels whose centres the cuts may keep on triangle s, so that a
     // small piece of a large triangle is not rasterized over the whole triangle. A cut's test at
     // pixel (x, y) (for_each_pixel) is a linear function A x + B y + C of the pixel, up to rounding:
@@ -387,16 +402,12 @@ private:
             std::swap(a, b);
         }
         if (n == 0) return false;
-        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-        for (int i = 0; i < n; ++i) {
-            x0 = std::min(x0, a[i].x);
-            x1 = std::max(x1, a[i].x);
-            y0 = std::min(y0, a[i].y);
-            y1 = std::max(y1, a[i].y);
-        }
+        const WindowBox box = window_box_of(a, n);
         constexpr double kSlack = 1e-6;  // the clipped corners' own rounding
-        r = {std::max(r.x0, int32_t(std::floor(x0 - kSlack))), std::max(r.y0, int32_t(std::floor(y0 - kSlack))),
-             std::min(r.x1, int32_t(std::ceil(x1 + kSlack))), std::min(r.y1, int32_t(std::ceil(y1 + kSlack)))};
+        r = {std::max(r.x0, int32_t(std::floor(box.x0 - kSlack))),
+             std::max(r.y0, int32_t(std::floor(box.y0 - kSlack))),
+             std::min(r.x1, int32_t(std::ceil(box.x1 + kSlack))),
+             std::min(r.y1, int32_t(std::ceil(box.y1 + kSlack)))};
         return r.x0 <= r.x1 && r.y0 <= r.y1;
     }
 
@@ -418,15 +429,11 @@ private:
             if (n >= 3) {
                 if (shares_a_pixel_centre(overlap, n)) return false;
                 // Pixel centres of both lie in the overlap, give or take the snapping of corners.
-                double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-                for (int k = 0; k < n; ++k) {
-                    x0 = std::min(x0, overlap[k].x);
-                    x1 = std::max(x1, overlap[k].x);
-                    y0 = std::min(y0, overlap[k].y);
-                    y1 = std::max(y1, overlap[k].y);
-                }
-                rect = {std::max(rect.x0, int32_t(std::floor(x0)) - 1), std::max(rect.y0, int32_t(std::floor(y0)) - 1),
-                        std::min(rect.x1, int32_t(std::ceil(x1)) + 1), std::min(rect.y1, int32_t(std::ceil(y1)) + 1)};
+                const WindowBox box = window_box_of(overlap, n);
+                rect = {std::max(rect.x0, int32_t(std::floor(box.x0)) - 1),
+                        std::max(rect.y0, int32_t(std::floor(box.y0)) - 1),
+                        std::min(rect.x1, int32_t(std::ceil(box.x1)) + 1),
+                        std::min(rect.y1, int32_t(std::ceil(box.y1)) + 1)};
             }
         }
         if (rect.x0 > rect.x1 || rect.y0 > rect.y1) return true;
